@@ -1,0 +1,75 @@
+# HRPP: hash-based ray path prediction.
+#
+#   make run     install what is missing, build, run the main job on the default scene
+#   make test    install what is missing, build, run the whole test suite (what CI runs)
+#
+# Other targets: setup, build, check-embree, bench, clean. Generated files go to build/ and out/.
+
+SHELL      := /bin/bash
+BUILD      ?= build
+OUT        ?= out
+JOBS       ?= $(shell nproc)
+SCENE      ?= scenes/cornell_box.glb
+SHARED     ?= ../shared
+BUILD_TYPE ?= Release
+VENV       ?= .venv
+
+# Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
+APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
+  libembree-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev nlohmann-json3-dev \
+  libstb-dev verilator yosys
+
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: all setup setup-apt build run test check-embree clean
+
+all: build
+
+# ---------------------------------------------------------------------------------------------
+# Setup: idempotent, and fast (one dpkg query) when everything is already installed.
+# ---------------------------------------------------------------------------------------------
+setup: setup-apt
+
+setup-apt:
+	@missing=$$(for p in $(APT_PACKAGES); do \
+	    dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; \
+	  done); \
+	if [ -n "$$missing" ]; then \
+	  echo "setup: installing Debian packages:" $$missing; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	else \
+	  echo "setup: all Debian packages present"; \
+	fi
+
+# ---------------------------------------------------------------------------------------------
+# Build
+# ---------------------------------------------------------------------------------------------
+$(BUILD)/build.ninja: CMakeLists.txt | setup
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHRPP_SHARED_DIR=$(abspath $(SHARED))
+
+build: setup $(BUILD)/build.ninja
+	cmake --build $(BUILD) -j $(JOBS)
+
+# ---------------------------------------------------------------------------------------------
+# Main job: the default scene's summary (scene, camera, lights, materials, BVH statistics)
+# and a cross-check of our traversal against Embree on it.
+# ---------------------------------------------------------------------------------------------
+run: build
+	@mkdir -p $(OUT)
+	$(BUILD)/hrpp info $(SCENE)
+	$(BUILD)/hrpp check-embree $(SCENE) --rays 65536 --kind all --json $(OUT)/check-embree.json
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Cross-check every shared scene at a larger ray count than the test suite uses.
+check-embree: build
+	@mkdir -p $(OUT)
+	@for s in $(SHARED)/scenes/*.glb scenes/*.glb; do \
+	  n=$$(basename $$s .glb); \
+	  $(BUILD)/hrpp check-embree $$s --rays 1000000 --kind all --json $(OUT)/check-embree-$$n.json || exit 1; \
+	done
+
+clean:
+	rm -rf $(BUILD) $(OUT)

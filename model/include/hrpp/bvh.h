@@ -1,0 +1,76 @@
+// Our own binary BVH (docs/bvh.md): binned SAH build, nodes in depth-first order.
+//
+// Node layout (32 bytes): the box, then `right_or_first` and `count`.
+//   interior (count == 0): left child = this index + 1 (depth-first order),
+//                          right child = right_or_first;
+//   leaf     (count >= 1): triangles right_or_first .. right_or_first + count - 1 of Bvh::tris.
+// Node 0 is the root. parent[] and depth[] sit beside the nodes (the predictor's go-up-level
+// walks parent[]); they are not part of the node a traversal unit fetches.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hrpp/geometry.h"
+
+namespace hrpp {
+
+struct BvhNode {
+  Vec3 lo;
+  uint32_t right_or_first;
+  Vec3 hi;
+  uint32_t count;
+
+  bool is_leaf() const { return count != 0; }
+  Aabb box() const { return {lo, hi}; }
+};
+static_assert(sizeof(BvhNode) == 32);
+
+constexpr uint32_t kNoNode = 0xFFFFFFFFu;
+
+struct BvhBuildOptions {
+  uint32_t max_leaf_size = 4;  // leaves never hold more triangles than this
+  uint32_t bins = 16;          // SAH bins per axis
+  float traversal_cost = 1.f;  // SAH cost of an interior node relative to one triangle test
+};
+
+struct BvhStats {
+  uint32_t nodes = 0, interior = 0, leaves = 0;
+  uint32_t max_depth = 0;
+  double mean_leaf_depth = 0;
+  std::vector<uint32_t> leaf_size_histogram;  // [k] = leaves holding k triangles
+  double sah_cost = 0;  // sum over nodes of area/area(root) * (ct or count), Ci = 1
+  double build_seconds = 0;
+};
+
+struct Bvh {
+  std::vector<BvhNode> nodes;
+  std::vector<Triangle> tris;       // triangles in leaf order
+  std::vector<uint32_t> prim_ids;   // tris[i] is scene triangle prim_ids[i]
+  std::vector<uint8_t> tri_degenerate;  // never hit (zero area)
+  std::vector<uint32_t> parent;     // kNoNode for the root
+  std::vector<uint16_t> depth;      // root = 0
+  BvhBuildOptions options;
+  BvhStats stats;
+
+  /// The ancestor `levels` levels above node (stops at the root).
+  uint32_t ancestor(uint32_t node, uint32_t levels) const {
+    while (levels-- > 0 && parent[node] != kNoNode) node = parent[node];
+    return node;
+  }
+  /// Index of the leaf (or kNoNode) that holds scene triangle prim; O(triangles).
+  uint32_t leaf_of_prim(uint32_t prim) const;
+  size_t memory_bytes() const;
+};
+
+/// Builds the BVH over the triangles (binned SAH, Wald 2007). Deterministic.
+Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt = {});
+
+/// Checks the invariants (every triangle in exactly one leaf, child boxes inside parent boxes,
+/// depth-first numbering, parent links, counts). Returns an empty string when all hold, else a
+/// description of the first violation.
+std::string check_bvh(const Bvh& bvh, size_t num_scene_triangles);
+
+}  // namespace hrpp

@@ -1,0 +1,80 @@
+// Closest-hit and any-hit BVH traversal with per-ray work counters (docs/bvh.md).
+//
+// Robustness: the slab test follows Ize, "Robust BVH Ray Traversal" (JCGT 2013) and pbrt-v4's
+// Bounds3::IntersectP: the far distance is widened by 1 + 2*gamma(3), and a NaN slab distance
+// (0 * inf: origin on a box face with a zero direction component) is ignored rather than
+// poisoning the interval. The triangle test is the watertight test of Woop, Benthin and Wald,
+// "Watertight Ray/Triangle Intersection" (JCGT 2013), with its double-precision fallback for
+// zero edge functions and no backface culling.
+//
+// Counters: an interior-node test is one fetch of an interior node and the test of both of its
+// children's boxes (box_tests counts the single boxes, including the start node's own box);
+// a leaf visit is one leaf whose triangles are tested; tri_tests counts triangle tests.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hrpp/bvh.h"
+#include "hrpp/ray.h"
+
+namespace hrpp {
+
+constexpr uint32_t kNoPrim = 0xFFFFFFFFu;
+
+struct Counters {
+  uint64_t interior_tests = 0;
+  uint64_t box_tests = 0;
+  uint64_t leaf_visits = 0;
+  uint64_t tri_tests = 0;
+
+  Counters& operator+=(const Counters& o) {
+    interior_tests += o.interior_tests;
+    box_tests += o.box_tests;
+    leaf_visits += o.leaf_visits;
+    tri_tests += o.tri_tests;
+    return *this;
+  }
+  bool operator==(const Counters&) const = default;
+};
+
+struct Hit {
+  float t = kInf;
+  float u = 0, v = 0;        // barycentrics of v1 and v2
+  uint32_t prim = kNoPrim;   // scene triangle index
+  uint32_t leaf = kNoNode;   // BVH leaf where the hit was found
+  bool hit() const { return prim != kNoPrim; }
+};
+
+/// Per-ray precomputation shared by the box and triangle tests.
+struct RayPre {
+  Vec3 org, dir, inv;
+  int kx, ky, kz;
+  float sx, sy, sz;
+  explicit RayPre(const Ray& r);
+};
+
+/// Conservative slab test of the interval [tmin, tmax]; on a hit *entry is the entry distance.
+bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
+                   float* entry);
+
+/// Watertight ray/triangle test. Accepts t with tmin <= t < tlimit (strict upper bound, so a
+/// closest-hit search keeps the first of equal hits). Never returns a non-finite t.
+bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
+                        float* u, float* v);
+
+struct TraceRequest {
+  uint32_t start_node = 0;              // walk the subtree of this node (0: the whole BVH)
+  std::vector<uint32_t>* path = nullptr;  // if set, receives every visited node in order
+};
+
+/// Closest hit in [ray.tnear, ray.tfar]. The ray must be valid (validate_ray). Near child first.
+Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req = {});
+
+/// First hit found in [ray.tnear, ray.tfar] (shadow / occlusion queries).
+Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req = {});
+
+/// Reference: tests every triangle (for tests and fuzzing).
+Hit brute_force_closest(const Bvh& bvh, const Ray& ray);
+
+}  // namespace hrpp

@@ -1,0 +1,165 @@
+#include "hrpp/traverse.h"
+
+#include <array>
+#include <stdexcept>
+
+namespace hrpp {
+
+RayPre::RayPre(const Ray& r) : org(r.org), dir(r.dir) {
+  inv = Vec3(1.f / dir.x, 1.f / dir.y, 1.f / dir.z);  // +-0 gives +-inf
+  Vec3 a = glm::abs(dir);
+  kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  kx = (kz + 1) % 3;
+  ky = (kx + 1) % 3;
+  if (dir[kz] < 0) std::swap(kx, ky);  // keep the winding
+  sx = dir[kx] / dir[kz];
+  sy = dir[ky] / dir[kz];
+  sz = 1.f / dir[kz];
+}
+
+bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
+                   float* entry) {
+  constexpr float kWiden = 1 + 2 * gamma(3);
+  for (int a = 0; a < 3; ++a) {
+    float t0 = (lo[a] - r.org[a]) * r.inv[a];
+    float t1 = (hi[a] - r.org[a]) * r.inv[a];
+    if (r.inv[a] < 0) std::swap(t0, t1);
+    t1 *= kWiden;
+    // Written so that a NaN (0 * inf) leaves the interval unchanged.
+    tmin = t0 > tmin ? t0 : tmin;
+    tmax = t1 < tmax ? t1 : tmax;
+  }
+  *entry = tmin;
+  return tmin <= tmax;
+}
+
+bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
+                        float* u, float* v) {
+  const Vec3 A = tri.v0 - r.org, B = tri.v1 - r.org, C = tri.v2 - r.org;
+  const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
+  const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
+  const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+  float U = cx * by - cy * bx;
+  float V = ax * cy - ay * cx;
+  float W = bx * ay - by * ax;
+  if (U == 0.f || V == 0.f || W == 0.f) {  // edge case: recompute exactly in double
+    U = static_cast<float>(double(cx) * by - double(cy) * bx);
+    V = static_cast<float>(double(ax) * cy - double(ay) * cx);
+    W = static_cast<float>(double(bx) * ay - double(by) * ax);
+  }
+  if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
+  const float det = U + V + W;
+  if (det == 0.f) return false;
+  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
+  const float T = U * az + V * bz + W * cz;
+  const float rcp = 1.f / det;
+  const float tt = T * rcp;
+  if (!(tt >= tmin && tt < tlimit) || !std::isfinite(tt)) return false;
+  *t = tt;
+  *u = V * rcp;
+  *v = W * rcp;
+  return true;
+}
+
+namespace {
+
+constexpr int kStackSize = 1024;
+
+template <bool kAnyHit>
+Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+  const RayPre r(ray);
+  Hit hit;
+  float limit = next_float_up(ray.tfar);  // accept t <= tfar
+  struct Entry {
+    uint32_t node;
+    float t;
+  };
+  std::array<Entry, kStackSize> stack;
+  int sp = 0;
+  uint32_t node = req.start_node;
+  float entry;
+  c->box_tests++;
+  if (!intersect_box(r, bvh.nodes[node].lo, bvh.nodes[node].hi, ray.tnear, limit, &entry))
+    return hit;
+  while (true) {
+    const BvhNode& n = bvh.nodes[node];
+    if (req.path) req.path->push_back(node);
+    if (n.is_leaf()) {
+      c->leaf_visits++;
+      for (uint32_t i = n.right_or_first, e = n.right_or_first + n.count; i < e; ++i) {
+        c->tri_tests++;
+        if (bvh.tri_degenerate[i]) continue;
+        float t, u, v;
+        if (intersect_triangle(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
+          hit.t = limit = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = bvh.prim_ids[i];
+          hit.leaf = node;
+          if constexpr (kAnyHit) return hit;
+        }
+      }
+    } else {
+      c->interior_tests++;
+      c->box_tests += 2;
+      const uint32_t l = node + 1, rr = n.right_or_first;
+      float tl, tr;
+      const bool hl = intersect_box(r, bvh.nodes[l].lo, bvh.nodes[l].hi, ray.tnear, limit, &tl);
+      const bool hr = intersect_box(r, bvh.nodes[rr].lo, bvh.nodes[rr].hi, ray.tnear, limit, &tr);
+      if (hl && hr) {
+        if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
+        if (tr < tl) {
+          stack[sp++] = {l, tl};
+          node = rr;
+        } else {
+          stack[sp++] = {rr, tr};
+          node = l;
+        }
+        continue;
+      }
+      if (hl || hr) {
+        node = hl ? l : rr;
+        continue;
+      }
+    }
+    // Pop the next node whose box entry is not beyond the closest hit so far.
+    while (sp > 0) {
+      const Entry e = stack[--sp];
+      if (e.t < limit) {
+        node = e.node;
+        goto next;
+      }
+    }
+    return hit;
+  next:;
+  }
+}
+
+}  // namespace
+
+Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+  return traverse<false>(bvh, ray, c, req);
+}
+
+Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+  return traverse<true>(bvh, ray, c, req);
+}
+
+Hit brute_force_closest(const Bvh& bvh, const Ray& ray) {
+  const RayPre r(ray);
+  Hit hit;
+  float limit = next_float_up(ray.tfar);
+  for (uint32_t i = 0; i < bvh.tris.size(); ++i) {
+    if (bvh.tri_degenerate[i]) continue;
+    float t, u, v;
+    if (intersect_triangle(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
+      hit.t = limit = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = bvh.prim_ids[i];
+    }
+  }
+  return hit;
+}
+
+}  // namespace hrpp

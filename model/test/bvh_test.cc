@@ -1,0 +1,181 @@
+// BVH invariants and traversal against brute force.
+#include <gtest/gtest.h>
+
+#include "hrpp/bvh.h"
+#include "hrpp/rng.h"
+#include "hrpp/traverse.h"
+#include "test_util.h"
+
+namespace hrpp {
+namespace {
+
+TEST(Bvh, InvariantsOnRandomSoups) {
+  for (size_t n : {1u, 2u, 3u, 7u, 100u, 5000u})
+    for (uint32_t leaf : {1u, 2u, 4u, 8u}) {
+      auto tris = test::random_soup(n, 0.05f, n * 31 + leaf);
+      Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
+      EXPECT_EQ(check_bvh(bvh, n), "") << "n=" << n << " leaf=" << leaf;
+      for (size_t k = leaf + 1; k < bvh.stats.leaf_size_histogram.size(); ++k)
+        EXPECT_EQ(bvh.stats.leaf_size_histogram[k], 0u) << "leaf larger than the maximum";
+    }
+}
+
+TEST(Bvh, InvariantsWithCoincidentCentroids) {
+  // 50 copies of one triangle: SAH cannot split them, the builder must still bound leaf size.
+  std::vector<Triangle> tris(50, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  Bvh bvh = build_bvh(tris, {.max_leaf_size = 4});
+  EXPECT_EQ(check_bvh(bvh, tris.size()), "");
+  EXPECT_LE(bvh.stats.leaf_size_histogram.size(), 5u);
+}
+
+TEST(Bvh, CheckerDetectsBrokenTrees) {
+  auto tris = test::random_soup(200, 0.05f, 5);
+  Bvh good = build_bvh(tris);
+  ASSERT_EQ(check_bvh(good, tris.size()), "");
+  Bvh b1 = good;
+  b1.nodes[1].hi.x += 10.f;  // child outside its parent
+  EXPECT_NE(check_bvh(b1, tris.size()), "");
+  Bvh b2 = good;
+  for (auto& n : b2.nodes)
+    if (n.is_leaf()) {
+      n.right_or_first = (n.right_or_first + 1) % 200;  // a triangle in two leaves
+      break;
+    }
+  EXPECT_NE(check_bvh(b2, tris.size()), "");
+  Bvh b3 = good;
+  b3.parent[2] = 7;
+  EXPECT_NE(check_bvh(b3, tris.size()), "");
+}
+
+TEST(Bvh, InvariantsOnRealScenes) {
+  auto scenes = test::own_scenes();
+  for (const auto& s : test::shared_scenes()) scenes.push_back(s);
+  ASSERT_FALSE(scenes.empty());
+  for (const auto& path : scenes) {
+    Scene s = load_scene(path);
+    Bvh bvh = build_bvh(s.triangles);
+    EXPECT_EQ(check_bvh(bvh, s.triangles.size()), "") << path;
+    EXPECT_GT(bvh.stats.sah_cost, 0) << path;
+  }
+  if (test::shared_scenes().empty()) GTEST_SKIP() << "../shared/scenes absent: own scenes only";
+}
+
+TEST(Bvh, AncestorWalksParents) {
+  auto tris = test::random_soup(500, 0.05f, 9);
+  Bvh bvh = build_bvh(tris);
+  for (uint32_t i = 0; i < bvh.nodes.size(); i += 17) {
+    EXPECT_EQ(bvh.ancestor(i, 0), i);
+    if (i) {
+      EXPECT_EQ(bvh.ancestor(i, 1), bvh.parent[i]);
+    }
+    EXPECT_EQ(bvh.ancestor(i, 1000), 0u);
+    EXPECT_EQ(bvh.depth[bvh.ancestor(i, 2)], bvh.depth[i] >= 2 ? bvh.depth[i] - 2 : 0);
+  }
+}
+
+Ray random_ray(uint64_t seed, uint64_t i) {
+  auto u = [&](uint64_t k) { return 2.f * uniform01(seed, i, k) - 1.f; };
+  Ray r;
+  r.org = 1.5f * Vec3(u(0), u(1), u(2));
+  r.dir = glm::normalize(Vec3(u(3), u(4), u(5)) - 0.3f * r.org);
+  if (i % 5 == 0) r.tfar = 0.5f + uniform01(seed, i, 6);
+  if (i % 7 == 0) r.tnear = 0.2f * uniform01(seed, i, 7);
+  return r;
+}
+
+TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    auto tris = test::random_soup(2000, 0.08f, seed);
+    for (uint32_t leaf : {1u, 4u, 8u}) {
+      Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
+      int hits = 0;
+      for (uint64_t i = 0; i < 3000; ++i) {
+        Ray r = random_ray(seed * 100 + leaf, i);
+        Counters c;
+        Hit a = closest_hit(bvh, r, &c);
+        Hit b = brute_force_closest(bvh, r);
+        ASSERT_EQ(a.hit(), b.hit()) << "seed " << seed << " ray " << i;
+        if (!a.hit()) continue;
+        ++hits;
+        EXPECT_EQ(a.t, b.t) << "ray " << i;
+        if (a.prim != b.prim) {  // only acceptable as an exact tie
+          RayPre pre(r);
+          float t, u, v;
+          EXPECT_TRUE(intersect_triangle(pre, tris[a.prim], r.tnear, kInf, &t, &u, &v) &&
+                      t == b.t);
+        }
+        EXPECT_NE(a.leaf, kNoNode);
+        EXPECT_TRUE(bvh.nodes[a.leaf].is_leaf());
+      }
+      EXPECT_GT(hits, 300) << "too few hits for the test to mean anything";
+    }
+  }
+}
+
+TEST(Traversal, AnyHitAgreesWithBruteForce) {
+  auto tris = test::random_soup(2000, 0.08f, 11);
+  Bvh bvh = build_bvh(tris);
+  for (uint64_t i = 0; i < 5000; ++i) {
+    Ray r = random_ray(77, i);
+    Counters c;
+    Hit a = any_hit(bvh, r, &c);
+    Hit b = brute_force_closest(bvh, r);
+    ASSERT_EQ(a.hit(), b.hit()) << "ray " << i;
+    if (a.hit()) {
+      EXPECT_GE(a.t, r.tnear);
+      EXPECT_LE(a.t, r.tfar);
+      EXPECT_GE(a.t, b.t);
+    }
+  }
+}
+
+TEST(Traversal, CountersAndPathAreConsistent) {
+  auto tris = test::random_soup(3000, 0.05f, 21);
+  Bvh bvh = build_bvh(tris);
+  for (uint64_t i = 0; i < 500; ++i) {
+    Ray r = random_ray(5, i);
+    Counters c;
+    std::vector<uint32_t> path;
+    Hit h = closest_hit(bvh, r, &c, {.path = &path});
+    EXPECT_EQ(c.box_tests, 1 + 2 * c.interior_tests);
+    uint64_t leaves = 0, interior = 0, tris_in_leaves = 0;
+    for (uint32_t n : path) {
+      if (bvh.nodes[n].is_leaf()) {
+        ++leaves;
+        tris_in_leaves += bvh.nodes[n].count;
+      } else {
+        ++interior;
+      }
+    }
+    EXPECT_EQ(leaves, c.leaf_visits);
+    EXPECT_EQ(interior, c.interior_tests);
+    EXPECT_EQ(tris_in_leaves, c.tri_tests);
+    if (h.hit()) {
+      EXPECT_NE(std::find(path.begin(), path.end(), h.leaf), path.end());
+    }
+  }
+}
+
+TEST(Traversal, SubtreeWalkFindsHitsInsideTheSubtree) {
+  auto tris = test::random_soup(1000, 0.05f, 3);
+  Bvh bvh = build_bvh(tris);
+  int checked = 0;
+  for (uint64_t i = 0; i < 2000; ++i) {
+    Ray r = random_ray(9, i);
+    Counters c;
+    Hit h = closest_hit(bvh, r, &c);
+    if (!h.hit()) continue;
+    // Walking only the hit leaf's grandparent subtree finds the same hit.
+    uint32_t sub = bvh.ancestor(h.leaf, 2);
+    Counters cs;
+    Hit hs = closest_hit(bvh, r, &cs, {.start_node = sub});
+    ASSERT_TRUE(hs.hit());
+    EXPECT_EQ(hs.t, h.t);
+    EXPECT_LE(cs.interior_tests, c.interior_tests);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+}  // namespace
+}  // namespace hrpp

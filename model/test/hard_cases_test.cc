@@ -1,0 +1,368 @@
+// The traversal hard cases T1-T18 of ../shared/HARD_CASES.md, each checked on our BVH and, where
+// the ray is valid, on Embree (robust mode, the pinned reference configuration).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "hrpp/bvh.h"
+#include "hrpp/crosscheck.h"
+#include "hrpp/embree_ref.h"
+#include "hrpp/rng.h"
+#include "hrpp/traverse.h"
+#include "hrpp/workload.h"
+#include "test_util.h"
+
+namespace hrpp {
+namespace {
+
+// Quad Q: two triangles in the plane z = 1 covering [-1, 1]^2.
+std::vector<Triangle> quad() {
+  return {{{1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, {{1, -1, 1}, {-1, -1, 1}, {-1, 1, 1}}};
+}
+
+// The unit cube [0, 1]^3 as 12 triangles, wound outwards.
+std::vector<Triangle> unit_cube() {
+  const Vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int f[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                       {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  std::vector<Triangle> out;
+  for (const auto& q : f) {
+    out.push_back({p[q[0]], p[q[1]], p[q[2]]});
+    out.push_back({p[q[0]], p[q[2]], p[q[3]]});
+  }
+  return out;
+}
+
+struct Both {
+  Hit ours, embree;
+};
+
+class Tracer {
+ public:
+  explicit Tracer(std::vector<Triangle> tris)
+      : tris_(tris), bvh_(build_bvh(tris)), emb_(tris, kEmbreeReferenceConfig, true) {}
+  Both trace(const Ray& r) const {
+    EXPECT_EQ(validate_ray(r), RayError::kNone);
+    Counters c;
+    Both b{closest_hit(bvh_, r, &c), emb_.intersect(r)};
+    Hit any = any_hit(bvh_, r, &c);
+    EXPECT_EQ(any.hit(), b.ours.hit()) << "any-hit and closest-hit disagree";
+    EXPECT_EQ(emb_.occluded(r), b.embree.hit()) << "Embree occluded and intersect disagree";
+    if (b.ours.hit()) {
+      EXPECT_TRUE(std::isfinite(b.ours.t));
+    }
+    return b;
+  }
+  const Bvh& bvh() const { return bvh_; }
+  const EmbreeScene& embree() const { return emb_; }
+  const std::vector<Triangle>& tris() const { return tris_; }
+
+ private:
+  std::vector<Triangle> tris_;
+  Bvh bvh_;
+  EmbreeScene emb_;
+};
+
+Ray make_ray(Vec3 o, Vec3 d, float tnear = 0.f, float tfar = kInf) { return {o, d, tnear, tfar}; }
+
+void expect_hit_near(const Hit& h, float t, const char* who) {
+  ASSERT_TRUE(h.hit()) << who << " missed";
+  EXPECT_NEAR(h.t, t, 16 * std::numeric_limits<float>::epsilon() * t) << who;
+}
+
+TEST(HardCases, T01_QuadFromOriginAlongZ) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0, 0, 0}, {0, 0, 1}));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+}
+
+TEST(HardCases, T02_NegativeZeroDirectionComponents) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0, 0, 0}, {-0.f, -0.f, 1}));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+  Counters c1, c2;
+  Hit h1 = closest_hit(tr.bvh(), make_ray({0, 0, 0}, {0, 0, 1}), &c1);
+  Hit h2 = closest_hit(tr.bvh(), make_ray({0, 0, 0}, {-0.f, -0.f, 1}), &c2);
+  EXPECT_EQ(h1.t, h2.t);
+  EXPECT_EQ(c1, c2);
+}
+
+TEST(HardCases, T03_BelowAVertex) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({1, 1, 0}, {0, 0, 1}));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+}
+
+TEST(HardCases, T04_JustOutsideAnEdgeEitherAnswer) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({std::nextafter(1.f, 2.f), 0, 0}, {0, 0, 1}));
+  // Documented: either answer is correct; a hit must be at t ~ 1.
+  if (b.ours.hit()) {
+    expect_hit_near(b.ours, 1.f, "ours");
+  }
+  if (b.embree.hit()) {
+    expect_hit_near(b.embree, 1.f, "embree");
+  }
+  // Ours misses: the origin is strictly outside the quad and the test is exact there.
+  EXPECT_FALSE(b.ours.hit());
+}
+
+TEST(HardCases, T05_OriginOnTheSurface) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0.25f, 0.5f, 1}, {0, 0, 1}));
+  // Documented behaviour (docs/bvh.md): with tnear = 0 a ray starting on a surface hits it at
+  // t = 0. Secondary rays avoid this with offset origins (T18).
+  ASSERT_TRUE(b.ours.hit());
+  EXPECT_EQ(b.ours.t, 0.f);
+}
+
+TEST(HardCases, T06_CoplanarRayMisses) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({-2, 0.5f, 1}, {1, 0, 0}));
+  EXPECT_FALSE(b.ours.hit());
+  EXPECT_FALSE(b.embree.hit());
+}
+
+TEST(HardCases, T07_BackFaceIsHit) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0.25f, 0.5f, 2}, {0, 0, -1}));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+}
+
+TEST(HardCases, T08_HitExactlyAtTfar) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0.25f, 0.5f, 0}, {0, 0, 1}, 0.f, 1.f));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+  Both b2 = tr.trace(make_ray({0.25f, 0.5f, 0}, {0, 0, 1}, 0.f, std::nextafter(1.f, 0.f)));
+  if (b2.ours.hit()) {  // either answer
+    EXPECT_LE(b2.ours.t, std::nextafter(1.f, 0.f));
+  }
+}
+
+TEST(HardCases, T09_TnearAboveTfarIsRejected) {
+  const Ray r = make_ray({0.25f, 0.5f, 0}, {0, 0, 1}, 2.f, 1.f);
+  const Ray copy = r;
+  EXPECT_EQ(validate_ray(r), RayError::kTnearAboveTfar);
+  Scene s = test::scene_from_triangles(quad());
+  Tracer tr(quad());
+  CrossCheckResult res = cross_check_rays(s, tr.bvh(), tr.embree(), {{r, RayKind::kPrimary}});
+  EXPECT_EQ(res.total.invalid_rays, 1u);
+  EXPECT_EQ(res.total.compared, 0u);
+  EXPECT_EQ(std::memcmp(&r, &copy, sizeof r), 0) << "ray changed";
+}
+
+TEST(HardCases, T10_DenormalDirectionMissesWithoutNaN) {
+  Tracer tr(quad());
+  Both b = tr.trace(make_ray({0, 0, 0}, {0, 0, 1e-40f}));
+  EXPECT_FALSE(b.ours.hit());
+  EXPECT_FALSE(b.embree.hit()) << "robust Embree misses (its fast mode returns t = NaN)";
+}
+
+TEST(HardCases, T11_NonFiniteAndNegativeTnearRaysNeverReachEmbree) {
+  const float nan = std::nanf(""), inf = kInf;
+  std::vector<std::pair<Ray, RayError>> bad = {
+      {make_ray({nan, 0, 0}, {0, 0, 1}), RayError::kNotFinite},
+      {make_ray({0, inf, 0}, {0, 0, 1}), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {0, nan, 1}), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {-inf, 0, 1}), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {0, 0, 1}, nan), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {0, 0, 1}, 0.f, nan), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {0, 0, 1}, inf), RayError::kNotFinite},
+      {make_ray({0, 0, 0}, {0, 0, 1}, -1.f), RayError::kNegativeTnear},
+      {make_ray({0, 0, 0}, {0, 0, 0}), RayError::kZeroDirection},
+      {make_ray({0, 0, 0}, {-0.f, 0, -0.f}), RayError::kZeroDirection},
+      {make_ray({0, 0, 0}, {0, 0, 1e19f}), RayError::kDirectionTooLarge},
+  };
+  Scene s = test::scene_from_triangles(quad());
+  Tracer tr(quad());
+  std::vector<std::pair<Ray, RayKind>> rays;
+  for (const auto& [r, e] : bad) {
+    EXPECT_EQ(validate_ray(r), e) << ray_error_name(e);
+    rays.push_back({r, RayKind::kPrimary});
+    rays.push_back({r, RayKind::kShadow});
+  }
+  // Embree would abort the process on any of these: reaching the end proves none was sent.
+  CrossCheckResult res = cross_check_rays(s, tr.bvh(), tr.embree(), rays);
+  EXPECT_EQ(res.total.invalid_rays, rays.size());
+  EXPECT_EQ(res.total.compared, 0u);
+  // tfar = +inf is valid.
+  EXPECT_EQ(validate_ray(make_ray({0, 0, 0}, {0, 0, 1}, 0.f, inf)), RayError::kNone);
+}
+
+TEST(HardCases, T12_OriginOnABoxFacePlane) {
+  Tracer tr(quad());
+  for (float zero : {0.f, -0.f}) {
+    Both b = tr.trace(make_ray({-1, 0.5f, 0}, {zero, 0, 1}));
+    expect_hit_near(b.ours, 1.f, "ours");
+    expect_hit_near(b.embree, 1.f, "embree");
+  }
+  // The same on the unit cube with the zero direction component on every axis in turn (the
+  // NaN slab is then the first, second or last one tested): the ray runs in a face plane.
+  Tracer cube(unit_cube());
+  for (int a = 0; a < 3; ++a)      // axis the ray travels along
+    for (int z = 0; z < 3; ++z) {  // axis whose face plane holds the ray
+      if (z == a) continue;
+      for (float plane : {0.f, 1.f}) {
+        Vec3 o(0.5f), d(0.f);
+        o[a] = -1.f;
+        o[z] = plane;
+        d[a] = 1.f;
+        Both b = cube.trace(make_ray(o, d));
+        expect_hit_near(b.ours, 1.f, "ours");
+      }
+    }
+}
+
+TEST(HardCases, T13_CubeFromCentreAlongEachAxis) {
+  Tracer tr(unit_cube());
+  for (int a = 0; a < 3; ++a)
+    for (float s : {1.f, -1.f}) {
+      Vec3 d(0);
+      d[a] = s;
+      Both b = tr.trace(make_ray({0.5f, 0.5f, 0.5f}, d));
+      expect_hit_near(b.ours, 0.5f, "ours");
+      expect_hit_near(b.embree, 0.5f, "embree");
+    }
+}
+
+TEST(HardCases, T14_GrazingTheTopFace) {
+  Tracer tr(unit_cube());
+  Both b = tr.trace(make_ray({-1, 1, 0.5f}, {1, 0, 0}));
+  expect_hit_near(b.ours, 1.f, "ours");
+  expect_hit_near(b.embree, 1.f, "embree");
+}
+
+TEST(HardCases, T15_ThroughACubeVertex) {
+  Tracer tr(unit_cube());
+  Both b = tr.trace(make_ray({-1, -1, -1}, glm::normalize(Vec3(1, 1, 1))));
+  ASSERT_TRUE(b.ours.hit());
+  ASSERT_TRUE(b.embree.hit());
+  EXPECT_NEAR(b.ours.t, std::sqrt(3.f), 1e-5f);
+}
+
+TEST(HardCases, T16_DegenerateTrianglesAreNeverHit) {
+  std::vector<Triangle> tris = {
+      {{0, 0, 1}, {1, 1, 1}, {2, 2, 1}},     // collinear
+      {{-1, 0, 1}, {-1, 0, 1}, {-2, 1, 1}},  // repeated vertex
+      {{3, 3, 1}, {3, 3, 1}, {3, 3, 1}},     // a point
+  };
+  Tracer tr(tris);
+  EXPECT_EQ(test::scene_from_triangles(tris).degenerate_triangles, 3u);
+  const Vec3 targets[] = {{0.5f, 0.5f, 1}, {1, 1, 1}, {0, 0, 1},  {-1, 0, 1},
+                          {-1.5f, 0.5f, 1}, {3, 3, 1}, {2, 2, 1}};
+  for (const Vec3& t : targets)
+    for (const Vec3& o : {Vec3(t.x, t.y, 0), Vec3(t.x + 0.3f, t.y - 0.2f, -1)}) {
+      Both b = tr.trace(make_ray(o, glm::normalize(t - o)));
+      EXPECT_FALSE(b.ours.hit());
+      // Coplanar rays along the collinear triangle's line.
+      Both c = tr.trace(make_ray({-1, -1, 1}, glm::normalize(Vec3(1, 1, 0))));
+      EXPECT_FALSE(c.ours.hit());
+    }
+}
+
+// An icosphere: a closed, watertight mesh (shared vertices bit-identical).
+std::vector<Triangle> icosphere(int subdiv, Vec3 centre, float radius) {
+  const float t = (1.f + std::sqrt(5.f)) / 2.f;
+  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& p : v) p = glm::normalize(p);
+  for (int s = 0; s < subdiv; ++s) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back(glm::normalize(v[a] + v[b]));
+      return mid[key] = static_cast<int>(v.size() - 1);
+    };
+    std::vector<std::array<int, 3>> nf;
+    for (auto [a, b, c] : f) {
+      int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      nf.push_back({a, ab, ca});
+      nf.push_back({b, bc, ab});
+      nf.push_back({c, ca, bc});
+      nf.push_back({ab, bc, ca});
+    }
+    f = nf;
+  }
+  std::vector<Triangle> out;
+  for (auto [a, b, c] : f)
+    out.push_back({centre + radius * v[a], centre + radius * v[b], centre + radius * v[c]});
+  return out;
+}
+
+TEST(HardCases, T17_RaysAtSharedEdgesAndVerticesNeverFallThrough) {
+  for (const Vec3& centre : {Vec3(0.f), Vec3(1000.f, -2000.f, 3000.f)}) {
+    auto tris = icosphere(3, centre, 1.f);
+    Tracer tr(tris);
+    uint64_t rays = 0, ours_miss = 0, embree_miss = 0;
+    // From several interior points towards every vertex and every edge midpoint.
+    for (const Vec3& o : {centre, centre + Vec3(0.1f, -0.2f, 0.3f), centre + Vec3(-0.5f, 0.1f, 0)})
+      for (const Triangle& t : tris)
+        for (const Vec3& target : {t.v0, 0.5f * (t.v0 + t.v1), 0.5f * (t.v1 + t.v2)}) {
+          Ray r = make_ray(o, glm::normalize(target - o));
+          Counters c;
+          ++rays;
+          ours_miss += !closest_hit(tr.bvh(), r, &c).hit();
+          embree_miss += !tr.embree().intersect(r).hit();
+        }
+    EXPECT_EQ(ours_miss, 0u) << "of " << rays << " rays, centre " << centre.x;
+    EXPECT_EQ(embree_miss, 0u) << "Embree robust mode, of " << rays << " rays";
+  }
+}
+
+// Shoots secondary rays from the primary hits; returns how many re-hit their own triangle.
+uint64_t self_hits(const std::vector<Triangle>& tris, bool offset, uint64_t* spawned) {
+  Scene s = test::scene_from_triangles(tris);
+  Bvh bvh = build_bvh(s.triangles);
+  uint64_t self = 0;
+  *spawned = 0;
+  const int n = 200;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      Ray r = camera_ray(s.camera, n, n, x, y, 0, 1, 3);
+      Counters c;
+      Hit h = closest_hit(bvh, r, &c);
+      if (!h.hit()) continue;
+      const Triangle& t = s.triangles[h.prim];
+      Vec3 p = t.v0 + h.u * (t.v1 - t.v0) + h.v * (t.v2 - t.v0);
+      Vec3 nrm = glm::normalize(t.normal());
+      if (glm::dot(nrm, r.dir) > 0) nrm = -nrm;
+      // A direction in the hemisphere the camera ray came from.
+      Vec3 d = glm::normalize(nrm + 0.9f * Vec3(uniform01(1, x, y, 0) - 0.5f,
+                                                uniform01(1, x, y, 1) - 0.5f,
+                                                uniform01(1, x, y, 2) - 0.5f));
+      Ray sr = make_ray(offset ? offset_ray_origin(p, nrm) : p, d);
+      Hit sh = closest_hit(bvh, sr, &c);
+      ++*spawned;
+      self += sh.hit() && sh.prim == h.prim;
+    }
+  return self;
+}
+
+TEST(HardCases, T18_OffsetOriginsGiveNoSelfHits) {
+  // A scene far from the origin, where self-intersection is common without the offset.
+  auto tris = test::random_soup(3000, 0.1f, 42);
+  for (auto& t : tris)
+    for (Vec3* v : {&t.v0, &t.v1, &t.v2}) *v = 1000.f * *v + Vec3(5e4f, -3e4f, 2e4f);
+  uint64_t spawned = 0;
+  EXPECT_EQ(self_hits(tris, true, &spawned), 0u);
+  EXPECT_GT(spawned, 10000u);
+  // The check can fail: without the offset, rays do re-hit their own triangle.
+  EXPECT_GT(self_hits(tris, false, &spawned), spawned / 20);
+}
+
+}  // namespace
+}  // namespace hrpp

@@ -1,0 +1,256 @@
+// Scene loading: real scenes load with the expected contents; malformed files give clear errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "hrpp/scene.h"
+#include "test_util.h"
+
+namespace hrpp {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Scene, SharedScenesLoadWithPublishedCounts) {
+  struct Expect {
+    const char* file;
+    size_t triangles;
+    size_t punctual_lights;
+    bool area_light;
+  };
+  // Triangle counts from ../shared/scenes/SOURCES.md ("all mesh nodes together").
+  const Expect expect[] = {{"bunny.glb", 69485, 1, true},       {"teapot.glb", 2360, 1, true},
+                           {"killeroo.glb", 66852, 0, true},    {"happy_buddha.glb", 98601, 1, false},
+                           {"sponza.glb", 66454, 1, false},     {"cornell_box.glb", 32, 0, true}};
+  if (test::shared_scenes().empty()) GTEST_SKIP() << "../shared/scenes absent";
+  for (const auto& e : expect) {
+    Scene s = load_scene(test::shared_scene(e.file));
+    EXPECT_EQ(s.triangles.size(), e.triangles) << e.file;
+    EXPECT_EQ(s.lights.size(), e.punctual_lights) << e.file;
+    EXPECT_EQ(!s.emissive_triangles().empty(), e.area_light) << e.file;
+    EXPECT_EQ(s.camera.source, "sidecar " + std::string(e.file).substr(0, std::strlen(e.file) - 4) +
+                                   ".camera.json");
+    EXPECT_FALSE(s.bounds.empty());
+  }
+  // SOURCES.md: exactly one zero-area triangle in the whole set, in sponza.
+  EXPECT_EQ(load_scene(test::shared_scene("sponza.glb")).degenerate_triangles, 1u);
+  // The sun of sponza travels along (0.24321, -0.965926, -0.088521).
+  Scene sp = load_scene(test::shared_scene("sponza.glb"));
+  ASSERT_EQ(sp.lights.size(), 1u);
+  EXPECT_EQ(sp.lights[0].type, Light::Type::kDirectional);
+  EXPECT_NEAR(sp.lights[0].direction.x, 0.24321f, 1e-4f);
+  EXPECT_NEAR(sp.lights[0].direction.y, -0.965926f, 1e-4f);
+  // Materials and extensions: the bunny's area light has emissive strength 15.
+  Scene bunny = load_scene(test::shared_scene("bunny.glb"));
+  bool found = false;
+  for (const Material& m : bunny.materials)
+    if (m.is_emissive()) {
+      EXPECT_FLOAT_EQ(m.emissive_strength, 15.f);
+      EXPECT_FALSE(m.double_sided);
+      found = true;
+    }
+  EXPECT_TRUE(found);
+}
+
+TEST(Scene, OwnScenesLoad) {
+  auto own = test::own_scenes();
+  ASSERT_GE(own.size(), 1u) << "scenes/ must hold the project's default scene";
+  for (const auto& p : own) {
+    Scene s = load_scene(p);
+    EXPECT_GT(s.triangles.size(), 0u) << p;
+    EXPECT_EQ(s.degenerate_triangles, 0u) << p;
+    EXPECT_NE(s.camera.source.find("sidecar"), std::string::npos) << p;
+  }
+}
+
+class Malformed : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name()); }
+  // Writes the glTF JSON and expects load_scene to throw a SceneError containing every needle.
+  void expect_error(const nlohmann::json& j, std::vector<std::string> needles,
+                    const std::string& name = "scene.gltf") {
+    std::string path = dir_ + "/" + name;
+    test::write_text(path, j.dump());
+    expect_error_file(path, needles);
+  }
+  void expect_error_file(const std::string& path, std::vector<std::string> needles) {
+    try {
+      load_scene(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const SceneError& e) {
+      std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(path, 0), 0u) << "message must start with the file: " << msg;
+      for (const auto& n : needles) EXPECT_NE(msg.find(n), std::string::npos) << msg;
+    }
+  }
+  nlohmann::json good() { return test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}); }
+  std::string dir_;
+};
+
+TEST_F(Malformed, GoodMinimalSceneLoads) {
+  std::string path = dir_ + "/ok.gltf";
+  test::write_text(path, good().dump());
+  Scene s = load_scene(path);
+  EXPECT_EQ(s.triangles.size(), 1u);
+  EXPECT_EQ(s.camera.source, "computed default");
+}
+
+TEST_F(Malformed, MissingFile) { expect_error_file(dir_ + "/nope.glb", {"no such file"}); }
+
+TEST_F(Malformed, Directory) { expect_error_file(dir_, {"directory"}); }
+
+TEST_F(Malformed, BadJson) {
+  std::string path = dir_ + "/bad.gltf";
+  test::write_text(path, "{ \"asset\": { \"version\": \"2.0\" ");
+  expect_error_file(path, {"invalid glTF"});
+}
+
+TEST_F(Malformed, GlbWithBadMagic) {
+  std::string path = dir_ + "/bad.glb";
+  test::write_text(path, "NOPE0000000000000000");
+  expect_error_file(path, {"bad magic"});
+}
+
+TEST_F(Malformed, TruncatedGlb) {
+  std::string src = test::shared_scene("teapot.glb");
+  if (src.empty()) src = std::string(HRPP_SOURCE_DIR) + "/scenes/cornell_box.glb";
+  std::ifstream in(src, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::string path = dir_ + "/truncated.glb";
+  test::write_text(path, bytes.substr(0, bytes.size() / 2));
+  expect_error_file(path, {"invalid glTF"});
+}
+
+TEST_F(Malformed, IndexOutOfRange) {
+  auto j = test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 7});
+  expect_error(j, {"index 7", "out of range", "3 vertices"});
+}
+
+TEST_F(Malformed, AccessorOfTheWrongType) {
+  auto j = good();
+  j["accessors"][0]["type"] = "VEC2";
+  j["accessors"][0]["count"] = 4;
+  expect_error(j, {"POSITION accessor 0", "FLOAT VEC3"});
+  auto k = good();
+  k["accessors"][1]["componentType"] = 5126;  // float indices
+  expect_error(k, {"indices accessor 1", "SCALAR unsigned"});
+}
+
+TEST_F(Malformed, AccessorIndexOutOfRange) {
+  auto j = good();
+  j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9;
+  expect_error(j, {"accessor"});
+}
+
+TEST_F(Malformed, NaNAndInfiniteVertex) {
+  for (float bad : {std::nanf(""), std::numeric_limits<float>::infinity()}) {
+    auto j = test::minimal_gltf({0, 0, 0, 1, bad, 0, 0, 1, 0}, {0, 1, 2});
+    j["accessors"][0].erase("min");
+    j["accessors"][0].erase("max");
+    expect_error(j, {"vertex 1", "NaN or infinite"});
+  }
+}
+
+TEST_F(Malformed, NonTriangleModeIsRefused) {
+  auto j = good();
+  j["meshes"][0]["primitives"][0]["mode"] = 1;
+  expect_error(j, {"mode 1", "LINES", "not a triangle mode"});
+}
+
+TEST_F(Malformed, StripsAndFansAreConverted) {
+  auto j = test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 1, 2, 0}, {0, 1, 2, 3, 4});
+  j["meshes"][0]["primitives"][0]["mode"] = 5;
+  std::string path = dir_ + "/strip.gltf";
+  test::write_text(path, j.dump());
+  Scene s = load_scene(path);
+  ASSERT_EQ(s.triangles.size(), 3u);
+  // glTF strip order: (0,1,2), (2,1,3), (2,3,4): consistent winding, all facing +z or all -z.
+  for (const auto& t : s.triangles) EXPECT_GT(t.normal().z * s.triangles[0].normal().z, 0.f);
+  j["meshes"][0]["primitives"][0]["mode"] = 6;
+  test::write_text(path, j.dump());
+  EXPECT_EQ(load_scene(path).triangles.size(), 3u);
+}
+
+TEST_F(Malformed, TrianglesNotMultipleOfThree) {
+  auto j = test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0});
+  expect_error(j, {"not a multiple of 3"});
+}
+
+TEST_F(Malformed, MaterialIndexOutOfRange) {
+  auto j = good();
+  j["meshes"][0]["primitives"][0]["material"] = 5;
+  expect_error(j, {"material index 5", "out of range"});
+}
+
+TEST_F(Malformed, BufferViewPastTheBuffer) {
+  auto j = good();
+  j["bufferViews"][1]["byteLength"] = 4000;
+  expect_error(j, {});  // tinygltf or our check, either names the file
+}
+
+TEST_F(Malformed, NodeCycle) {
+  auto j = good();
+  j["nodes"][0]["children"] = {0};
+  expect_error(j, {});
+}
+
+TEST_F(Malformed, NoTriangles) {
+  auto j = good();
+  j["scenes"][0]["nodes"] = nlohmann::json::array();
+  expect_error(j, {"no triangles"});
+}
+
+TEST_F(Malformed, BadLightIndex) {
+  auto j = good();
+  j["extensionsUsed"] = {"KHR_lights_punctual"};
+  j["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 1.0}}};
+  j["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 3}}}}}});
+  j["scenes"][0]["nodes"] = {0, 1};
+  expect_error(j, {"light index 3", "out of range"});
+}
+
+TEST_F(Malformed, CameraSidecar) {
+  std::string path = dir_ + "/s.gltf";
+  test::write_text(path, good().dump());
+  test::write_text(dir_ + "/s.camera.json", "{ not json");
+  try {
+    load_scene(path);
+    ADD_FAILURE() << "no error for a bad sidecar";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.camera.json: bad JSON"), std::string::npos) << e.what();
+  }
+  test::write_text(dir_ + "/s.camera.json", R"({"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0]})");
+  try {
+    load_scene(path);
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("fov_y_deg"), std::string::npos) << e.what();
+  }
+  test::write_text(dir_ + "/s.camera.json",
+                   R"({"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0],"fov_y_deg":40,"aspect":2})");
+  Scene s = load_scene(path);
+  EXPECT_EQ(s.camera.source, "sidecar s.camera.json");
+  EXPECT_EQ(s.camera.fov_y_deg, 40.f);
+  EXPECT_EQ(s.camera.aspect, 2.f);
+}
+
+TEST_F(Malformed, NodeTransformsAreApplied) {
+  auto j = good();
+  j["nodes"][0]["translation"] = {10, 0, 0};
+  j["nodes"][0]["scale"] = {2, 2, 2};
+  std::string path = dir_ + "/t.gltf";
+  test::write_text(path, j.dump());
+  Scene s = load_scene(path);
+  EXPECT_EQ(s.triangles[0].v1, Vec3(12, 0, 0));
+  // A mirroring transform keeps the geometric normal's facing (winding swapped back).
+  j["nodes"][0]["scale"] = {-1, 1, 1};
+  test::write_text(path, j.dump());
+  Scene m = load_scene(path);
+  EXPECT_GT(m.triangles[0].normal().z, 0.f);
+}
+
+}  // namespace
+}  // namespace hrpp

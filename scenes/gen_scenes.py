@@ -1,0 +1,925 @@
+#!/usr/bin/env python3
+"""Generate the HRPP project's own test scenes as glTF 2.0 binaries (.glb).
+
+Usage:
+    python3 scenes/gen_scenes.py [--out DIR]   write every scene to DIR
+                                               (default: this script's folder)
+    python3 scenes/gen_scenes.py --check       regenerate in memory and compare
+                                               byte for byte with the files next
+                                               to this script (exit 1 on any
+                                               difference or missing file)
+
+Each scene NAME is written as NAME.glb plus a camera sidecar NAME.camera.json.
+The conventions are those of the shared scene set (see scenes/README.md):
+one buffer; one mesh with one TRIANGLES primitive per mesh node (POSITION
+float32 VEC3 with min/max, uint32 indices, a material); identity transforms
+on mesh nodes (vertices are in world space); punctual lights through
+KHR_lights_punctual on mesh-less nodes (point: translation only,
+directional: rotation only, shining along the node's -Z); area lights as
+one-sided emissive triangle meshes wound so that (v1-v0)x(v2-v0) points
+where the light goes.
+
+Output is deterministic: no timestamps, fixed JSON key order and
+separators, floats packed with struct '<f'. Geometry is computed with
++ - * / and sqrt only (all correctly rounded in IEEE 754), so the binary
+chunks do not depend on the platform's libm.
+
+Standard library only (Python 3.11).
+"""
+
+import argparse
+import hashlib
+import json
+import math
+import struct
+import sys
+from pathlib import Path
+
+GENERATOR = "hrpp scenes/gen_scenes.py"
+
+GLB_MAGIC = 0x46546C67  # "glTF"
+CHUNK_JSON = 0x4E4F534A  # "JSON"
+CHUNK_BIN = 0x004E4942  # "BIN\0"
+TARGET_ARRAY_BUFFER = 34962
+TARGET_ELEMENT_ARRAY_BUFFER = 34963
+FLOAT = 5126
+UNSIGNED_INT = 5125
+
+
+# --------------------------------------------------------------------------
+# small vector helpers (double precision)
+# --------------------------------------------------------------------------
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0])
+
+
+def length(a):
+    return math.sqrt(dot(a, a))
+
+
+def normalize(a):
+    n = length(a)
+    return (a[0] / n, a[1] / n, a[2] / n)
+
+
+def rotate(v, axis, cos_t, sin_t):
+    """Rodrigues rotation of v about the unit vector axis (right-handed),
+    given the cosine and sine of the angle (so no trigonometric call)."""
+    kxv = cross(axis, v)
+    kdv = dot(axis, v)
+    return (v[0] * cos_t + kxv[0] * sin_t + axis[0] * kdv * (1.0 - cos_t),
+            v[1] * cos_t + kxv[1] * sin_t + axis[1] * kdv * (1.0 - cos_t),
+            v[2] * cos_t + kxv[2] * sin_t + axis[2] * kdv * (1.0 - cos_t))
+
+
+def rotation_between(a, b):
+    """(axis, cos, sin) of the rotation taking unit vector a to unit vector b
+    (None for identity). Not used for antiparallel vectors."""
+    c = cross(a, b)
+    s = length(c)
+    cos_t = dot(a, b)
+    if s == 0.0:
+        if cos_t > 0.0:
+            return None
+        raise ValueError("antiparallel vectors")
+    return (scale(c, 1.0 / s), cos_t, s)
+
+
+def quat_from_to(a, b):
+    """Unit quaternion (x, y, z, w) rotating unit vector a onto unit vector b."""
+    c = cross(a, b)
+    w = 1.0 + dot(a, b)
+    n = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + w * w)
+    return (c[0] / n, c[1] / n, c[2] / n, w / n)
+
+
+def quat_rotate(q, v):
+    x, y, z, w = q
+    u = (x, y, z)
+    t = scale(cross(u, v), 2.0)
+    return add(add(v, scale(t, w)), cross(u, t))
+
+
+def f32(x):
+    """Round a double to the nearest float32 (and turn -0.0 into 0.0)."""
+    return struct.unpack("<f", struct.pack("<f", x + 0.0))[0] + 0.0
+
+
+def r6(x):
+    """Round a JSON number for readability (6 decimals, no negative zero)."""
+    return round(x, 6) + 0.0
+
+
+def r6v(v):
+    return [r6(x) for x in v]
+
+
+# --------------------------------------------------------------------------
+# glTF builder
+# --------------------------------------------------------------------------
+
+class Gltf:
+    def __init__(self, scene_name, source):
+        self.scene_name = scene_name
+        self.source = source
+        self.bin = bytearray()
+        self.buffer_views = []
+        self.accessors = []
+        self.meshes = []
+        self.materials = []
+        self.nodes = []
+        self.lights = []
+        self.extensions_used = set()
+        self.triangles = 0
+        self.vertices = 0
+        self.bbox_min = [math.inf] * 3
+        self.bbox_max = [-math.inf] * 3
+        self.node_summary = []
+
+    # -- buffer -----------------------------------------------------------
+    def _buffer_view(self, data, target):
+        assert len(self.bin) % 4 == 0 and len(data) % 4 == 0
+        offset = len(self.bin)
+        self.bin += data
+        self.buffer_views.append({
+            "buffer": 0,
+            "byteOffset": offset,
+            "byteLength": len(data),
+            "target": target,
+        })
+        return len(self.buffer_views) - 1
+
+    # -- materials ----------------------------------------------------------
+    def material(self, name, base_color, metallic, roughness, source,
+                 emissive=None, emissive_strength=None, double_sided=True,
+                 transmission=None, ior=None):
+        m = {
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": r6v(base_color) + [1.0],
+                "metallicFactor": r6(metallic),
+                "roughnessFactor": r6(roughness),
+            },
+        }
+        if emissive is not None:
+            m["emissiveFactor"] = r6v(emissive)
+        m["doubleSided"] = bool(double_sided)
+        ext = {}
+        if emissive_strength is not None:
+            assert emissive is not None and emissive_strength > 1.0
+            ext["KHR_materials_emissive_strength"] = {
+                "emissiveStrength": r6(emissive_strength)}
+        if transmission is not None:
+            ext["KHR_materials_transmission"] = {
+                "transmissionFactor": r6(transmission)}
+        if ior is not None:
+            ext["KHR_materials_ior"] = {"ior": r6(ior)}
+        if ext:
+            m["extensions"] = ext
+            self.extensions_used.update(ext.keys())
+        m["extras"] = {"source": source}
+        self.materials.append(m)
+        return len(self.materials) - 1
+
+    # -- meshes -------------------------------------------------------------
+    def mesh_node(self, name, positions, triangles, material):
+        """positions: list of (x, y, z) doubles in world space;
+        triangles: list of (i0, i1, i2)."""
+        pos = [(f32(p[0]), f32(p[1]), f32(p[2])) for p in positions]
+        used = set()
+        for tri in triangles:
+            i0, i1, i2 = tri
+            if len({i0, i1, i2}) != 3:
+                raise ValueError(f"{name}: repeated vertex index in {tri}")
+            for i in tri:
+                if not 0 <= i < len(pos):
+                    raise ValueError(f"{name}: index {i} out of range")
+            n = cross(sub(pos[i1], pos[i0]), sub(pos[i2], pos[i0]))
+            if dot(n, n) == 0.0:
+                raise ValueError(f"{name}: zero-area triangle {tri}")
+            used.update(tri)
+        if len(used) != len(pos):
+            raise ValueError(f"{name}: unreferenced vertices")
+
+        pmin = [min(p[k] for p in pos) for k in range(3)]
+        pmax = [max(p[k] for p in pos) for k in range(3)]
+        pdata = struct.pack("<%df" % (3 * len(pos)),
+                            *[c for p in pos for c in p])
+        idata = struct.pack("<%dI" % (3 * len(triangles)),
+                            *[i for t in triangles for i in t])
+        pview = self._buffer_view(pdata, TARGET_ARRAY_BUFFER)
+        iview = self._buffer_view(idata, TARGET_ELEMENT_ARRAY_BUFFER)
+        self.accessors.append({
+            "bufferView": pview,
+            "componentType": FLOAT,
+            "count": len(pos),
+            "type": "VEC3",
+            "min": pmin,
+            "max": pmax,
+        })
+        pacc = len(self.accessors) - 1
+        flat = [i for t in triangles for i in t]
+        self.accessors.append({
+            "bufferView": iview,
+            "componentType": UNSIGNED_INT,
+            "count": len(flat),
+            "type": "SCALAR",
+            "min": [min(flat)],
+            "max": [max(flat)],
+        })
+        iacc = len(self.accessors) - 1
+        self.meshes.append({
+            "name": name,
+            "primitives": [{
+                "attributes": {"POSITION": pacc},
+                "indices": iacc,
+                "mode": 4,
+                "material": material,
+            }],
+        })
+        self.nodes.append({"name": name, "mesh": len(self.meshes) - 1})
+        self.triangles += len(triangles)
+        self.vertices += len(pos)
+        for k in range(3):
+            self.bbox_min[k] = min(self.bbox_min[k], pmin[k])
+            self.bbox_max[k] = max(self.bbox_max[k], pmax[k])
+        self.node_summary.append((name, len(triangles), len(pos)))
+        return pos
+
+    # -- punctual lights -----------------------------------------------------
+    def _light(self, light):
+        self.extensions_used.add("KHR_lights_punctual")
+        self.lights.append(light)
+        return len(self.lights) - 1
+
+    def point_light(self, name, position, color, intensity, source):
+        li = self._light({
+            "type": "point",
+            "color": r6v(color),
+            "intensity": r6(intensity),
+            "name": name,
+            "extras": {"source": source},
+        })
+        self.nodes.append({
+            "name": name,
+            "translation": r6v(position),
+            "extensions": {"KHR_lights_punctual": {"light": li}},
+        })
+        self.node_summary.append((name, 0, 0))
+
+    def directional_light(self, name, rotation, color, intensity, source):
+        li = self._light({
+            "type": "directional",
+            "color": r6v(color),
+            "intensity": r6(intensity),
+            "name": name,
+            "extras": {"source": source},
+        })
+        # full precision so that the quaternion stays unit length
+        self.nodes.append({
+            "name": name,
+            "rotation": [x + 0.0 for x in rotation],
+            "extensions": {"KHR_lights_punctual": {"light": li}},
+        })
+        self.node_summary.append((name, 0, 0))
+
+    # -- output --------------------------------------------------------------
+    def json_dict(self):
+        doc = {
+            "asset": {"version": "2.0", "generator": GENERATOR},
+            "scene": 0,
+            "scenes": [{
+                "name": self.scene_name,
+                "nodes": list(range(len(self.nodes))),
+                "extras": {"source": self.source},
+            }],
+            "nodes": self.nodes,
+            "meshes": self.meshes,
+            "materials": self.materials,
+            "accessors": self.accessors,
+            "bufferViews": self.buffer_views,
+            "buffers": [{"byteLength": len(self.bin)}],
+        }
+        if self.lights:
+            doc["extensions"] = {"KHR_lights_punctual": {"lights": self.lights}}
+        if self.extensions_used:
+            doc["extensionsUsed"] = sorted(self.extensions_used)
+        return doc
+
+    def glb(self):
+        js = json.dumps(self.json_dict(), separators=(",", ":"),
+                        sort_keys=False, ensure_ascii=True,
+                        allow_nan=False).encode("ascii")
+        js += b" " * ((4 - len(js) % 4) % 4)
+        bin_chunk = bytes(self.bin) + b"\0" * ((4 - len(self.bin) % 4) % 4)
+        total = 12 + 8 + len(js) + 8 + len(bin_chunk)
+        out = bytearray()
+        out += struct.pack("<III", GLB_MAGIC, 2, total)
+        out += struct.pack("<II", len(js), CHUNK_JSON) + js
+        out += struct.pack("<II", len(bin_chunk), CHUNK_BIN) + bin_chunk
+        assert len(out) == total
+        return bytes(out)
+
+
+def camera_json(eye, target, up, fov_y_deg, aspect, image_size, kind,
+                source, notes):
+    cam = {
+        "eye": r6v(eye),
+        "target": r6v(target),
+        "up": r6v(up),
+        "fov_y_deg": r6(fov_y_deg),
+        "aspect": r6(aspect),
+        "image_size": [int(image_size[0]), int(image_size[1])],
+        "kind": kind,
+        "source": source,
+        "notes": notes,
+    }
+    return (json.dumps(cam, indent=2, sort_keys=False, ensure_ascii=True)
+            + "\n").encode("ascii")
+
+
+def quad(v0, v1, v2, v3):
+    """Positions and triangles (v0,v1,v2),(v0,v2,v3) of one quad."""
+    return [v0, v1, v2, v3], [(0, 1, 2), (0, 2, 3)]
+
+
+def quads(qs):
+    pos, tris = [], []
+    for q in qs:
+        base = len(pos)
+        pos.extend(q)
+        tris.append((base, base + 1, base + 2))
+        tris.append((base, base + 2, base + 3))
+    return pos, tris
+
+
+def check_facing(name, pos, tris, direction):
+    """Assert that every triangle's geometric normal points along direction."""
+    for t in tris:
+        n = cross(sub(pos[t[1]], pos[t[0]]), sub(pos[t[2]], pos[t[0]]))
+        if dot(normalize(n), direction) < 0.999999:
+            raise AssertionError(f"{name}: triangle {t} faces {n}")
+
+
+def check_outward(name, pos, tris, center):
+    """Assert that every triangle of a closed convex shape is wound outwards."""
+    for t in tris:
+        a, b, c = pos[t[0]], pos[t[1]], pos[t[2]]
+        n = cross(sub(b, a), sub(c, a))
+        centroid = scale(add(add(a, b), c), 1.0 / 3.0)
+        if dot(n, sub(centroid, center)) <= 0.0:
+            raise AssertionError(f"{name}: triangle {t} wound inwards")
+
+
+# --------------------------------------------------------------------------
+# icosphere
+# --------------------------------------------------------------------------
+
+def unit_icosphere(subdivisions):
+    """Icosahedron subdivided `subdivisions` times (each triangle split in
+    4 at its edge midpoints), all vertices projected onto the unit sphere,
+    triangles wound outwards. 20*4^n triangles, 10*4^n+2 vertices."""
+    p = (1.0 + math.sqrt(5.0)) / 2.0
+    verts = [(-1.0, p, 0.0), (1.0, p, 0.0), (-1.0, -p, 0.0), (1.0, -p, 0.0),
+             (0.0, -1.0, p), (0.0, 1.0, p), (0.0, -1.0, -p), (0.0, 1.0, -p),
+             (p, 0.0, -1.0), (p, 0.0, 1.0), (-p, 0.0, -1.0), (-p, 0.0, 1.0)]
+    verts = [normalize(v) for v in verts]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11),
+             (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6), (7, 1, 8),
+             (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9),
+             (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    check_outward("icosahedron", verts, faces, (0.0, 0.0, 0.0))
+    for _ in range(subdivisions):
+        cache = {}
+
+        def midpoint(i, j):
+            key = (i, j) if i < j else (j, i)
+            if key not in cache:
+                cache[key] = len(verts)
+                verts.append(normalize(scale(add(verts[i], verts[j]), 0.5)))
+            return cache[key]
+
+        new_faces = []
+        for a, b, c in faces:
+            ab, bc, ca = midpoint(a, b), midpoint(b, c), midpoint(c, a)
+            new_faces += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = new_faces
+    return verts, faces
+
+
+# A fixed, generic orientation for the sphereflake's icospheres (axis
+# (1,2,3)/sqrt(14), cos 0.8, sin 0.6): with the icosahedron's canonical
+# orientation some tessellation vertices sit exactly at the points where
+# SPD's true spheres touch each other and the floor, so parent and child
+# meshes (and the root sphere and the ground) would touch at a vertex.
+FLAKE_ICO_ROT = (normalize((1.0, 2.0, 3.0)), 0.8, 0.6)
+
+
+def rotated_icosphere(unit, rot):
+    verts, faces = unit
+    return [rotate(v, *rot) for v in verts], faces
+
+
+def sphere_mesh(center, radius, unit):
+    verts, faces = unit
+    return [add(center, scale(v, radius)) for v in verts], list(faces)
+
+
+def merge(parts):
+    pos, tris = [], []
+    for p, t in parts:
+        base = len(pos)
+        pos.extend(p)
+        tris.extend((a + base, b + base, c + base) for a, b, c in t)
+    return pos, tris
+
+
+# --------------------------------------------------------------------------
+# 1. Cornell box
+# --------------------------------------------------------------------------
+
+CORNELL_SOURCE = (
+    "Cornell University Program of Computer Graphics, 'Cornell Box Data', "
+    "http://www.graphics.cornell.edu/online/box/data.html (geometry in mm, "
+    "camera); quads split (v0,v1,v2),(v0,v2,v3); light lowered to y=548.7")
+
+# The published "Cornell Box Data" quads (millimetres), unchanged except for
+# the light, which is published at y = 548.8 (coplanar with the ceiling).
+CB_FLOOR = [(552.8, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 559.2),
+            (549.6, 0.0, 559.2)]
+CB_LIGHT_Y = 548.7
+CB_LIGHT = [(343.0, CB_LIGHT_Y, 227.0), (343.0, CB_LIGHT_Y, 332.0),
+            (213.0, CB_LIGHT_Y, 332.0), (213.0, CB_LIGHT_Y, 227.0)]
+CB_CEILING = [(556.0, 548.8, 0.0), (556.0, 548.8, 559.2),
+              (0.0, 548.8, 559.2), (0.0, 548.8, 0.0)]
+CB_BACK_WALL = [(549.6, 0.0, 559.2), (0.0, 0.0, 559.2),
+                (0.0, 548.8, 559.2), (556.0, 548.8, 559.2)]
+CB_RIGHT_WALL = [(0.0, 0.0, 559.2), (0.0, 0.0, 0.0), (0.0, 548.8, 0.0),
+                 (0.0, 548.8, 559.2)]
+CB_LEFT_WALL = [(552.8, 0.0, 0.0), (549.6, 0.0, 559.2),
+                (556.0, 548.8, 559.2), (556.0, 548.8, 0.0)]
+CB_SHORT_BLOCK = [
+    [(130.0, 165.0, 65.0), (82.0, 165.0, 225.0), (240.0, 165.0, 272.0),
+     (290.0, 165.0, 114.0)],
+    [(290.0, 0.0, 114.0), (290.0, 165.0, 114.0), (240.0, 165.0, 272.0),
+     (240.0, 0.0, 272.0)],
+    [(130.0, 0.0, 65.0), (130.0, 165.0, 65.0), (290.0, 165.0, 114.0),
+     (290.0, 0.0, 114.0)],
+    [(82.0, 0.0, 225.0), (82.0, 165.0, 225.0), (130.0, 165.0, 65.0),
+     (130.0, 0.0, 65.0)],
+    [(240.0, 0.0, 272.0), (240.0, 165.0, 272.0), (82.0, 165.0, 225.0),
+     (82.0, 0.0, 225.0)],
+]
+CB_TALL_BLOCK = [
+    [(423.0, 330.0, 247.0), (265.0, 330.0, 296.0), (314.0, 330.0, 456.0),
+     (472.0, 330.0, 406.0)],
+    [(423.0, 0.0, 247.0), (423.0, 330.0, 247.0), (472.0, 330.0, 406.0),
+     (472.0, 0.0, 406.0)],
+    [(472.0, 0.0, 406.0), (472.0, 330.0, 406.0), (314.0, 330.0, 456.0),
+     (314.0, 0.0, 456.0)],
+    [(314.0, 0.0, 456.0), (314.0, 330.0, 456.0), (265.0, 330.0, 296.0),
+     (265.0, 0.0, 296.0)],
+    [(265.0, 0.0, 296.0), (265.0, 330.0, 296.0), (423.0, 330.0, 247.0),
+     (423.0, 0.0, 247.0)],
+]
+
+
+def scene_cornell_box():
+    g = Gltf("cornell_box", CORNELL_SOURCE)
+    spectra = ("rounded linear-sRGB approximation of the published "
+               "Cornell Box Data '%s' reflectance spectrum (400-700 nm, 4 nm)")
+    white = g.material("white", (0.74, 0.74, 0.74), 0.0, 1.0,
+                       spectra % "white")
+    red = g.material("red", (0.49, 0.05, 0.05), 0.0, 1.0, spectra % "red")
+    green = g.material("green", (0.07, 0.40, 0.09), 0.0, 1.0,
+                       spectra % "green")
+    light = g.material(
+        "light", (0.0, 0.0, 0.0), 0.0, 1.0,
+        "rounded linear-sRGB approximation of the published Cornell Box Data "
+        "light emission spectrum (400 nm 0.0, 500 nm 8.0, 600 nm 15.6, "
+        "700 nm 18.4); emitted radiance = emissiveFactor x emissiveStrength; "
+        "one-sided, emitting towards -Y; baseColor 0 chosen (pure emitter)",
+        emissive=(1.0, 0.52, 0.13), emissive_strength=20.7,
+        double_sided=False)
+
+    g.mesh_node("floor", *quad(*CB_FLOOR), white)
+    g.mesh_node("ceiling", *quad(*CB_CEILING), white)
+    lpos, ltris = quad(*CB_LIGHT)
+    check_facing("light", lpos, ltris, (0.0, -1.0, 0.0))
+    g.mesh_node("light", lpos, ltris, light)
+    g.mesh_node("back_wall", *quad(*CB_BACK_WALL), white)
+    g.mesh_node("right_wall", *quad(*CB_RIGHT_WALL), green)
+    g.mesh_node("left_wall", *quad(*CB_LEFT_WALL), red)
+    g.mesh_node("short_block", *quads(CB_SHORT_BLOCK), white)
+    g.mesh_node("tall_block", *quads(CB_TALL_BLOCK), white)
+
+    fov = 2.0 * math.degrees(math.atan(12.5 / 35.0))
+    cam = camera_json(
+        (278.0, 273.0, -800.0), (278.0, 273.0, 0.0), (0.0, 1.0, 0.0),
+        fov, 1.0, (512, 512), "from_source_data",
+        "Cornell Box Data camera: position (278, 273, -800), direction "
+        "(0, 0, 1), up (0, 1, 0), focal length 0.035 m, film 0.025 x 0.025 m",
+        "fov_y = 2*atan(12.5/35) in degrees; image_size chosen (the data "
+        "gives none). The data's +x points to the camera's left: the red "
+        "left_wall (x ~ 550) is on the left of the image.")
+    return g, cam
+
+
+# --------------------------------------------------------------------------
+# 2. SPD "balls" (sphereflake)
+# --------------------------------------------------------------------------
+
+SPD_REPO = ("erich666/StandardProceduralDatabases @ "
+            "3974043f6a1c6aa9ffa29327edbc72adaa75f0f4")
+
+
+def spd_balls_objset():
+    """The 9 unit child directions of SPD balls.c create_objset(): three
+    vectors (d,d,0), (d,0,-d), (0,d,-d) with d = 1/sqrt(2), rotated about
+    (1,-1,0)/sqrt(2) by asin(2/sqrt(6)), then copied at 0, 120 and 240
+    degrees about +Z. Angles enter only through their exact sin/cos."""
+    d = 1.0 / math.sqrt(2.0)
+    trio = [(d, d, 0.0), (d, 0.0, -d), (0.0, d, -d)]
+    axis = normalize((1.0, -1.0, 0.0))
+    sin_a = 2.0 / math.sqrt(6.0)
+    cos_a = 1.0 / math.sqrt(3.0)  # sqrt(1 - 4/6)
+    trio = [rotate(v, axis, cos_a, sin_a) for v in trio]
+    z = (0.0, 0.0, 1.0)
+    turns = [(1.0, 0.0), (-0.5, math.sqrt(3.0) / 2.0),
+             (-0.5, -math.sqrt(3.0) / 2.0)]
+    out = []
+    for cos_t, sin_t in turns:
+        for v in trio:
+            out.append(rotate(v, z, cos_t, sin_t))
+    return out
+
+
+def spd_balls_spheres(depth):
+    """List of (level, center, radius) as in SPD balls.c output_object():
+    root radius 0.5 at the origin growing along +Z; each child has 1/3 of
+    its parent's radius and sits at distance (4/3) * parent radius (touching
+    it) in the parent's growth direction frame."""
+    objset = spd_balls_objset()
+    out = []
+
+    def recurse(level, center, radius, direction):
+        out.append((level, center, radius))
+        if level == depth:
+            return
+        rot = rotation_between((0.0, 0.0, 1.0), direction)
+        dist = radius * (1.0 + 1.0 / 3.0)
+        for v in objset:
+            w = v if rot is None else rotate(v, *rot)
+            child = add(center, scale(w, dist))
+            recurse(level + 1, child, radius / 3.0, normalize(w))
+
+    recurse(0, (0.0, 0.0, 0.0), 0.5, (0.0, 0.0, 1.0))
+    return out
+
+
+def scene_spd_balls():
+    depth = 2
+    g = Gltf("spd_balls",
+             "Sphereflake after Eric Haines's Standard Procedural Databases "
+             "balls.c (" + SPD_REPO + "), size_factor 2 (91 spheres), "
+             "spheres tessellated as icospheres (subdivided twice, one "
+             "fixed generic orientation)")
+    metal = g.material(
+        "flake_metal", (0.9, 0.75, 0.6), 1.0, 0.05,
+        "chosen: shiny metal in the spirit of SPD balls.c 'mirrored' surface "
+        "(color 1.0 0.9 0.7, Ks 0.5, shine 37)")
+    ground = g.material(
+        "ground", (0.8, 0.6, 0.264), 0.0, 1.0,
+        "SPD balls.c floor: beige color (1.0, 0.75, 0.33) x Kd 0.8, matte")
+
+    # SPD balls.c floor polygon: square of half-size 12 at z = -0.5
+    # (wound counter-clockwise seen from +Z).
+    gpos, gtris = quad((12.0, 12.0, -0.5), (-12.0, 12.0, -0.5),
+                       (-12.0, -12.0, -0.5), (12.0, -12.0, -0.5))
+    check_facing("ground", gpos, gtris, (0.0, 0.0, 1.0))
+    g.mesh_node("ground", gpos, gtris, ground)
+
+    unit = rotated_icosphere(unit_icosphere(2), FLAKE_ICO_ROT)
+    spheres = spd_balls_spheres(depth)
+    assert len(spheres) == 91
+    for level in range(depth + 1):
+        parts = []
+        for lv, c, r in spheres:
+            if lv != level:
+                continue
+            p, t = sphere_mesh(c, r, unit)
+            check_outward("flake", p, t, c)
+            parts.append((p, t))
+        pos, tris = merge(parts)
+        g.mesh_node("flake_level%d" % level, pos, tris, metal)
+
+    # SPD balls.c light positions, unchanged (the scene has SPD's scale).
+    # SPD lights do not fall off with distance and have intensity
+    # 1/sqrt(3) each; a glTF point light falls off as 1/d^2, so the
+    # intensity is 1/sqrt(3) * |p|^2: same irradiance at the flake centre.
+    lights = [(4.0, 3.0, 2.0), (1.0, -4.0, 4.0), (-3.0, 1.0, 5.0)]
+    for i, p in enumerate(lights):
+        inten = dot(p, p) / math.sqrt(3.0)
+        g.point_light(
+            "point_light_%d" % i, p, (1.0, 1.0, 1.0), inten,
+            "SPD balls.c: light at (%g, %g, %g), intensity 1/sqrt(3) "
+            "without distance falloff; glTF intensity = 1/sqrt(3) x %g "
+            "(squared distance to the origin)" % (p + (dot(p, p),)))
+
+    cam = camera_json(
+        (2.1, 1.3, 1.7), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD balls.c: lib_output_viewpoint(from (2.1, 1.3, 1.7), at (0, 0, 0), "
+        "up (0, 0, 1), angle 45, aspect 1, hither 0.01, 512 x 512)",
+        "SPD's viewpoint kept unchanged (this scene keeps SPD's coordinates); "
+        "checked that every sphere vertex of the flake projects inside the "
+        "frame. Z is up.")
+    return g, cam
+
+
+# --------------------------------------------------------------------------
+# 3. SPD "tetra" (Sierpinski tetrahedron)
+# --------------------------------------------------------------------------
+
+INV_SQRT3 = 1.0 / math.sqrt(3.0)
+# SPD tetra.c's frame has its "up" along (-1,-1,1)/sqrt(3) (the direction of
+# the tetrahedron's apex). Our frame is Z-up: rotate that direction onto +Z
+# (about (-1,1,0)/sqrt(2)), then lift by 1/sqrt(3) so the base is at z = 0.
+TETRA_UP = normalize((-1.0, -1.0, 1.0))
+TETRA_ROT = rotation_between(TETRA_UP, (0.0, 0.0, 1.0))
+TETRA_LIFT = (0.0, 0.0, INV_SQRT3)
+
+
+def tetra_to_world(p):
+    w = add(rotate(p, *TETRA_ROT), TETRA_LIFT)
+    # snap rounding noise (the base plane is exactly z = 0)
+    return tuple(0.0 if abs(c) < 1e-12 else c for c in w)
+
+
+def tetra_vector_to_world(v):
+    return rotate(v, *TETRA_ROT)
+
+
+def sierpinski(levels):
+    """SPD tetra.c create_tetra(): the tetrahedron inscribed in the cube
+    centre +- half (corners with x*y*z = +1 in the cube's sign pattern),
+    recursively replaced by the 4 half-size tetrahedra at its corners.
+    Returns a list of tetrahedra, each 4 corner points (SPD's frame)."""
+    out = []
+
+    def recurse(level, center, half):
+        if level == 0:
+            pts = []
+            for sx in (-1.0, 1.0):
+                for sy in (-1.0, 1.0):
+                    for sz in (-1.0, 1.0):
+                        if sx * sy * sz == 1.0:
+                            pts.append((center[0] + sx * half,
+                                        center[1] + sy * half,
+                                        center[2] + sz * half))
+            out.append(pts)
+            return
+        for sx in (-1.0, 1.0):
+            for sy in (-1.0, 1.0):
+                for sz in (-1.0, 1.0):
+                    if sx * sy * sz == 1.0:
+                        recurse(level - 1,
+                                (center[0] + sx * half / 2.0,
+                                 center[1] + sy * half / 2.0,
+                                 center[2] + sz * half / 2.0), half / 2.0)
+
+    recurse(levels, (0.0, 0.0, 0.0), 1.0)
+    return out
+
+
+def scene_spd_tetra():
+    levels = 4
+    g = Gltf("spd_tetra",
+             "Sierpinski tetrahedron after Eric Haines's Standard Procedural "
+             "Databases tetra.c (" + SPD_REPO + "), 4 levels of recursion "
+             "(256 tetrahedra, SPD size_factor 5), rotated to Z-up, on a "
+             "mirror ground")
+    red = g.material(
+        "tetra_red", (1.0, 0.2, 0.2), 0.0, 1.0,
+        "SPD tetra.c: color (1.0, 0.2, 0.2), Kd 1.0, Ks 0 (matte)")
+    mirror = g.material(
+        "ground_mirror", (0.9, 0.9, 0.9), 1.0, 0.02,
+        "chosen: mirror-like ground (SPD tetra.c has no ground)")
+    lamp = g.material(
+        "area_light", (0.0, 0.0, 0.0), 0.0, 1.0,
+        "chosen: one-sided emissive quad above the apex, emitting towards -Z; "
+        "emitted radiance = emissiveFactor x emissiveStrength",
+        emissive=(1.0, 1.0, 1.0), emissive_strength=10.0,
+        double_sided=False)
+
+    # SPD face order: (0 1 2), (3 2 1), (2 3 0), (1 0 3); checked outward.
+    faces = [(0, 1, 2), (3, 2, 1), (2, 3, 0), (1, 0, 3)]
+    pos, tris = [], []
+    tets = sierpinski(levels)
+    assert len(tets) == 256
+    for t in tets:
+        base = len(pos)
+        world = [tetra_to_world(p) for p in t]
+        pos.extend(world)
+        c = scale(add(add(world[0], world[1]), add(world[2], world[3])), 0.25)
+        local = [(a + base, b + base, cc + base) for a, b, cc in faces]
+        check_outward("tetra", pos, local, c)
+        tris.extend(local)
+    g.mesh_node("tetra", pos, tris, red)
+
+    # ground: 0.01 below the base (z = 0) so that it is not coplanar with
+    # the bottom faces of the lowest tetrahedra.
+    gz = -0.01
+    gpos, gtris = quad((5.0, 5.0, gz), (-5.0, 5.0, gz), (-5.0, -5.0, gz),
+                       (5.0, -5.0, gz))
+    check_facing("ground", gpos, gtris, (0.0, 0.0, 1.0))
+    g.mesh_node("ground", gpos, gtris, mirror)
+
+    # area light: 1.2 x 1.2 quad at z = 3.5 above the apex (z = 4/sqrt(3)),
+    # wound so its normal is -Z (emitting downwards).
+    lz, h = 3.5, 0.6
+    lpos, ltris = quad((-h, -h, lz), (-h, h, lz), (h, h, lz), (h, -h, lz))
+    check_facing("area_light", lpos, ltris, (0.0, 0.0, -1.0))
+    g.mesh_node("area_light", lpos, ltris, lamp)
+
+    # sun: shines from the direction of SPD tetra.c's point light
+    # (2, -18, -5) as seen from the tetrahedron's centre (SPD's origin).
+    to_light = normalize(tetra_vector_to_world((2.0, -18.0, -5.0)))
+    travel = scale(to_light, -1.0)
+    q = quat_from_to((0.0, 0.0, -1.0), travel)
+    assert length(sub(quat_rotate(q, (0.0, 0.0, -1.0)), travel)) < 1e-12
+    g.directional_light(
+        "sun", q, (1.0, 1.0, 1.0), 3.0,
+        "SPD tetra.c: point light at (2, -18, -5) (tetrahedron frame), used "
+        "here as the direction of a directional light (rotated with the "
+        "geometry); intensity 3.0 chosen")
+
+    # camera: SPD tetra.c viewpoint rotated with the geometry, eye pulled
+    # back along the view line (x1.15 from the target): SPD's own distance
+    # frames the tetrahedron with almost no margin (outermost vertex at
+    # 0.96 of the half-frame; 0.83 with this factor).
+    eye0 = tetra_to_world((1.022846, -3.177154, -2.174512))
+    at = tetra_to_world((-0.004103, -0.004103, 0.216539))
+    eye = add(at, scale(sub(eye0, at), 1.15))
+    cam = camera_json(
+        eye, at, (0.0, 0.0, 1.0), 45.0, 1.0, (512, 512), "computed_default",
+        "SPD tetra.c: lib_output_viewpoint(from (1.022846, -3.177154, "
+        "-2.174512), at (-0.004103, -0.004103, 0.216539), up (-0.816497, "
+        "-0.816497, 0.816497), angle 45, aspect 1, 512 x 512)",
+        "SPD's viewpoint transformed with the geometry (rotation taking "
+        "(-1,-1,1)/sqrt(3) to +Z, then z + 1/sqrt(3)); the eye is moved "
+        "back to 1.15 x its distance from the target, so that every "
+        "tetrahedron vertex projects inside the frame with a margin (SPD's "
+        "distance puts the outermost vertex at 0.96 of the half-frame). "
+        "Z is up.")
+    return g, cam
+
+
+# --------------------------------------------------------------------------
+# 4. glass and metal spheres
+# --------------------------------------------------------------------------
+
+def scene_glass_spheres():
+    g = Gltf("glass_spheres",
+             "HRPP test scene (original): glass and metal icospheres on a "
+             "floor in front of a back wall, one point light")
+    floor_mat = g.material("floor", (0.7, 0.7, 0.7), 0.0, 1.0,
+                           "chosen: matte light grey")
+    wall_mat = g.material("back_wall", (0.6, 0.65, 0.75), 0.0, 1.0,
+                          "chosen: matte light blue-grey")
+    glass = g.material(
+        "glass", (1.0, 1.0, 1.0), 0.0, 0.0,
+        "chosen: clear glass, KHR_materials_transmission 1 + "
+        "KHR_materials_ior 1.5; closed mesh wound outwards, one-sided",
+        transmission=1.0, ior=1.5, double_sided=False)
+    metal = g.material("metal", (0.95, 0.64, 0.54), 1.0, 0.1,
+                       "chosen: polished copper-coloured metal")
+
+    # Y up. Floor y = 0, x in [-3, 3], z in [-3, 3]; wound with normal +Y.
+    fpos, ftris = quad((-3.0, 0.0, -3.0), (-3.0, 0.0, 3.0),
+                       (3.0, 0.0, 3.0), (3.0, 0.0, -3.0))
+    check_facing("floor", fpos, ftris, (0.0, 1.0, 0.0))
+    g.mesh_node("floor", fpos, ftris, floor_mat)
+    # Back wall z = -3, x in [-3, 3], y in [0, 4]; normal +Z (towards camera).
+    wpos, wtris = quad((-3.0, 0.0, -3.0), (3.0, 0.0, -3.0),
+                       (3.0, 4.0, -3.0), (-3.0, 4.0, -3.0))
+    check_facing("back_wall", wpos, wtris, (0.0, 0.0, 1.0))
+    g.mesh_node("back_wall", wpos, wtris, wall_mat)
+
+    unit = unit_icosphere(3)
+    r = 0.6
+    # centres 0.002 above radius height: the spheres clear the floor.
+    cg = (-0.75, r + 0.002, -0.4)
+    cm = (0.8, r + 0.002, -1.2)
+    p, t = sphere_mesh(cg, r, unit)
+    check_outward("glass_sphere", p, t, cg)
+    g.mesh_node("glass_sphere", p, t, glass)
+    p, t = sphere_mesh(cm, r, unit)
+    check_outward("metal_sphere", p, t, cm)
+    g.mesh_node("metal_sphere", p, t, metal)
+
+    g.point_light("point_light_0", (-1.0, 3.2, 1.5), (1.0, 1.0, 1.0), 30.0,
+                  "chosen: point light above and in front of the spheres "
+                  "(intensity in glTF candela, 1/d^2 falloff)")
+
+    cam = camera_json(
+        (0.0, 1.5, 4.5), (0.0, 0.6, -0.8), (0.0, 1.0, 0.0), 40.0, 1.0,
+        (512, 512), "computed_default",
+        "computed: in front of the spheres, slightly above, looking at the "
+        "midpoint between them",
+        "not from an external source; both spheres and the floor/back wall "
+        "behind them are in the frame. Y is up.")
+    return g, cam
+
+
+# --------------------------------------------------------------------------
+# driver
+# --------------------------------------------------------------------------
+
+SCENES = [
+    ("cornell_box", scene_cornell_box),
+    ("spd_balls", scene_spd_balls),
+    ("spd_tetra", scene_spd_tetra),
+    ("glass_spheres", scene_glass_spheres),
+]
+
+
+def build_all():
+    """Return a list of (name, gltf, {filename: bytes})."""
+    out = []
+    for name, fn in SCENES:
+        g, cam = fn()
+        files = {name + ".glb": g.glb(), name + ".camera.json": cam}
+        out.append((name, g, files))
+    return out
+
+
+def fmt(v):
+    return "(" + ", ".join("%.6g" % x for x in v) + ")"
+
+
+def main(argv=None):
+    here = Path(__file__).resolve().parent
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", type=Path, default=here,
+                    help="output folder (default: %(default)s)")
+    ap.add_argument("--check", action="store_true",
+                    help="compare freshly generated bytes with the files in "
+                         "the script's folder instead of writing")
+    args = ap.parse_args(argv)
+
+    built = build_all()
+    if args.check:
+        bad = 0
+        count = 0
+        for _name, _g, files in built:
+            for fname, data in files.items():
+                count += 1
+                path = here / fname
+                if not path.is_file():
+                    print("missing: %s" % path)
+                    bad += 1
+                elif path.read_bytes() != data:
+                    print("differs: %s (sha256 on disk %s, generated %s)" % (
+                        path, hashlib.sha256(path.read_bytes()).hexdigest(),
+                        hashlib.sha256(data).hexdigest()))
+                    bad += 1
+        if bad:
+            print("scenes: %d of %d files differ or are missing" % (bad, count))
+            return 1
+        print("scenes: %d files identical" % count)
+        return 0
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name, g, files in built:
+        for fname, data in files.items():
+            (args.out / fname).write_bytes(data)
+        glb = files[name + ".glb"]
+        print("%-14s triangles %6d  vertices %6d  bbox %s - %s  %d bytes  "
+              "sha256 %s" % (name, g.triangles, g.vertices, fmt(g.bbox_min),
+                             fmt(g.bbox_max), len(glb),
+                             hashlib.sha256(glb).hexdigest()[:16]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
