@@ -10,7 +10,12 @@
 
 #include "hrpp/bvh.h"
 #include "hrpp/crosscheck.h"
+#include "hrpp/predictor.h"
 #include "hrpp/scene.h"
+#include "hrpp/workload.h"
+
+#include <bit>
+#include <chrono>
 
 namespace {
 
@@ -158,6 +163,152 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
   return r.passed() ? 0 : 1;
 }
 
+
+struct PredictArgs {
+  std::string scene, json_path, hash = "faithful", table = "unbounded", mode = "closest-exact";
+  std::string combine = "xor", res;
+  int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3, spp = 1;
+  uint32_t go_up = 0, nodes_per_entry = 1;
+  uint64_t seed = 1;
+  bool shadow = true, ao = true;
+  float ao_distance = 0.f;
+};
+
+/// Parses "WxH" into two positive integers.
+bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b) {
+  size_t x = s.find('x');
+  if (x == std::string::npos || x == 0 || x + 1 >= s.size()) return false;
+  try {
+    size_t p1, p2;
+    unsigned long va = std::stoul(s.substr(0, x), &p1), vb = std::stoul(s.substr(x + 1), &p2);
+    if (p1 != x || p2 != s.size() - x - 1 || va == 0 || vb == 0 || va > (1u << 24) ||
+        vb > (1u << 24))
+      return false;
+    *a = static_cast<uint32_t>(va);
+    *b = static_cast<uint32_t>(vb);
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+int cmd_predict(const PredictArgs& a) {
+  PredictorConfig cfg;
+  HashConfig& h = cfg.hash;
+  h.variant = a.hash == "faithful" ? HashVariant::kFaithful : HashVariant::kImproved;
+  h.precision = a.precision;
+  h.exp_bits = a.exp_bits;
+  h.origin_bits = a.origin_bits;
+  h.dir_bits = a.dir_bits;
+  h.combine = a.combine == "xor" ? CombineMode::kXor : CombineMode::kConcat;
+  parse_predict_mode(a.mode, &cfg.mode);
+  cfg.go_up = a.go_up;
+  TableConfig& t = cfg.table;
+  t.nodes_per_entry = a.nodes_per_entry;
+  if (a.table == "unbounded") {
+    t.unbounded = true;
+    h.index_bits = 0;
+  } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
+    std::fprintf(stderr, "hrpp predict: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
+                 a.table.c_str());
+    return 2;
+  } else {
+    if (!std::has_single_bit(t.sets)) {
+      std::fprintf(stderr, "hrpp predict: --table %s: the number of sets must be a power of two\n",
+                   a.table.c_str());
+      return 2;
+    }
+    h.index_bits = std::countr_zero(t.sets);
+  }
+  uint32_t w = 0, hh = 0;
+  if (!a.res.empty() && !parse_wxh(a.res, &w, &hh)) {
+    std::fprintf(stderr, "hrpp predict: --res must be WIDTHxHEIGHT (e.g. 256x256), got '%s'\n",
+                 a.res.c_str());
+    return 2;
+  }
+
+  Scene scene = load_scene(a.scene);
+  Bvh bvh = build_bvh(scene.triangles);
+  h.origin_cell_exp = cell_exp_for(scene.bounds, h.origin_bits);
+  t.node_bits = node_bits_for(bvh.nodes.size());
+  t.key_bits = h.key_bits();
+  t.tag_bits = t.unbounded ? 0 : h.tag_bits();
+  for (const std::string& err : {h.validate(), t.validate()})
+    if (!err.empty()) {
+      std::fprintf(stderr, "hrpp predict: %s\n", err.c_str());
+      return 2;
+    }
+  WorkloadOptions wo;
+  wo.width = static_cast<int>(w);
+  wo.height = static_cast<int>(hh);
+  wo.spp = a.spp;
+  wo.seed = a.seed;
+  wo.shadow = a.shadow;
+  wo.ao = a.ao;
+  wo.ao_distance = a.ao_distance;
+  if (wo.width == 0) {
+    wo.width = scene.camera.width;
+    wo.height = scene.camera.height;
+  }
+  Predictor pred(bvh, cfg);
+  const uint64_t primaries = uint64_t(wo.width) * wo.height * wo.spp;
+  uint64_t done = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  auto last = t0;
+  generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) {
+    pred.process(r);
+    if (r.kind != RayKind::kPrimary || (++done & 0xFFFF)) return;
+    auto now = std::chrono::steady_clock::now();
+    if (now - last < std::chrono::seconds(2)) return;
+    last = now;
+    double secs = std::chrono::duration<double>(now - t0).count();
+    std::fprintf(stderr, "predict: %5.1f%% of %llu camera samples, %.2f M rays/s\n",
+                 100.0 * done / primaries, (unsigned long long)primaries,
+                 pred.total().rays / secs / 1e6);
+  });
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  nlohmann::json j = pred.to_json();
+  j["scene"] = scene.path;
+  j["resolution"] = {wo.width, wo.height};
+  j["spp"] = wo.spp;
+  j["seed"] = wo.seed;
+  j["seconds"] = secs;
+
+  const auto& c = j["config"];
+  std::printf("predict %s: %dx%d, %d spp, hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, "
+              "%llu bytes, %llu entries used), go-up %u, mode %s\n",
+              scene.path.c_str(), wo.width, wo.height, wo.spp, a.hash.c_str(),
+              h.variant == HashVariant::kFaithful
+                  ? ("P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine).c_str()
+                  : ("origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
+                     std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " + a.combine).c_str(),
+              h.key_bits(), c["table"].get<std::string>().c_str(), t.nodes_per_entry, t.node_bits,
+              (unsigned long long)pred.table().bytes(), (unsigned long long)pred.table().entries_used(),
+              cfg.go_up, a.mode.c_str());
+  std::printf("  %-8s %10s %8s %9s %9s %10s %10s %10s %10s %8s\n", "kind", "rays", "skipped",
+              "precision", "recall", "TP", "FP", "FN", "TN", "wrong");
+  auto row = [](const char* name, const PredictStats& s) {
+    std::printf("  %-8s %10llu %7.2f%% %9.4f %9.4f %10llu %10llu %10llu %10llu %8llu\n", name,
+                (unsigned long long)s.rays, 100 * s.skipped_interior_fraction(), s.precision(),
+                s.recall(), (unsigned long long)s.true_positive,
+                (unsigned long long)s.false_positive, (unsigned long long)s.false_negative,
+                (unsigned long long)s.true_negative, (unsigned long long)s.wrong_results);
+  };
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (pred.by_kind(RayKind(k)).rays)
+      row(std::string(ray_kind_name(RayKind(k))).c_str(), pred.by_kind(RayKind(k)));
+  row("all", pred.total());
+  std::printf("  skipped = 1 - HRPP interior-node tests (wasted predicted tests included) / baseline; %.1f s, %.2f M rays/s\n",
+              secs, pred.total().rays / secs / 1e6);
+  if (pred.total().exact_mismatches) {
+    std::fprintf(stderr, "hrpp predict: BUG: %llu rays answered differently from the baseline in an exact mode\n",
+                 (unsigned long long)pred.total().exact_mismatches);
+    return 1;
+  }
+  if (!a.json_path.empty() && !write_json_file(a.json_path, j)) return 2;
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -186,6 +337,37 @@ int main(int argc, char** argv) {
   ce->add_option("--embree-config", config, "Embree device configuration string");
   ce->add_option("--json", json_path, "write the results as JSON to this file");
 
+  PredictArgs pa;
+  auto* pr = app.add_subcommand("predict", "Run the HRPP predictor over a scene's rays and report "
+                                           "skipped work, precision and recall");
+  pr->add_option("scene", pa.scene, "glTF scene (.glb or .gltf)")->required();
+  pr->add_option("--hash", pa.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
+  pr->add_option("--precision", pa.precision, "faithful hash: mantissa bits per component (P)")
+      ->check(CLI::Range(1, 23));
+  pr->add_option("--exp-bits", pa.exp_bits, "faithful hash: top exponent bits per component (E)")
+      ->check(CLI::Range(0, 8));
+  pr->add_option("--origin-bits", pa.origin_bits, "improved hash: bits per origin axis")
+      ->check(CLI::Range(1, 16));
+  pr->add_option("--dir-bits", pa.dir_bits, "improved hash: bits per direction component")
+      ->check(CLI::Range(1, 16));
+  pr->add_option("--combine", pa.combine, "how origin and direction fields combine")
+      ->check(CLI::IsMember({"xor", "concat"}));
+  pr->add_option("--go-up", pa.go_up, "store the hit leaf's ancestor this many levels up")
+      ->check(CLI::Range(0u, 64u));
+  pr->add_option("--table", pa.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
+  pr->add_option("--nodes-per-entry", pa.nodes_per_entry, "node ids per table entry (K)")
+      ->check(CLI::Range(1, kMaxNodesPerEntry));
+  pr->add_option("--mode", pa.mode, "how closest-hit rays use predictions")
+      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
+  pr->add_option("--res", pa.res, "image resolution WxH (default: the camera's)");
+  pr->add_option("--spp", pa.spp, "samples per pixel")->check(CLI::Range(1, 4096));
+  pr->add_option("--seed", pa.seed, "random seed of the ray generator");
+  pr->add_flag("!--no-shadow", pa.shadow, "do not trace shadow rays");
+  pr->add_flag("!--no-ao", pa.ao, "do not trace ambient-occlusion rays");
+  pr->add_option("--ao-distance", pa.ao_distance, "AO ray length (default 5% of the scene diagonal)")
+      ->check(CLI::NonNegativeNumber);
+  pr->add_option("--json", pa.json_path, "write the report as JSON to this file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -195,6 +377,7 @@ int main(int argc, char** argv) {
   try {
     if (*info) return cmd_info(scene, leaf_size, json_path);
     if (*ce) return cmd_check_embree(scene, rays, kind, seed, config, json_path);
+    if (*pr) return cmd_predict(pa);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "hrpp: %s\n", e.what());
     return 2;

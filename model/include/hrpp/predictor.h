@@ -1,0 +1,96 @@
+// The untimed HRPP predictor model: hash, table lookup, predicted subtree walks, verification and
+// table update, with the baseline walk run beside it for the counters (docs/predictor.md).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "hrpp/bvh.h"
+#include "hrpp/hash.h"
+#include "hrpp/pred_table.h"
+#include "hrpp/ray.h"
+#include "hrpp/traverse.h"
+#include "hrpp/workload.h"
+
+namespace hrpp {
+
+/// How rays of closest-hit kinds are answered. Any-hit kinds (shadow, AO) always use the
+/// any-hit scheme.
+enum class PredictMode : uint8_t {
+  kAnyHit = 0,       // every ray is an any-hit query (the study's "hit-any" column)
+  kClosestExact = 1, // a predicted hit shrinks tfar, then the full walk runs: exact
+  kClosestSpec = 2,  // a predicted hit is accepted as the answer: speculative
+};
+const char* predict_mode_name(PredictMode m);
+bool parse_predict_mode(const std::string& s, PredictMode* out);
+
+struct PredictorConfig {
+  HashConfig hash;
+  TableConfig table;
+  uint32_t go_up = 0;  // L: the stored node is the hit leaf's L-th ancestor
+  PredictMode mode = PredictMode::kClosestExact;
+};
+
+struct PredictStats {
+  uint64_t rays = 0, invalid_rays = 0;
+  Counters baseline;   // full walks from the root
+  Counters hrpp;       // predicted subtree walks + full walks when needed
+  Counters predicted;  // the predicted subtree walks alone
+  Counters wasted;     // predicted subtree walks of rays whose prediction failed
+  uint64_t true_positive = 0, false_positive = 0, false_negative = 0, true_negative = 0;
+  uint64_t skipped_walks = 0;     // rays that needed no walk from the root
+  uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
+  uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
+  uint64_t baseline_hits = 0;
+
+  PredictStats& operator+=(const PredictStats& o);
+  double skipped_interior_fraction() const;
+  double precision() const;
+  double recall() const;
+  nlohmann::json to_json() const;
+};
+
+/// Result of one ray through the predictor.
+struct RayResult {
+  bool invalid = false;
+  bool predicted = false;  // the table held nodes for the key
+  bool verified = false;   // the prediction was confirmed (a hit in a predicted subtree)
+  Hit baseline, answer;
+  Counters base_counters, hrpp_counters;
+  HashKey key;
+  uint32_t update_node = kNoNode;  // what was written to the table (kNoNode: nothing)
+};
+
+class Predictor {
+ public:
+  Predictor(const Bvh& bvh, const PredictorConfig& cfg);
+
+  /// Runs one ray through lookup, walks and update, and accumulates statistics.
+  RayResult process(const RayRecord& r);
+
+  const PredictStats& total() const { return total_; }
+  const PredictStats& by_kind(RayKind k) const { return by_kind_[static_cast<int>(k)]; }
+  const PredTable& table() const { return table_; }
+  const PredictorConfig& config() const { return cfg_; }
+
+  /// Full JSON report: configuration, totals, by_kind, table_entries, table_bytes.
+  nlohmann::json to_json() const;
+
+ private:
+  const Bvh& bvh_;
+  PredictorConfig cfg_;
+  PredTable table_;
+  PredictStats total_;
+  std::array<PredictStats, kNumRayKinds> by_kind_{};
+};
+
+/// True when `node` is `leaf` or one of its ancestors.
+bool in_subtree(const Bvh& bvh, uint32_t node, uint32_t leaf);
+
+/// Same answer: hit/miss equal, t bitwise equal, and the same primitive or an exact tie (the
+/// other primitive is hit at exactly the same t).
+bool same_answer(const Bvh& bvh, const Ray& r, const Hit& a, const Hit& b);
+
+}  // namespace hrpp

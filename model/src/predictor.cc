@@ -1,0 +1,236 @@
+#include "hrpp/predictor.h"
+
+namespace hrpp {
+
+const char* predict_mode_name(PredictMode m) {
+  switch (m) {
+    case PredictMode::kAnyHit: return "anyhit";
+    case PredictMode::kClosestExact: return "closest-exact";
+    case PredictMode::kClosestSpec: return "closest-spec";
+  }
+  return "?";
+}
+
+bool parse_predict_mode(const std::string& s, PredictMode* out) {
+  for (PredictMode m : {PredictMode::kAnyHit, PredictMode::kClosestExact, PredictMode::kClosestSpec})
+    if (s == predict_mode_name(m)) {
+      *out = m;
+      return true;
+    }
+  return false;
+}
+
+PredictStats& PredictStats::operator+=(const PredictStats& o) {
+  rays += o.rays;
+  invalid_rays += o.invalid_rays;
+  baseline += o.baseline;
+  hrpp += o.hrpp;
+  predicted += o.predicted;
+  wasted += o.wasted;
+  true_positive += o.true_positive;
+  false_positive += o.false_positive;
+  false_negative += o.false_negative;
+  true_negative += o.true_negative;
+  skipped_walks += o.skipped_walks;
+  wrong_results += o.wrong_results;
+  exact_mismatches += o.exact_mismatches;
+  baseline_hits += o.baseline_hits;
+  return *this;
+}
+
+double PredictStats::skipped_interior_fraction() const {
+  return baseline.interior_tests
+             ? 1.0 - double(hrpp.interior_tests) / double(baseline.interior_tests)
+             : 0.0;
+}
+double PredictStats::precision() const {
+  const uint64_t d = true_positive + false_positive;
+  return d ? double(true_positive) / d : 0.0;
+}
+double PredictStats::recall() const {
+  const uint64_t d = true_positive + false_negative;
+  return d ? double(true_positive) / d : 0.0;
+}
+
+static nlohmann::json counters_json(const Counters& c) {
+  return {{"interior_tests", c.interior_tests},
+          {"box_tests", c.box_tests},
+          {"leaf_visits", c.leaf_visits},
+          {"tri_tests", c.tri_tests}};
+}
+
+nlohmann::json PredictStats::to_json() const {
+  auto frac = [](uint64_t a, uint64_t b) { return b ? 1.0 - double(a) / double(b) : 0.0; };
+  return {{"rays", rays},
+          {"invalid_rays", invalid_rays},
+          {"baseline", counters_json(baseline)},
+          {"hrpp", counters_json(hrpp)},
+          {"predicted_walks", counters_json(predicted)},
+          {"wasted_walks", counters_json(wasted)},
+          {"skipped_interior_fraction", skipped_interior_fraction()},
+          {"skipped_tri_fraction", frac(hrpp.tri_tests, baseline.tri_tests)},
+          {"skipped_walks", skipped_walks},
+          {"precision", precision()},
+          {"recall", recall()},
+          {"true_positive", true_positive},
+          {"false_positive", false_positive},
+          {"false_negative", false_negative},
+          {"true_negative", true_negative},
+          {"wrong_results", wrong_results},
+          {"exact_mismatches", exact_mismatches},
+          {"baseline_hits", baseline_hits}};
+}
+
+bool in_subtree(const Bvh& bvh, uint32_t node, uint32_t leaf) {
+  for (uint32_t n = leaf; n != kNoNode; n = bvh.parent[n])
+    if (n == node) return true;
+  return false;
+}
+
+bool same_answer(const Bvh& bvh, const Ray& r, const Hit& a, const Hit& b) {
+  if (a.hit() != b.hit()) return false;
+  if (!a.hit()) return true;
+  if (a.t != b.t) return false;
+  if (a.prim == b.prim) return true;
+  // An exact tie: the baseline's primitive is hit at exactly the same t.
+  const RayPre pre(r);
+  for (uint32_t i = 0; i < bvh.prim_ids.size(); ++i)
+    if (bvh.prim_ids[i] == b.prim) {
+      float t, u, v;
+      return intersect_triangle(pre, bvh.tris[i], r.tnear, next_float_up(r.tfar), &t, &u, &v) &&
+             t == a.t;
+    }
+  return false;
+}
+
+Predictor::Predictor(const Bvh& bvh, const PredictorConfig& cfg)
+    : bvh_(bvh), cfg_(cfg), table_(cfg.table) {}
+
+RayResult Predictor::process(const RayRecord& rec) {
+  RayResult res;
+  PredictStats s;
+  s.rays = 1;
+  const Ray& ray = rec.ray;
+  if (validate_ray(ray) != RayError::kNone) {  // never hashed
+    res.invalid = true;
+    s.invalid_rays = 1;
+    total_ += s;
+    by_kind_[static_cast<int>(rec.kind)] += s;
+    return res;
+  }
+  const bool any = is_any_hit(rec.kind) || cfg_.mode == PredictMode::kAnyHit;
+  auto walk = [&](const Ray& r, uint32_t start, Counters* c) {
+    return any ? any_hit(bvh_, r, c, {.start_node = start}) : closest_hit(bvh_, r, c, {.start_node = start});
+  };
+
+  // Baseline: the full walk from the root.
+  res.baseline = walk(ray, 0, &res.base_counters);
+  s.baseline = res.base_counters;
+  s.baseline_hits = res.baseline.hit();
+
+  // Lookup.
+  res.key = hash_ray(ray, cfg_.hash);
+  const Prediction p = table_.lookup(res.key.index, res.key.tag, res.key.key);
+  res.predicted = p.count > 0;
+
+  // Predicted subtree walks, most recently used node first.
+  Counters pc;
+  Hit best;
+  uint32_t best_node = kNoNode;
+  for (uint32_t i = 0; i < p.count; ++i) {
+    const Hit h = walk(ray, p.nodes[i], &pc);
+    if (h.hit() && (!best.hit() || h.t < best.t)) {
+      best = h;
+      best_node = p.nodes[i];
+      if (any) break;  // any hit ends the ray
+    }
+  }
+  res.hrpp_counters = pc;
+
+  Hit answer;
+  uint32_t verified_node = kNoNode;
+  if (best.hit() && (any || cfg_.mode == PredictMode::kClosestSpec)) {
+    answer = best;  // no walk from the root
+    verified_node = best_node;
+    s.skipped_walks = 1;
+  } else if (best.hit()) {
+    // Closest-hit exact: the predicted hit bounds the interval of the full walk.
+    Ray shrunk = ray;
+    shrunk.tfar = best.t;
+    const Hit h = walk(shrunk, 0, &res.hrpp_counters);
+    answer = h.hit() ? h : best;
+    // Verified when the closest hit lies in one of the predicted subtrees.
+    for (uint32_t i = 0; i < p.count; ++i)
+      if (in_subtree(bvh_, p.nodes[i], answer.leaf)) {
+        verified_node = p.nodes[i];
+        break;
+      }
+  } else {
+    answer = res.baseline;  // the full walk is the baseline walk
+    res.hrpp_counters += res.base_counters;
+  }
+  res.answer = answer;
+  res.verified = verified_node != kNoNode;
+
+  // Update: refresh a verified node, else insert the hit's node.
+  if (res.verified) {
+    res.update_node = verified_node;
+  } else if (answer.hit()) {
+    res.update_node = bvh_.ancestor(answer.leaf, cfg_.go_up);
+  }
+  if (res.update_node != kNoNode)
+    table_.update(res.key.index, res.key.tag, res.key.key, res.update_node);
+
+  // Statistics.
+  s.hrpp = res.hrpp_counters;
+  s.predicted = pc;
+  if (res.predicted && !res.verified) s.wasted = pc;
+  if (res.predicted) {
+    (res.verified ? s.true_positive : s.false_positive) = 1;
+  } else {
+    (answer.hit() ? s.false_negative : s.true_negative) = 1;
+  }
+  if (!any) {
+    const bool same = same_answer(bvh_, ray, answer, res.baseline);
+    if (!same) (cfg_.mode == PredictMode::kClosestSpec ? s.wrong_results : s.exact_mismatches) = 1;
+  } else if (answer.hit() != res.baseline.hit()) {
+    s.exact_mismatches = 1;
+  }
+  total_ += s;
+  by_kind_[static_cast<int>(rec.kind)] += s;
+  return res;
+}
+
+nlohmann::json Predictor::to_json() const {
+  nlohmann::json j = total_.to_json();
+  const HashConfig& h = cfg_.hash;
+  const TableConfig& t = cfg_.table;
+  j["config"] = {
+      {"hash", hash_variant_name(h.variant)},
+      {"precision", h.precision},
+      {"exp_bits", h.exp_bits},
+      {"origin_bits", h.origin_bits},
+      {"origin_cell_exp", h.origin_cell_exp},
+      {"dir_bits", h.dir_bits},
+      {"combine", combine_mode_name(h.combine)},
+      {"key_bits", h.key_bits()},
+      {"table", t.unbounded ? "unbounded"
+                            : std::to_string(t.sets) + "x" + std::to_string(t.ways)},
+      {"sets", t.unbounded ? 0 : t.sets},
+      {"ways", t.unbounded ? 0 : t.ways},
+      {"nodes_per_entry", t.nodes_per_entry},
+      {"node_bits", t.node_bits},
+      {"tag_bits", t.unbounded ? 0 : t.tag_bits},
+      {"entry_bits", t.entry_bits()},
+      {"go_up", cfg_.go_up},
+      {"mode", predict_mode_name(cfg_.mode)}};
+  j["table_entries"] = table_.entries_used();
+  j["table_bytes"] = table_.bytes();
+  nlohmann::json bk = nlohmann::json::object();
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (by_kind_[k].rays) bk[std::string(ray_kind_name(static_cast<RayKind>(k)))] = by_kind_[k].to_json();
+  j["by_kind"] = bk;
+  return j;
+}
+
+}  // namespace hrpp
