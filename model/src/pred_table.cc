@@ -17,7 +17,7 @@ std::string TableConfig::validate() const {
   if (sets == 0 || !std::has_single_bit(sets))
     return "the number of sets must be a power of two (>= 1), got " + std::to_string(sets);
   if (ways < 1 || ways > 16) return "ways must be 1..16, got " + std::to_string(ways);
-  if (tag_bits < 0) return "tag width must be >= 0";
+  if (tag_bits < 0 || tag_bits > 64) return "tag width must be 0..64 bits";
   return {};
 }
 
@@ -59,8 +59,13 @@ void PredTable::clear() {
   for (size_t i = 0; i < ages_.size(); ++i) ages_[i] = static_cast<uint8_t>(i % cfg_.ways);
 }
 
+uint64_t PredTable::stored_tag(uint64_t tag) const {
+  return cfg_.tag_bits >= 64 ? tag : tag & ((uint64_t{1} << cfg_.tag_bits) - 1);
+}
+
 Prediction PredTable::lookup(uint32_t index, uint64_t tag, uint64_t key) const {
   Prediction p;
+  tag = stored_tag(tag);
   const Way* w = nullptr;
   if (cfg_.unbounded) {
     auto it = map_.find(key);
@@ -87,6 +92,7 @@ void PredTable::update(uint32_t index, uint64_t tag, uint64_t key, uint32_t node
     promote_node(map_[key], node, cfg_.nodes_per_entry);
     return;
   }
+  tag = stored_tag(tag);
   Way* set = &ways_[size_t{index} * cfg_.ways];
   uint8_t* age = &ages_[size_t{index} * cfg_.ways];
   int hit = -1, victim = -1;

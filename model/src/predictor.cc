@@ -221,6 +221,7 @@ nlohmann::json Predictor::to_json() const {
       {"nodes_per_entry", t.nodes_per_entry},
       {"node_bits", t.node_bits},
       {"tag_bits", t.unbounded ? 0 : t.tag_bits},
+      {"full_tag_bits", t.unbounded ? 0 : h.tag_bits()},
       {"entry_bits", t.entry_bits()},
       {"go_up", cfg_.go_up},
       {"mode", predict_mode_name(cfg_.mode)}};

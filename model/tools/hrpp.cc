@@ -169,6 +169,7 @@ struct PredictArgs {
   std::string combine = "xor", res;
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3, spp = 1;
   uint32_t go_up = 0, nodes_per_entry = 1;
+  int tag_bits = -1;
   uint64_t seed = 1;
   bool shadow = true, ao = true;
   float ao_distance = 0.f;
@@ -233,6 +234,14 @@ int cmd_predict(const PredictArgs& a) {
   t.node_bits = node_bits_for(bvh.nodes.size());
   t.key_bits = h.key_bits();
   t.tag_bits = t.unbounded ? 0 : h.tag_bits();
+  if (a.tag_bits >= 0 && !t.unbounded) {
+    if (a.tag_bits > h.tag_bits()) {
+      std::fprintf(stderr, "hrpp predict: --tag-bits %d exceeds the full tag width %d (key %d bits, index %d bits)\n",
+                   a.tag_bits, h.tag_bits(), h.key_bits(), h.index_bits);
+      return 2;
+    }
+    t.tag_bits = a.tag_bits;
+  }
   for (const std::string& err : {h.validate(), t.validate()})
     if (!err.empty()) {
       std::fprintf(stderr, "hrpp predict: %s\n", err.c_str());
@@ -355,6 +364,10 @@ int main(int argc, char** argv) {
   pr->add_option("--go-up", pa.go_up, "store the hit leaf's ancestor this many levels up")
       ->check(CLI::Range(0u, 64u));
   pr->add_option("--table", pa.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
+  pr->add_option("--tag-bits", pa.tag_bits,
+                 "stored tag bits (default: the full tag, so keys never alias; fewer bits save "
+                 "storage and let keys of one set alias)")
+      ->check(CLI::Range(0, 64));
   pr->add_option("--nodes-per-entry", pa.nodes_per_entry, "node ids per table entry (K)")
       ->check(CLI::Range(1, kMaxNodesPerEntry));
   pr->add_option("--mode", pa.mode, "how closest-hit rays use predictions")

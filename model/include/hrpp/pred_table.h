@@ -20,7 +20,9 @@ struct TableConfig {
   uint32_t ways = 4;
   uint32_t nodes_per_entry = 2;  // K
   int node_bits = 20;            // width of a node id (BVH node index)
-  int tag_bits = 22;             // from the hash configuration
+  int tag_bits = 22;             // stored tag bits: the hash's full tag width, or fewer (then
+                                 // different keys of one set may alias: documented, counted as
+                                 // false positives when the prediction fails)
   int key_bits = 30;             // unbounded table: the whole key is stored
 
   std::string validate() const;
@@ -54,6 +56,8 @@ class PredTable {
 
   /// Read-only lookup.
   Prediction lookup(uint32_t index, uint64_t tag, uint64_t key) const;
+  /// The part of a tag the table stores (its low tag_bits bits).
+  uint64_t stored_tag(uint64_t tag) const;
   /// Update after a ray's walk: `node` becomes the most recently used node of the key's entry
   /// (moved to the front if present, else inserted at the front, the LRU node dropped when the
   /// entry is full). A missing entry is allocated (the first invalid way of the set, else the
