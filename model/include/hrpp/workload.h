@@ -1,10 +1,18 @@
-// Ray generation from a scene: camera rays, and secondary rays spawned from their hits with
-// offset origins (Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
-// Ray Tracing Gems ch. 6). Deterministic: each random number is a function of (seed, ray).
+// Ray workloads from a scene (docs/workloads.md): camera rays, and the secondary rays the scene's
+// lights and materials call for (shadow, reflection, refraction), plus ambient occlusion and
+// diffuse bounces on request, issued in scanline, tiled or Morton order.
+//
+// Secondary rays start from offset origins (Waechter and Binder, "A Fast and Robust Method for
+// Avoiding Self-Intersection", Ray Tracing Gems ch. 6). Deterministic: every random number is a
+// function of (seed, camera sample, the ray's path from the camera), never of the issue order,
+// so every order gives the same multiset of rays.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "hrpp/bvh.h"
@@ -21,16 +29,72 @@ struct RayRecord {
   uint32_t sample = 0;  // sample index within the pixel
   uint64_t id = 0;      // position in the stream
   uint64_t parent = ~0ull;  // id of the ray whose hit spawned this one
+  uint32_t spawn_prim = kNoPrim;  // scene triangle whose hit spawned this ray (kNoPrim: primary)
+  uint8_t depth = 0;    // bounces from the camera: primary 0, a ray spawned by a depth-d hit d+1
 };
+
+/// Issue order of the camera samples (docs/workloads.md). Rays are issued per group: the
+/// group's primary rays, then its secondary rays generation by generation, each generation's
+/// rays grouped by kind (shadow, ao, reflection, refraction, diffuse).
+enum class RayOrder : uint8_t {
+  kScanline = 0,  // group = one camera sample: each sample's rays follow its primary ray
+  kTiled = 1,     // group = one tile of tile x tile pixels; tiles and pixels in scanline order
+  kMorton = 2,    // group = one tile; tiles and the pixels inside a tile along a Z-order curve
+};
+std::string_view ray_order_name(RayOrder o);
+bool parse_ray_order(std::string_view name, RayOrder* out);
 
 struct WorkloadOptions {
   int width = 0, height = 0;  // 0: from the camera (its image size)
   int spp = 1;
   uint64_t seed = 1;
-  bool shadow = true;         // towards punctual lights and emissive meshes
+  bool shadow = true;         // towards punctual lights and emissive meshes, from every hit
   bool ao = true;             // one cosine-weighted ambient-occlusion ray per primary hit
+  bool reflection = false;    // from hits on specular reflectors (is_specular_reflector)
+  bool refraction = false;    // from hits on transmissive materials (is_transmissive)
+  bool diffuse = false;       // one cosine-weighted closest-hit bounce per hit
+  int max_depth = 2;          // generations of reflection / refraction / diffuse rays
   float ao_distance = 0.f;    // 0: 5% of the scene's bounding-box diagonal
+  RayOrder order = RayOrder::kScanline;
+  int tile = 8;               // tile edge in pixels (tiled and Morton orders)
 };
+
+// ---- effect derivation ---------------------------------------------------------------------
+
+/// Reflection rays leave materials with metallic >= kReflectMinMetallic and roughness <=
+/// kReflectMaxRoughness (glTF roughness; GGX alpha = roughness^2 <= 0.25).
+constexpr float kReflectMinMetallic = 0.5f;
+constexpr float kReflectMaxRoughness = 0.5f;
+bool is_specular_reflector(const Material& m);
+/// Refraction rays leave materials with transmission > 0 (KHR_materials_transmission) that are
+/// not specular reflectors.
+bool is_transmissive(const Material& m);
+
+/// The effects a scene calls for, each with the reason (which lights, which materials).
+struct EffectChoice {
+  bool shadow = false, reflection = false, refraction = false;
+  std::string shadow_why, reflection_why, refraction_why;
+};
+EffectChoice derive_effects(const Scene& scene);
+
+/// Applies an --effects value: "auto" (what the scene calls for), "none" (primary rays only),
+/// or a comma-separated list of effect names (shadow, ao, reflection, refraction, diffuse) in
+/// which "auto" may appear, e.g. "auto,ao". Sets opt's shadow/ao/reflection/refraction/diffuse.
+/// Returns an empty string, or the error.
+std::string apply_effects(std::string_view spec, const Scene& scene, WorkloadOptions* opt);
+
+/// Lines for the user: each effect on or off, and why.
+std::vector<std::string> describe_effects(const Scene& scene, const WorkloadOptions& opt,
+                                          std::string_view spec);
+
+/// The generation options with the resolution, AO distance and effects resolved for the scene
+/// (what ray-stream headers and reports record).
+nlohmann::json workload_json(const Scene& scene, const WorkloadOptions& opt);
+
+/// The width and height opt resolves to (the camera's when opt's are 0).
+void workload_resolution(const Scene& scene, const WorkloadOptions& opt, int* width, int* height);
+
+// ---- building blocks shared with the renderer ----------------------------------------------
 
 /// Offsets p along the unit normal n (pointing to the side the new ray leaves on) so that a
 /// ray started there does not re-hit the surface (Ray Tracing Gems ch. 6, listing 6-1).
@@ -43,9 +107,64 @@ Ray camera_ray(const Camera& cam, int width, int height, int x, int y, int s, in
 /// Resolution for about `rays` camera samples at the camera's aspect ratio.
 void resolution_for(const Camera& cam, uint64_t rays, int spp, int* width, int* height);
 
-/// Generates primary rays in scanline order and, for each primary hit (found with our BVH),
-/// the shadow and AO rays the options ask for. Calls sink for every ray, primary first.
+/// Where a closest-hit ray hit: the point, the normals and the material.
+struct SurfacePoint {
+  Vec3 p;            // barycentric interpolation of the triangle's vertices
+  Vec3 ng;           // unit geometric normal (v1-v0)x(v2-v0), as wound
+  Vec3 n;            // ng turned towards the side the ray came from
+  bool front = true; // the ray arrived on the side ng points to (it is entering a closed mesh)
+  uint32_t prim = kNoPrim;
+  const Material* material = nullptr;
+};
+SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
+
+/// A shadow ray's target: a punctual light, or a point sampled on an emissive mesh.
+struct LightSample {
+  Vec3 dir;          // unit, from the origin towards the light
+  float tfar = 0;    // stops just short of the light (inf for directional lights)
+  uint32_t light = 0;  // punctual lights 0..P-1, then emissive meshes P..P+M-1
+  Vec3 irradiance{0};  // unoccluded irradiance at the origin over cos(receiver): intensity /
+                       // dist^2, or emission * cos(emitter) * mesh area / dist^2 (one sample)
+};
+
+/// The scene's lights as shadow rays sample them: every punctual light (spot lights as point
+/// lights), and every emissive mesh, one point per mesh chosen uniformly by area.
+class SceneLights {
+ public:
+  explicit SceneLights(const Scene& scene);
+  size_t punctual_count() const { return scene_.lights.size(); }
+  size_t mesh_count() const { return meshes_.size(); }
+  /// Name of light i (punctual light name or emissive mesh name).
+  std::string name(uint32_t i) const;
+  /// One sample of every light from origin o (an offset origin) with facing unit normal n.
+  /// Lights behind the surface, and one-sided emitters facing away, give no sample. The random
+  /// numbers of light i are uniform01(seed, light_key(key, i), 0..2).
+  void sample(const Vec3& o, const Vec3& n, uint64_t seed, uint64_t key,
+              std::vector<LightSample>* out) const;
+
+ private:
+  struct Mesh {
+    uint32_t range;               // index into scene.meshes
+    std::vector<uint32_t> tris;   // non-degenerate triangles
+    std::vector<float> cdf;       // by area
+    Vec3 emission;
+    bool one_sided;
+  };
+  const Scene& scene_;
+  std::vector<Mesh> meshes_;
+};
+
+/// Path key of a camera sample, and of a ray spawned from a hit of the ray with key `parent`
+/// (kind, and a slot: the light index for shadow rays, else 0). Random numbers are drawn from
+/// these keys, so they do not depend on the issue order.
+uint64_t camera_key(uint32_t pixel, uint32_t sample);
+uint64_t child_key(uint64_t parent, RayKind kind, uint32_t slot);
+
+/// Generates the workload in opt.order: primary rays and, from their hits (found with our BVH),
+/// the secondary rays the options ask for (docs/workloads.md). Calls sink for every ray in issue
+/// order, a parent always before its children; `hit` is the ray's closest hit for closest-hit
+/// kinds (the generator traces them to spawn their children) and nullptr for any-hit kinds.
 void generate_rays(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
-                   const std::function<void(const RayRecord&, const Hit* primary_hit)>& sink);
+                   const std::function<void(const RayRecord&, const Hit* hit)>& sink);
 
 }  // namespace hrpp
