@@ -1,7 +1,7 @@
 // hrpp: the project's command-line tool. `hrpp --help` and `hrpp SUBCOMMAND --help` list options.
 //
 // Exit codes: 0 success; 1 a check failed (e.g. check-embree found mismatches); 2 bad input
-// (bad option, unreadable or malformed scene).
+// (bad option, unreadable or malformed scene or ray stream, unwritable output).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <fstream>
@@ -11,11 +11,14 @@
 #include "hrpp/bvh.h"
 #include "hrpp/crosscheck.h"
 #include "hrpp/predictor.h"
+#include "hrpp/ray_stream.h"
 #include "hrpp/scene.h"
 #include "hrpp/workload.h"
 
+#include <array>
 #include <bit>
 #include <chrono>
+#include <memory>
 
 namespace {
 
@@ -164,17 +167,6 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
 }
 
 
-struct PredictArgs {
-  std::string scene, json_path, hash = "faithful", table = "unbounded", mode = "closest-exact";
-  std::string combine = "xor", res;
-  int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3, spp = 1;
-  uint32_t go_up = 0, nodes_per_entry = 1;
-  int tag_bits = -1;
-  uint64_t seed = 1;
-  bool shadow = true, ao = true;
-  float ao_distance = 0.f;
-};
-
 /// Parses "WxH" into two positive integers.
 bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b) {
   size_t x = s.find('x');
@@ -193,111 +185,288 @@ bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b) {
   }
 }
 
-int cmd_predict(const PredictArgs& a) {
-  PredictorConfig cfg;
-  HashConfig& h = cfg.hash;
+// ---- workload options (trace, predict, render) -----------------------------------------------
+
+struct WorkloadArgs {
+  std::string effects, order = "scanline", res;
+  int spp = 1, depth = 2, tile = 8;
+  uint64_t seed = 1;
+  float ao_distance = 0.f;
+  bool shadow = true, ao = true;  // predict's --no-shadow / --no-ao
+};
+
+/// Adds the workload options; returns them (so that --stream can exclude them).
+std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
+                                               const std::string& default_effects) {
+  a.effects = default_effects;
+  std::vector<CLI::Option*> o;
+  o.push_back(app->add_option("--effects", a.effects,
+                              "'auto' (what the scene's lights and materials call for), 'none', or "
+                              "a comma-separated list of shadow, ao, reflection, refraction, "
+                              "diffuse, auto (docs/workloads.md)")
+                  ->capture_default_str());
+  o.push_back(app->add_option("--res", a.res, "image resolution WxH (default: the camera's)"));
+  o.push_back(app->add_option("--spp", a.spp, "samples per pixel")->check(CLI::Range(1, 4096)));
+  o.push_back(app->add_option("--order", a.order, "ray issue order")
+                  ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--tile", a.tile, "tile edge in pixels (tiled and morton orders)")
+                  ->check(CLI::Range(1, 4096))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--depth", a.depth,
+                              "generations of reflection / refraction / diffuse rays")
+                  ->check(CLI::Range(0, 16))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
+  o.push_back(app->add_option("--ao-distance", a.ao_distance,
+                              "AO ray length (default 5% of the scene diagonal)")
+                  ->check(CLI::PositiveNumber));
+  return o;
+}
+
+/// Checks what can be checked before the scene is loaded.
+bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
+  uint32_t w, h;
+  if (!a.res.empty() && !parse_wxh(a.res, &w, &h)) {
+    std::fprintf(stderr, "hrpp %s: --res must be WIDTHxHEIGHT (e.g. 256x256), got '%s'\n", cmd,
+                 a.res.c_str());
+    return false;
+  }
+  return true;
+}
+
+/// The generation options for a scene; prints the error and returns false on a bad --effects.
+bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
+                   WorkloadOptions* wo) {
+  uint32_t w = 0, h = 0;
+  if (!a.res.empty()) parse_wxh(a.res, &w, &h);  // checked by check_workload_args
+  wo->width = static_cast<int>(w);
+  wo->height = static_cast<int>(h);
+  workload_resolution(scene, *wo, &wo->width, &wo->height);
+  wo->spp = a.spp;
+  wo->seed = a.seed;
+  wo->ao_distance = a.ao_distance;
+  wo->max_depth = a.depth;
+  wo->tile = a.tile;
+  parse_ray_order(a.order, &wo->order);  // checked by CLI11
+  const std::string err = apply_effects(a.effects, scene, wo);
+  if (!err.empty()) {
+    std::fprintf(stderr, "hrpp %s: --effects: %s\n", cmd, err.c_str());
+    return false;
+  }
+  wo->shadow = wo->shadow && a.shadow;
+  wo->ao = wo->ao && a.ao;
+  return true;
+}
+
+/// "512x512, 1 spp, seed 1, scanline order, depth 2"
+std::string workload_line(const WorkloadOptions& wo) {
+  std::string order(ray_order_name(wo.order));
+  if (wo.order != RayOrder::kScanline)
+    order += " (" + std::to_string(wo.tile) + "x" + std::to_string(wo.tile) + " tiles)";
+  return std::to_string(wo.width) + "x" + std::to_string(wo.height) + ", " +
+         std::to_string(wo.spp) + " spp, seed " + std::to_string(wo.seed) + ", " + order +
+         " order, depth " + std::to_string(wo.max_depth);
+}
+
+void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::string& spec) {
+  std::printf("effects (--effects %s):\n", spec.c_str());
+  for (const std::string& l : describe_effects(scene, wo, spec)) std::printf("  %s\n", l.c_str());
+}
+
+// ---- predictor options (predict, render) -----------------------------------------------------
+
+struct PredictorArgs {
+  std::string hash = "faithful", table = "unbounded", mode = "closest-exact", combine = "xor";
+  int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
+  uint32_t go_up = 0, nodes_per_entry = 1;
+  int tag_bits = -1;
+};
+
+void add_predictor_options(CLI::App* app, PredictorArgs& a) {
+  app->add_option("--hash", a.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
+  app->add_option("--precision", a.precision, "faithful hash: mantissa bits per component (P)")
+      ->check(CLI::Range(1, 23));
+  app->add_option("--exp-bits", a.exp_bits, "faithful hash: top exponent bits per component (E)")
+      ->check(CLI::Range(0, 8));
+  app->add_option("--origin-bits", a.origin_bits, "improved hash: bits per origin axis")
+      ->check(CLI::Range(1, 16));
+  app->add_option("--dir-bits", a.dir_bits, "improved hash: bits per direction component")
+      ->check(CLI::Range(1, 16));
+  app->add_option("--combine", a.combine, "how origin and direction fields combine")
+      ->check(CLI::IsMember({"xor", "concat"}));
+  app->add_option("--go-up", a.go_up, "store the hit leaf's ancestor this many levels up")
+      ->check(CLI::Range(0u, 64u));
+  app->add_option("--table", a.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
+  app->add_option("--tag-bits", a.tag_bits,
+                  "stored tag bits (default: the full tag, so keys never alias; fewer bits save "
+                  "storage and let keys of one set alias)")
+      ->check(CLI::Range(0, 64));
+  app->add_option("--nodes-per-entry", a.nodes_per_entry, "node ids per table entry (K)")
+      ->check(CLI::Range(1, kMaxNodesPerEntry));
+  app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
+      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
+}
+
+/// The parts of the predictor configuration that need no scene; prints the error.
+bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg) {
+  HashConfig& h = cfg->hash;
   h.variant = a.hash == "faithful" ? HashVariant::kFaithful : HashVariant::kImproved;
   h.precision = a.precision;
   h.exp_bits = a.exp_bits;
   h.origin_bits = a.origin_bits;
   h.dir_bits = a.dir_bits;
   h.combine = a.combine == "xor" ? CombineMode::kXor : CombineMode::kConcat;
-  parse_predict_mode(a.mode, &cfg.mode);
-  cfg.go_up = a.go_up;
-  TableConfig& t = cfg.table;
+  parse_predict_mode(a.mode, &cfg->mode);
+  cfg->go_up = a.go_up;
+  TableConfig& t = cfg->table;
   t.nodes_per_entry = a.nodes_per_entry;
   if (a.table == "unbounded") {
     t.unbounded = true;
     h.index_bits = 0;
   } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
-    std::fprintf(stderr, "hrpp predict: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
-                 a.table.c_str());
-    return 2;
+    std::fprintf(stderr, "hrpp %s: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
+                 cmd, a.table.c_str());
+    return false;
   } else {
     if (!std::has_single_bit(t.sets)) {
-      std::fprintf(stderr, "hrpp predict: --table %s: the number of sets must be a power of two\n",
-                   a.table.c_str());
-      return 2;
+      std::fprintf(stderr, "hrpp %s: --table %s: the number of sets must be a power of two\n",
+                   cmd, a.table.c_str());
+      return false;
     }
     h.index_bits = std::countr_zero(t.sets);
   }
-  uint32_t w = 0, hh = 0;
-  if (!a.res.empty() && !parse_wxh(a.res, &w, &hh)) {
-    std::fprintf(stderr, "hrpp predict: --res must be WIDTHxHEIGHT (e.g. 256x256), got '%s'\n",
-                 a.res.c_str());
-    return 2;
-  }
+  return true;
+}
 
-  Scene scene = load_scene(a.scene);
-  Bvh bvh = build_bvh(scene.triangles);
+/// Completes the configuration for a scene and its BVH and validates it; prints the error.
+bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scene& scene,
+                             const Bvh& bvh, PredictorConfig* cfg) {
+  HashConfig& h = cfg->hash;
+  TableConfig& t = cfg->table;
   h.origin_cell_exp = cell_exp_for(scene.bounds, h.origin_bits);
   t.node_bits = node_bits_for(bvh.nodes.size());
   t.key_bits = h.key_bits();
   t.tag_bits = t.unbounded ? 0 : h.tag_bits();
   if (a.tag_bits >= 0 && !t.unbounded) {
     if (a.tag_bits > h.tag_bits()) {
-      std::fprintf(stderr, "hrpp predict: --tag-bits %d exceeds the full tag width %d (key %d bits, index %d bits)\n",
-                   a.tag_bits, h.tag_bits(), h.key_bits(), h.index_bits);
-      return 2;
+      std::fprintf(stderr, "hrpp %s: --tag-bits %d exceeds the full tag width %d (key %d bits, index %d bits)\n",
+                   cmd, a.tag_bits, h.tag_bits(), h.key_bits(), h.index_bits);
+      return false;
     }
     t.tag_bits = a.tag_bits;
   }
   for (const std::string& err : {h.validate(), t.validate()})
     if (!err.empty()) {
-      std::fprintf(stderr, "hrpp predict: %s\n", err.c_str());
+      std::fprintf(stderr, "hrpp %s: %s\n", cmd, err.c_str());
+      return false;
+    }
+  return true;
+}
+
+std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, const Predictor& pred) {
+  const HashConfig& h = cfg.hash;
+  const TableConfig& t = cfg.table;
+  char b[512];
+  const std::string hash =
+      h.variant == HashVariant::kFaithful
+          ? "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine
+          : "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
+                std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) +
+                " bits " + a.combine;
+  std::snprintf(b, sizeof b,
+                "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
+                "entries used), go-up %u, mode %s",
+                a.hash.c_str(), hash.c_str(), h.key_bits(),
+                t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
+                t.nodes_per_entry, t.node_bits, (unsigned long long)pred.table().bytes(),
+                (unsigned long long)pred.table().entries_used(), cfg.go_up, a.mode.c_str());
+  return b;
+}
+
+// ---- predict -----------------------------------------------------------------------------------
+
+struct PredictArgs {
+  std::string scene, json_path, stream;
+  WorkloadArgs w;
+  PredictorArgs p;
+};
+
+int cmd_predict(const PredictArgs& a) {
+  PredictorConfig cfg;
+  if (!parse_predictor_args("predict", a.p, &cfg) || !check_workload_args("predict", a.w)) return 2;
+  std::unique_ptr<RayStreamReader> stream;
+  if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
+
+  Scene scene = load_scene(a.scene);
+  Bvh bvh = build_bvh(scene.triangles);
+  if (!finish_predictor_config("predict", a.p, scene, bvh, &cfg)) return 2;
+  WorkloadOptions wo;
+  nlohmann::json workload;
+  if (stream) {
+    const uint64_t fp = scene_fingerprint(scene);
+    if (stream->header().scene_fingerprint != fp) {
+      std::fprintf(stderr,
+                   "hrpp predict: %s was generated from another scene (fingerprint %016llx; %s "
+                   "has %016llx)\n",
+                   a.stream.c_str(), (unsigned long long)stream->header().scene_fingerprint,
+                   scene.path.c_str(), (unsigned long long)fp);
       return 2;
     }
-  WorkloadOptions wo;
-  wo.width = static_cast<int>(w);
-  wo.height = static_cast<int>(hh);
-  wo.spp = a.spp;
-  wo.seed = a.seed;
-  wo.shadow = a.shadow;
-  wo.ao = a.ao;
-  wo.ao_distance = a.ao_distance;
-  if (wo.width == 0) {
-    wo.width = scene.camera.width;
-    wo.height = scene.camera.height;
+    workload = nlohmann::json::parse(stream->header().options, nullptr, false);
+    if (workload.is_discarded()) workload = stream->header().options;
+    workload["stream"] = a.stream;
+    workload["rays"] = stream->header().ray_count;
+  } else {
+    if (!make_workload("predict", a.w, scene, &wo)) return 2;
+    workload = workload_json(scene, wo);
   }
+
   Predictor pred(bvh, cfg);
-  const uint64_t primaries = uint64_t(wo.width) * wo.height * wo.spp;
+  const uint64_t expected = stream ? stream->header().ray_count
+                                   : uint64_t(wo.width) * wo.height * wo.spp;
+  const char* unit = stream ? "stream rays" : "camera samples";
   uint64_t done = 0;
   auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
-  generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) {
+  auto process = [&](const RayRecord& r) {
     pred.process(r);
-    if (r.kind != RayKind::kPrimary || (++done & 0xFFFF)) return;
+    if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFFF)) return;
     auto now = std::chrono::steady_clock::now();
     if (now - last < std::chrono::seconds(2)) return;
     last = now;
     double secs = std::chrono::duration<double>(now - t0).count();
-    std::fprintf(stderr, "predict: %5.1f%% of %llu camera samples, %.2f M rays/s\n",
-                 100.0 * done / primaries, (unsigned long long)primaries,
-                 pred.total().rays / secs / 1e6);
-  });
+    std::fprintf(stderr, "predict: %5.1f%% of %llu %s, %.2f M rays/s\n", 100.0 * done / expected,
+                 (unsigned long long)expected, unit, pred.total().rays / secs / 1e6);
+  };
+  if (stream) {
+    RayRecord r;
+    while (stream->next(&r)) process(r);
+  } else {
+    generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { process(r); });
+  }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json j = pred.to_json();
   j["scene"] = scene.path;
-  j["resolution"] = {wo.width, wo.height};
-  j["spp"] = wo.spp;
-  j["seed"] = wo.seed;
+  j["workload"] = workload;
+  if (workload.contains("resolution")) j["resolution"] = workload["resolution"];
+  if (workload.contains("spp")) j["spp"] = workload["spp"];
+  if (workload.contains("seed")) j["seed"] = workload["seed"];
   j["seconds"] = secs;
 
-  const auto& c = j["config"];
-  std::printf("predict %s: %dx%d, %d spp, hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, "
-              "%llu bytes, %llu entries used), go-up %u, mode %s\n",
-              scene.path.c_str(), wo.width, wo.height, wo.spp, a.hash.c_str(),
-              h.variant == HashVariant::kFaithful
-                  ? ("P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine).c_str()
-                  : ("origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
-                     std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " + a.combine).c_str(),
-              h.key_bits(), c["table"].get<std::string>().c_str(), t.nodes_per_entry, t.node_bits,
-              (unsigned long long)pred.table().bytes(), (unsigned long long)pred.table().entries_used(),
-              cfg.go_up, a.mode.c_str());
-  std::printf("  %-8s %10s %8s %9s %9s %10s %10s %10s %10s %8s\n", "kind", "rays", "skipped",
+  if (stream) {
+    std::printf("predict %s: rays from %s (%llu records), generated with %s\n", scene.path.c_str(),
+                a.stream.c_str(), (unsigned long long)stream->header().ray_count,
+                stream->header().options.c_str());
+  } else {
+    std::printf("predict %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
+    print_effects(scene, wo, a.w.effects);
+  }
+  std::printf("  %s\n", predictor_line(a.p, cfg, pred).c_str());
+  std::printf("  %-10s %10s %8s %9s %9s %10s %10s %10s %10s %8s\n", "kind", "rays", "skipped",
               "precision", "recall", "TP", "FP", "FN", "TN", "wrong");
   auto row = [](const char* name, const PredictStats& s) {
-    std::printf("  %-8s %10llu %7.2f%% %9.4f %9.4f %10llu %10llu %10llu %10llu %8llu\n", name,
+    std::printf("  %-10s %10llu %7.2f%% %9.4f %9.4f %10llu %10llu %10llu %10llu %8llu\n", name,
                 (unsigned long long)s.rays, 100 * s.skipped_interior_fraction(), s.precision(),
                 s.recall(), (unsigned long long)s.true_positive,
                 (unsigned long long)s.false_positive, (unsigned long long)s.false_negative,
@@ -315,6 +484,62 @@ int cmd_predict(const PredictArgs& a) {
     return 1;
   }
   if (!a.json_path.empty() && !write_json_file(a.json_path, j)) return 2;
+  return 0;
+}
+
+// ---- trace -------------------------------------------------------------------------------------
+
+struct TraceArgs {
+  std::string scene, out, json_path;
+  WorkloadArgs w;
+};
+
+int cmd_trace(const TraceArgs& a) {
+  if (!check_workload_args("trace", a.w)) return 2;
+  Scene scene = load_scene(a.scene);
+  Bvh bvh = build_bvh(scene.triangles);
+  WorkloadOptions wo;
+  if (!make_workload("trace", a.w, scene, &wo)) return 2;
+  nlohmann::json options = workload_json(scene, wo);
+  options["effects_spec"] = a.w.effects;
+  options["generator"] = "hrpp trace";
+  StreamHeader header;
+  header.scene_fingerprint = scene_fingerprint(scene);
+  header.options = options.dump();
+  std::printf("trace %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
+  print_effects(scene, wo, a.w.effects);
+
+  auto t0 = std::chrono::steady_clock::now();
+  RayStreamWriter writer(a.out, header);
+  std::array<uint64_t, kNumRayKinds> by_kind{};
+  generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) {
+    writer.write(r);
+    by_kind[static_cast<int>(r.kind)]++;
+  });
+  writer.close();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::string counts;
+  nlohmann::json jk = nlohmann::json::object();
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (by_kind[k]) {
+      const std::string name(ray_kind_name(RayKind(k)));
+      counts += (counts.empty() ? "" : ", ") + name + " " + std::to_string(by_kind[k]);
+      jk[name] = by_kind[k];
+    }
+  std::printf("wrote %s: %llu rays (%s), %.1f MB, %.1f s\n", a.out.c_str(),
+              (unsigned long long)writer.count(), counts.c_str(),
+              (64.0 * writer.count()) / 1e6, secs);
+  if (!a.json_path.empty()) {
+    nlohmann::json j = {{"stream", a.out},
+                        {"scene", scene.path},
+                        {"scene_fingerprint", header.scene_fingerprint},
+                        {"options", options},
+                        {"effects", describe_effects(scene, wo, a.w.effects)},
+                        {"rays", writer.count()},
+                        {"by_kind", jk},
+                        {"seconds", secs}};
+    if (!write_json_file(a.json_path, j)) return 2;
+  }
   return 0;
 }
 
@@ -348,38 +573,26 @@ int main(int argc, char** argv) {
 
   PredictArgs pa;
   auto* pr = app.add_subcommand("predict", "Run the HRPP predictor over a scene's rays and report "
-                                           "skipped work, precision and recall");
+                                           "skipped work, precision and recall per ray kind");
   pr->add_option("scene", pa.scene, "glTF scene (.glb or .gltf)")->required();
-  pr->add_option("--hash", pa.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
-  pr->add_option("--precision", pa.precision, "faithful hash: mantissa bits per component (P)")
-      ->check(CLI::Range(1, 23));
-  pr->add_option("--exp-bits", pa.exp_bits, "faithful hash: top exponent bits per component (E)")
-      ->check(CLI::Range(0, 8));
-  pr->add_option("--origin-bits", pa.origin_bits, "improved hash: bits per origin axis")
-      ->check(CLI::Range(1, 16));
-  pr->add_option("--dir-bits", pa.dir_bits, "improved hash: bits per direction component")
-      ->check(CLI::Range(1, 16));
-  pr->add_option("--combine", pa.combine, "how origin and direction fields combine")
-      ->check(CLI::IsMember({"xor", "concat"}));
-  pr->add_option("--go-up", pa.go_up, "store the hit leaf's ancestor this many levels up")
-      ->check(CLI::Range(0u, 64u));
-  pr->add_option("--table", pa.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
-  pr->add_option("--tag-bits", pa.tag_bits,
-                 "stored tag bits (default: the full tag, so keys never alias; fewer bits save "
-                 "storage and let keys of one set alias)")
-      ->check(CLI::Range(0, 64));
-  pr->add_option("--nodes-per-entry", pa.nodes_per_entry, "node ids per table entry (K)")
-      ->check(CLI::Range(1, kMaxNodesPerEntry));
-  pr->add_option("--mode", pa.mode, "how closest-hit rays use predictions")
-      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
-  pr->add_option("--res", pa.res, "image resolution WxH (default: the camera's)");
-  pr->add_option("--spp", pa.spp, "samples per pixel")->check(CLI::Range(1, 4096));
-  pr->add_option("--seed", pa.seed, "random seed of the ray generator");
-  pr->add_flag("!--no-shadow", pa.shadow, "do not trace shadow rays");
-  pr->add_flag("!--no-ao", pa.ao, "do not trace ambient-occlusion rays");
-  pr->add_option("--ao-distance", pa.ao_distance, "AO ray length (default 5% of the scene diagonal)")
-      ->check(CLI::NonNegativeNumber);
+  add_predictor_options(pr, pa.p);
+  std::vector<CLI::Option*> wopts = add_workload_options(pr, pa.w, "shadow,ao");
+  wopts.push_back(pr->add_flag("!--no-shadow", pa.w.shadow, "do not trace shadow rays"));
+  wopts.push_back(pr->add_flag("!--no-ao", pa.w.ao, "do not trace ambient-occlusion rays"));
+  auto* stream_opt = pr->add_option("--stream", pa.stream,
+                                    "read the rays from this ray-stream file (hrpp trace) instead "
+                                    "of generating them");
+  for (CLI::Option* o : wopts) stream_opt->excludes(o);
   pr->add_option("--json", pa.json_path, "write the report as JSON to this file");
+
+  TraceArgs ta;
+  auto* tr = app.add_subcommand("trace", "Generate a scene's ray workload and write it as a "
+                                         "ray-stream file (docs/ray_stream.md)");
+  tr->add_option("scene", ta.scene, "glTF scene (.glb or .gltf)")->required();
+  add_workload_options(tr, ta.w, "auto");
+  tr->add_option("--out", ta.out, "ray-stream file to write")->required();
+  tr->add_option("--json", ta.json_path, "also write a summary (effects, ray counts) as JSON");
+
 
   try {
     app.parse(argc, argv);
@@ -391,7 +604,11 @@ int main(int argc, char** argv) {
     if (*info) return cmd_info(scene, leaf_size, json_path);
     if (*ce) return cmd_check_embree(scene, rays, kind, seed, config, json_path);
     if (*pr) return cmd_predict(pa);
+    if (*tr) return cmd_trace(ta);
   } catch (const SceneError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
+    return 2;
+  } catch (const StreamError& e) {
     std::fprintf(stderr, "hrpp: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
