@@ -1,5 +1,5 @@
 // Ray-stream files (docs/ray_stream.md): round trip, byte-identical determinism, every malformed
-// file named with its record number, and the command-line errors of trace and predict.
+// file named with its record number, and the command-line errors of trace / predict / render.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -261,6 +261,8 @@ TEST_F(Stream, ToolErrors) {
   expect_error("trace " + scene + " --res 64 --out " + out, "--res must be WIDTHxHEIGHT");
   expect_error("trace " + scene, "--out is required");
   expect_error("trace " + scene + " --res 8x8 --out " + dir_ + "/nodir/o.rays", "cannot open for writing");
+  expect_error("render " + scene + " --res 8x8 --out " + path_, "cannot create the output directory");
+  expect_error("render " + scene + " --res 8x8 --effects ao,bogus --out " + dir_ + "/r", "unknown effect 'bogus'");
   expect_error("predict " + scene + " --stream " + dir_ + "/none.rays", "cannot open");
   expect_error("predict " + scene + " --stream " + scene, "not a ray stream (bad magic)");
   expect_error("predict " + scene + " --stream " + path_, "was generated from another scene");
