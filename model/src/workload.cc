@@ -75,7 +75,9 @@ std::vector<std::string> materials_where(const Scene& s, bool (*pred)(const Mate
 constexpr std::array<const char*, 5> kEffectNames = {"shadow", "ao", "reflection", "refraction",
                                                      "diffuse"};
 
-bool* effect_flag(WorkloadOptions* o, std::string_view name) {
+/// The flag of an effect (nullptr for an unknown name); const or not, as o is.
+template <class Options>
+auto effect_flag(Options* o, std::string_view name) -> decltype(&o->shadow) {
   if (name == "shadow") return &o->shadow;
   if (name == "ao") return &o->ao;
   if (name == "reflection") return &o->reflection;
@@ -172,9 +174,8 @@ std::vector<std::string> describe_effects(const Scene& scene, const WorkloadOpti
   const std::vector<std::string> items = split_list(spec);
   const bool is_auto = std::find(items.begin(), items.end(), "auto") != items.end();
   std::vector<std::string> lines;
-  WorkloadOptions o = opt;
   for (const char* name : kEffectNames) {
-    const bool on = *effect_flag(&o, name);
+    const bool on = *effect_flag(&opt, name);
     const bool listed = std::find(items.begin(), items.end(), name) != items.end();
     const std::string_view n = name;
     const bool derivable = n == "shadow" ? c.shadow : n == "reflection" ? c.reflection
@@ -216,9 +217,8 @@ nlohmann::json workload_json(const Scene& scene, const WorkloadOptions& opt) {
   int w, h;
   workload_resolution(scene, opt, &w, &h);
   nlohmann::json effects = nlohmann::json::array({"primary"});
-  WorkloadOptions o = opt;
   for (const char* n : kEffectNames)
-    if (*effect_flag(&o, n)) effects.push_back(n);
+    if (*effect_flag(&opt, n)) effects.push_back(n);
   return {{"scene", scene.path},
           {"resolution", {w, h}},
           {"spp", opt.spp},
