@@ -221,8 +221,8 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
                   ->capture_default_str());
   o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
   o.push_back(app->add_option("--ao-distance", a.ao_distance,
-                              "AO ray length (default 5% of the scene diagonal)")
-                  ->check(CLI::PositiveNumber));
+                              "AO ray length (default or 0: 5% of the scene diagonal)")
+                  ->check(CLI::NonNegativeNumber));
   return o;
 }
 
