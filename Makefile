@@ -3,7 +3,7 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, check-embree, bench, clean. Generated files go to build/ and out/.
+# Other targets: setup, build, check-embree, results, clean. Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
 BUILD      ?= build
@@ -21,14 +21,14 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all setup setup-apt build run test check-embree clean
+.PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean
 
 all: build
 
 # ---------------------------------------------------------------------------------------------
 # Setup: idempotent, and fast (one dpkg query) when everything is already installed.
 # ---------------------------------------------------------------------------------------------
-setup: setup-apt
+setup: setup-apt setup-venv
 
 setup-apt:
 	@missing=$$(for p in $(APT_PACKAGES); do \
@@ -42,11 +42,20 @@ setup-apt:
 	  echo "setup: all Debian packages present"; \
 	fi
 
+# Python tools (pyslang; later the synthesis flow) in a project-local venv, from PyPI.
+setup-venv: $(VENV)/.installed
+
+$(VENV)/.installed: requirements.txt | setup-apt
+	python3 -m venv $(VENV)
+	$(VENV)/bin/pip install -q --disable-pip-version-check -r requirements.txt
+	touch $@
+
 # ---------------------------------------------------------------------------------------------
 # Build
 # ---------------------------------------------------------------------------------------------
 $(BUILD)/build.ninja: CMakeLists.txt | setup
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHRPP_SHARED_DIR=$(abspath $(SHARED))
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHRPP_SHARED_DIR=$(abspath $(SHARED)) \
+	  -DHRPP_PYTHON=$(abspath $(VENV))/bin/python
 
 build: setup $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
@@ -63,6 +72,19 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# Longer RTL parity runs than the test suite's: every configuration and mode on every shared
+# scene, 1,000,000 rays each (about 6 s per run).
+sim-long: build
+	@set -o pipefail; for s in $(SHARED)/scenes/*.glb; do for c in small default large; do \
+	  for m in anyhit closest-exact closest-spec; do \
+	    $(BUILD)/tb_hrpp --scene $$s --rays 1000000 --config $$c --mode $$m --go-up 1 --seed 11 \
+	      | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
+	  done; done; done
+
+# RTL lint: Verilator -Wall and slang, for every configuration the testbench builds.
+lint: build
+	cd $(BUILD) && ctest --output-on-failure -R '^rtl\.lint'
+
 # Cross-check every shared scene at a larger ray count than the test suite uses.
 check-embree: build
 	@mkdir -p $(OUT)
@@ -70,6 +92,11 @@ check-embree: build
 	  n=$$(basename $$s .glb); \
 	  $(BUILD)/hrpp check-embree $$s --rays 1000000 --kind all --json $(OUT)/check-embree-$$n.json || exit 1; \
 	done
+
+# The predictor tables of docs/results.md: the study's Table 1 configuration and the finite
+# tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores).
+results: build
+	python3 model/tools/results.py --shared $(SHARED) --jobs $(JOBS)
 
 clean:
 	rm -rf $(BUILD) $(OUT)

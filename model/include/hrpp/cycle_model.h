@@ -1,0 +1,130 @@
+// Cycle-accurate model of the RTL's interface behaviour (rtl/hrpp_top.sv,
+// docs/microarchitecture.md). It reuses the golden model's hash (hash.h) and table (pred_table.h):
+// the table's update pipeline forwards every hazard, so applying each update to a PredTable in
+// the cycle the RTL writes it reproduces the RTL's table, and a lookup sees every write presented
+// in the cycle of its read or earlier.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hrpp/hash.h"
+#include "hrpp/pred_table.h"
+#include "hrpp/predictor.h"
+
+namespace hrpp {
+
+/// Skip decisions (rtl/hrpp_pkg.sv action_e).
+enum class Action : uint8_t { kFull = 0, kShrink = 1, kSkip = 2 };
+
+struct CycleConfig {
+  HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
+  TableConfig table;  // finite; tag_bits = the RTL's TagBits
+  PredictMode mode = PredictMode::kClosestExact;
+  int id_bits = 6;
+  int pred_fifo_depth = 8;
+  int skip_fifo_depth = 4;
+  std::string validate() const;
+};
+
+/// The DUT's inputs in one cycle.
+struct DutIn {
+  bool ray_valid = false;
+  uint32_t ray_id = 0;
+  uint8_t ray_kind = 0;
+  std::array<uint32_t, 3> org{}, dir{};
+  bool pred_ready = false;
+  bool pw_valid = false;  // predicted-walk result
+  uint32_t pw_id = 0;
+  bool pw_hit = false;
+  uint32_t pw_node = 0;
+  bool upd_valid = false;  // final outcome
+  uint32_t upd_id = 0;
+  bool upd_hit = false;
+  uint32_t upd_node = 0;
+  bool skip_ready = false;
+};
+
+/// The DUT's outputs in one cycle (functions of the state only).
+struct DutOut {
+  bool ray_ready = false;
+  bool pred_valid = false;
+  uint32_t pred_id = 0;
+  bool pred_invalid = false;
+  uint32_t pred_count = 0;
+  std::array<uint32_t, kMaxNodesPerEntry> pred_nodes{};
+  bool pw_ready = false;
+  bool upd_ready = false;
+  bool skip_valid = false;
+  uint32_t skip_id = 0;
+  Action skip_action = Action::kFull;
+};
+
+class CycleModel {
+ public:
+  explicit CycleModel(const CycleConfig& cfg);
+  void reset();
+  DutOut outputs() const;
+  /// One rising clock edge with these inputs.
+  void tick(const DutIn& in);
+  uint64_t cycle() const { return cycle_; }
+  const PredTable& table() const { return table_; }
+
+ private:
+  struct Pred {
+    uint32_t id = 0;
+    bool invalid = false;
+    uint32_t count = 0;
+    std::array<uint32_t, kMaxNodesPerEntry> nodes{};
+  };
+  struct Op {
+    uint32_t idx = 0;
+    uint64_t tag = 0;
+    uint32_t node = 0;
+  };
+  struct KeyEntry {
+    uint32_t idx = 0;
+    uint64_t tag = 0;
+    bool any_hit = false;
+  };
+  struct Msg {  // P0 or F0
+    bool valid = false;
+    uint32_t id = 0;
+    bool hit = false;
+    uint32_t node = 0;
+  };
+  struct Decision {  // what P0 and F0 do this cycle (combinational in the RTL)
+    Action action = Action::kFull;
+    bool f_req = false, p_req = false, up_ready = false, p_advance = false, f_advance = false;
+    std::optional<Op> update;  // the request on the table's update port
+  };
+  Decision decide() const;
+  int in_flight() const;
+
+  CycleConfig cfg_;
+  PredTable table_;
+  uint64_t cycle_ = 0;
+  bool clearing_ = true;
+  uint32_t clear_idx_ = 0;
+  // Lookup path: A (input regs), B (key regs), D0..D2 (beside the table's lookup).
+  std::optional<DutIn> a_;
+  struct B {
+    uint32_t id = 0, idx = 0;
+    uint64_t tag = 0;
+    bool invalid = false, any_hit = false;
+  };
+  std::optional<B> b_;
+  std::array<std::optional<Pred>, 3> d_;
+  std::deque<Pred> pred_fifo_;
+  std::vector<KeyEntry> key_store_;
+  // Update path: P0 and F0, then T0, T1, C1, C2, W.
+  Msg p0_, f0_;
+  std::array<std::optional<Op>, 5> up_;  // [0] = T0 ... [4] = W
+  std::deque<std::pair<uint32_t, Action>> skip_fifo_;
+};
+
+}  // namespace hrpp

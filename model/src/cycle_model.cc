@@ -1,0 +1,154 @@
+#include "hrpp/cycle_model.h"
+
+#include <bit>
+
+namespace hrpp {
+
+std::string CycleConfig::validate() const {
+  if (auto e = hash.validate(); !e.empty()) return e;
+  if (auto e = table.validate(); !e.empty()) return e;
+  if (table.unbounded) return "the RTL has a finite table";
+  if (table.sets < 2) return "the RTL needs at least 2 sets";
+  if (table.ways < 2) return "the RTL needs at least 2 ways";
+  if (hash.index_bits != std::countr_zero(table.sets)) return "index bits must be log2(sets)";
+  if (table.tag_bits < 1 || table.tag_bits > hash.tag_bits())
+    return "stored tag bits must be 1.." + std::to_string(hash.tag_bits());
+  if (id_bits < 1 || id_bits > 16) return "id bits must be 1..16";
+  return {};
+}
+
+CycleModel::CycleModel(const CycleConfig& cfg) : cfg_(cfg), table_(cfg.table) { reset(); }
+
+void CycleModel::reset() {
+  table_.clear();
+  cycle_ = 0;
+  clearing_ = true;
+  clear_idx_ = 0;
+  a_.reset();
+  b_.reset();
+  for (auto& d : d_) d.reset();
+  pred_fifo_.clear();
+  key_store_.assign(size_t{1} << cfg_.id_bits, KeyEntry{});
+  p0_ = Msg{};
+  f0_ = Msg{};
+  for (auto& u : up_) u.reset();
+  skip_fifo_.clear();
+}
+
+int CycleModel::in_flight() const {
+  return int(a_.has_value()) + int(b_.has_value()) + int(d_[0].has_value()) +
+         int(d_[1].has_value()) + int(d_[2].has_value());
+}
+
+CycleModel::Decision CycleModel::decide() const {
+  Decision d;
+  const KeyEntry& kp = key_store_[p0_.id];
+  const KeyEntry& kf = key_store_[f0_.id];
+  if (p0_.hit)
+    d.action = kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip
+                                                                    : Action::kShrink;
+  const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
+  const bool p_needs = d.action == Action::kSkip;
+  // The table port: a final outcome first.
+  d.f_req = f0_.valid && f0_.hit;
+  d.p_req = p0_.valid && p_needs && !fifo_full;
+  if (d.f_req) d.update = Op{kf.idx, kf.tag, f0_.node};
+  else if (d.p_req) d.update = Op{kp.idx, kp.tag, p0_.node};
+  // The table's interlock: not the set of the update accepted in the previous cycle (T0).
+  const uint32_t up_idx = d.f_req ? kf.idx : kp.idx;
+  d.up_ready = !clearing_ && !(up_[0] && up_[0]->idx == up_idx);
+  d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);
+  d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.up_ready && !d.f_req));
+  return d;
+}
+
+DutOut CycleModel::outputs() const {
+  DutOut o;
+  o.ray_ready = !clearing_ && in_flight() + int(pred_fifo_.size()) < cfg_.pred_fifo_depth;
+  if (!pred_fifo_.empty()) {
+    const Pred& p = pred_fifo_.front();
+    o.pred_valid = true;
+    o.pred_id = p.id;
+    o.pred_invalid = p.invalid;
+    o.pred_count = p.count;
+    o.pred_nodes = p.nodes;
+  }
+  const Decision d = decide();
+  o.pw_ready = !clearing_ && (!p0_.valid || d.p_advance);
+  o.upd_ready = !clearing_ && (!f0_.valid || d.f_advance);
+  if (!skip_fifo_.empty()) {
+    o.skip_valid = true;
+    o.skip_id = skip_fifo_.front().first;
+    o.skip_action = skip_fifo_.front().second;
+  }
+  return o;
+}
+
+void CycleModel::tick(const DutIn& in) {
+  const DutOut o = outputs();
+  const Decision dec = decide();
+
+  // The write presented in this cycle (W), then the lookup read presented in this cycle (B):
+  // the lookup sees the write (the RTL forwards a colliding write).
+  if (up_[4]) table_.update(up_[4]->idx, up_[4]->tag, 0, up_[4]->node);
+  std::optional<Pred> looked_up;
+  if (b_) {
+    Pred p;
+    p.id = b_->id;
+    p.invalid = b_->invalid;
+    if (!b_->invalid) {
+      const Prediction pr = table_.lookup(b_->idx, b_->tag, 0);
+      p.count = pr.count;
+      p.nodes = pr.nodes;
+    }
+    looked_up = p;
+  }
+
+  // Prediction FIFO.
+  if (o.pred_valid && in.pred_ready) pred_fifo_.pop_front();
+  if (d_[2]) pred_fifo_.push_back(*d_[2]);
+
+  // Skip controller.
+  std::optional<Op> issued;
+  if (dec.update && dec.up_ready) issued = dec.update;
+  if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
+  if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
+  if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node};
+  if (o.upd_ready) f0_ = Msg{in.upd_valid, in.upd_id, in.upd_hit, in.upd_node};
+
+  // Key store write (B), after U0's read above.
+  if (b_) key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
+
+  // Pipelines advance.
+  for (int i = 4; i > 0; --i) up_[i] = up_[i - 1];
+  up_[0] = issued;
+  d_[2] = d_[1];
+  d_[1] = d_[0];
+  d_[0] = looked_up;
+  if (a_) {
+    const HashKey k = split_key(
+        hash_key({a_->org[0], a_->org[1], a_->org[2], a_->dir[0], a_->dir[1], a_->dir[2]},
+                 cfg_.hash),
+        cfg_.hash);
+    B b;
+    b.id = a_->ray_id;
+    b.idx = k.index;
+    b.tag = table_.stored_tag(k.tag);
+    b.invalid = false;
+    for (uint32_t v : {a_->org[0], a_->org[1], a_->org[2], a_->dir[0], a_->dir[1], a_->dir[2]})
+      b.invalid |= ((v >> 23) & 0xFF) == 0xFF;
+    b.any_hit = is_any_hit(static_cast<RayKind>(a_->ray_kind)) || cfg_.mode == PredictMode::kAnyHit;
+    b_ = b;
+  } else {
+    b_.reset();
+  }
+  if (in.ray_valid && o.ray_ready) {
+    a_ = in;
+  } else {
+    a_.reset();
+  }
+  if (clearing_ && ++clear_idx_ == cfg_.table.sets) clearing_ = false;
+  ++cycle_;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,52 @@
+`default_nettype none
+// Synchronous FIFO with registered storage; the head is visible while not empty.
+module hrpp_fifo #(
+  parameter int unsigned Depth = 8,   /// entries, a power of two
+  parameter int unsigned Width = 8,   /// bits per entry
+  localparam int unsigned PtrW = $clog2(Depth),
+  localparam int unsigned CountW = $clog2(Depth + 1)
+) (
+  input  logic              clk_i,
+  input  logic              rst_ni,
+  input  logic              push_i,   /// must not be set when full (asserted)
+  input  logic [Width-1:0]  data_i,
+  input  logic              pop_i,    /// must not be set when empty (asserted)
+  output logic [Width-1:0]  data_o,   /// the head
+  output logic              empty_o,
+  output logic              full_o,
+  output logic [CountW-1:0] count_o
+);
+
+  logic [Width-1:0]  mem_q[Depth];
+  logic [PtrW-1:0]   rd_q, wr_q;
+  logic [CountW-1:0] count_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      rd_q    <= '0;
+      wr_q    <= '0;
+      count_q <= '0;
+    end else begin
+      if (push_i) wr_q <= wr_q + 1'b1;
+      if (pop_i) rd_q <= rd_q + 1'b1;
+      count_q <= count_q + CountW'(push_i) - CountW'(pop_i);
+    end
+  end
+
+  always_ff @(posedge clk_i) begin
+    if (push_i) mem_q[wr_q] <= data_i;
+  end
+
+  assign data_o  = mem_q[rd_q];
+  assign empty_o = count_q == '0;
+  assign full_o  = count_q == CountW'(Depth);
+  assign count_o = count_q;
+
+`ifndef SYNTHESIS
+  NoOverflow_A: assert property (@(posedge clk_i) disable iff (!rst_ni) push_i |-> !full_o || pop_i);
+  NoUnderflow_A: assert property (@(posedge clk_i) disable iff (!rst_ni) pop_i |-> !empty_o);
+`endif
+
+endmodule
+
+`default_nettype wire

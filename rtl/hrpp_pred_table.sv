@@ -1,0 +1,364 @@
+`default_nettype none
+// HRPP predictor table: NumSets sets x NumWays ways x NodesPerEntry node ids, true LRU over ways
+// (age counters), node ids in most-recently-used-first order (docs/hash.md, "Predictor table").
+//
+// Two copies of the table in block RAM, written together: the lookup copy serves one lookup
+// per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
+//   lookup: L1 read address | L2 RAM data (or the colliding write) registered | L3 compare,
+//           outputs registered: lk_valid_o ... three cycles after lk_valid_i.
+//   update: T0 read address | T1 RAM data registered | C1 forward, match, victim |
+//           C2 new row | W write to both copies.
+// A lookup sees every write presented in the cycle of its read or earlier. An update whose set
+// equals that of the update accepted in the previous cycle waits one cycle (up_ready_o low);
+// every other hazard is forwarded, so one lookup and one update per cycle are sustained.
+// After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
+module hrpp_pred_table
+  import hrpp_pkg::*;
+#(
+  parameter int unsigned NumSets = 256,       /// sets, a power of two
+  parameter int unsigned NumWays = 4,         /// ways, 2..16
+  parameter int unsigned NodesPerEntry = 2,   /// node ids per way (K), 1..8
+  parameter int unsigned NodeIdWidth = 17,    /// bits of a node id
+  parameter int unsigned TagBits = 12,        /// stored tag bits
+  parameter bit InjectFault = 1'b0,           /// test only: a one-bit fault in the node update
+  localparam int unsigned IdxW = $clog2(NumSets),
+  localparam int unsigned CountW = $clog2(NodesPerEntry + 1),
+  localparam int unsigned AgeW = $clog2(NumWays)
+) (
+  input  logic                                       clk_i,
+  input  logic                                       rst_ni,
+  output logic                                       init_done_o,  /// the reset clear is over
+  // Lookup (never stalls)
+  input  logic                                       lk_valid_i,
+  input  logic [IdxW-1:0]                            lk_idx_i,
+  input  logic [TagBits-1:0]                         lk_tag_i,
+  output logic                                       lk_valid_o,
+  output logic [CountW-1:0]                          lk_count_o,  /// 0: no prediction
+  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0]  lk_nodes_o,  /// MRU first
+  // Update: node_i becomes the most recently used node of the tag's entry
+  input  logic                                       up_valid_i,
+  output logic                                       up_ready_o,
+  input  logic [IdxW-1:0]                            up_idx_i,
+  input  logic [TagBits-1:0]                         up_tag_i,
+  input  logic [NodeIdWidth-1:0]                     up_node_i
+);
+
+  typedef struct packed {
+    logic                                      valid;
+    logic [TagBits-1:0]                        tag;
+    logic [CountW-1:0]                         count;
+    logic [NodesPerEntry-1:0][NodeIdWidth-1:0] nodes;  // [0] = most recently used
+    logic [AgeW-1:0]                           age;    // 0 = most recently used way
+  } way_t;
+  typedef way_t [NumWays-1:0] row_t;
+  localparam int unsigned RowW = $bits(row_t);
+
+  // The row every set holds after reset: all ways invalid, way i has age i.
+  function automatic row_t init_row();
+    row_t r;
+    r = '0;
+    for (int w = 0; w < NumWays; w++) r[w].age = AgeW'(w);
+    return r;
+  endfunction
+
+  // ---------------------------------------------------------------------------------------------
+  // Reset clear sequence and the write port
+  // ---------------------------------------------------------------------------------------------
+  logic            clearing_q;
+  logic [IdxW-1:0] clear_idx_q;
+  logic            we;
+  logic [IdxW-1:0] waddr;
+  row_t            wdata;
+  // W stage
+  logic            w_valid_q;
+  logic [IdxW-1:0] w_idx_q;
+  row_t            w_row_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      clearing_q  <= 1'b1;
+      clear_idx_q <= '0;
+    end else if (clearing_q) begin
+      clear_idx_q <= clear_idx_q + 1'b1;
+      if (clear_idx_q == IdxW'(NumSets - 1)) clearing_q <= 1'b0;
+    end
+  end
+  assign init_done_o = !clearing_q;
+
+  assign we    = clearing_q || w_valid_q;
+  assign waddr = clearing_q ? clear_idx_q : w_idx_q;
+  assign wdata = clearing_q ? init_row() : w_row_q;
+
+  // ---------------------------------------------------------------------------------------------
+  // Memories
+  // ---------------------------------------------------------------------------------------------
+  logic [RowW-1:0] lk_rdata, up_rdata;
+  logic [IdxW-1:0] up_raddr;
+  logic            up_re;
+
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowW)) u_lookup_ram (
+    .clk_i, .re_i(lk_valid_i), .raddr_i(lk_idx_i), .rdata_o(lk_rdata),
+    .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
+  );
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowW)) u_update_ram (
+    .clk_i, .re_i(up_re), .raddr_i(up_raddr), .rdata_o(up_rdata),
+    .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
+  );
+
+  // ---------------------------------------------------------------------------------------------
+  // Lookup pipeline
+  // ---------------------------------------------------------------------------------------------
+  // L2: the RAM data, or the row written in the cycle of the read (collision).
+  logic               l2_valid_q, l2_collide_q;
+  logic [TagBits-1:0] l2_tag_q;
+  row_t               l2_wrow_q;
+  // L3: the row, registered
+  logic               l3_valid_q;
+  logic [TagBits-1:0] l3_tag_q;
+  row_t               l3_row_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      l2_valid_q   <= 1'b0;
+      l2_collide_q <= 1'b0;
+      l2_tag_q     <= '0;
+      l2_wrow_q    <= '0;
+      l3_valid_q   <= 1'b0;
+      l3_tag_q     <= '0;
+      l3_row_q     <= '0;
+    end else begin
+      l2_valid_q   <= lk_valid_i;
+      l2_collide_q <= lk_valid_i && we && waddr == lk_idx_i;
+      l2_tag_q     <= lk_tag_i;
+      l2_wrow_q    <= wdata;
+      l3_valid_q   <= l2_valid_q;
+      l3_tag_q     <= l2_tag_q;
+      l3_row_q     <= l2_collide_q ? l2_wrow_q : row_t'(lk_rdata);
+    end
+  end
+
+  // L3: first matching way -> registered outputs.
+  logic [CountW-1:0]                         lk_count_d;
+  logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes_d;
+  logic [NumWays-1:0]                        lk_match;
+  always_comb begin
+    lk_count_d = '0;
+    lk_nodes_d = '0;
+    for (int w = NumWays - 1; w >= 0; w--) begin
+      lk_match[w] = l3_row_q[w].valid && l3_row_q[w].tag == l3_tag_q;
+      if (lk_match[w]) begin
+        lk_count_d = l3_row_q[w].count;
+        lk_nodes_d = l3_row_q[w].nodes;
+      end
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      lk_valid_o <= 1'b0;
+      lk_count_o <= '0;
+      lk_nodes_o <= '0;
+    end else begin
+      lk_valid_o <= l3_valid_q;
+      lk_count_o <= l3_valid_q ? lk_count_d : '0;
+      lk_nodes_o <= l3_valid_q ? lk_nodes_d : '0;
+    end
+  end
+
+  // ---------------------------------------------------------------------------------------------
+  // Update pipeline
+  // ---------------------------------------------------------------------------------------------
+  // T0: the accepted request; its read address goes to the update RAM.
+  logic                   t0_valid_q, t1_valid_q, c1_valid_q, c2_valid_q;
+  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, c1_idx_q, c2_idx_q;
+  logic [TagBits-1:0]     t0_tag_q, t1_tag_q, c1_tag_q, c2_tag_q;
+  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, c1_node_q, c2_node_q;
+  // History of the two writes before the current one (for forwarding).
+  logic                   h1_valid_q;
+  logic [IdxW-1:0]        h1_idx_q;
+  row_t                   h1_row_q, h2_row_q;
+  // T1 -> C1: RAM data and the forwarding selects (computed one cycle ahead).
+  row_t                   c1_ram_q;
+  logic                   c1_fwd_w_q, c1_fwd_h1_q, c1_fwd_h2_q;
+  // C1 -> C2
+  row_t                   c2_row_q;
+  logic [NumWays-1:0]     c2_sel_q;  // one-hot way to update
+  logic                   c2_hit_q;  // the tag was present
+
+  // Same set as the request accepted in the previous cycle: wait one cycle.
+  assign up_ready_o = !clearing_q && !(t0_valid_q && t0_idx_q == up_idx_i);
+  assign up_re      = t0_valid_q;
+  assign up_raddr   = t0_idx_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      t0_valid_q  <= 1'b0;
+      t0_idx_q    <= '0;
+      t0_tag_q    <= '0;
+      t0_node_q   <= '0;
+      t1_valid_q  <= 1'b0;
+      t1_idx_q    <= '0;
+      t1_tag_q    <= '0;
+      t1_node_q   <= '0;
+      c1_valid_q  <= 1'b0;
+      c1_idx_q    <= '0;
+      c1_tag_q    <= '0;
+      c1_node_q   <= '0;
+      c1_ram_q    <= '0;
+      c1_fwd_w_q  <= 1'b0;
+      c1_fwd_h1_q <= 1'b0;
+      c1_fwd_h2_q <= 1'b0;
+      h1_valid_q  <= 1'b0;
+      h1_idx_q    <= '0;
+      h1_row_q    <= '0;
+      h2_row_q    <= '0;
+    end else begin
+      t0_valid_q <= up_valid_i && up_ready_o;
+      t0_idx_q   <= up_idx_i;
+      t0_tag_q   <= up_tag_i;
+      t0_node_q  <= up_node_i;
+      t1_valid_q <= t0_valid_q;
+      t1_idx_q   <= t0_idx_q;
+      t1_tag_q   <= t0_tag_q;
+      t1_node_q  <= t0_node_q;
+      c1_valid_q <= t1_valid_q;
+      c1_idx_q   <= t1_idx_q;
+      c1_tag_q   <= t1_tag_q;
+      c1_node_q  <= t1_node_q;
+      c1_ram_q   <= row_t'(up_rdata);
+      // Next cycle, C1 reads in W what C2 holds now, in h1 what W holds now, in h2 what h1 holds
+      // now: the three writes its RAM read (presented two cycles before C1) cannot have seen.
+      c1_fwd_w_q  <= c2_valid_q && c2_idx_q == t1_idx_q;
+      c1_fwd_h1_q <= w_valid_q && w_idx_q == t1_idx_q;
+      c1_fwd_h2_q <= h1_valid_q && h1_idx_q == t1_idx_q;
+      h1_valid_q <= w_valid_q;
+      h1_idx_q   <= w_idx_q;
+      h1_row_q   <= w_row_q;
+      h2_row_q   <= h1_row_q;
+    end
+  end
+
+  // C1: the current row (newest write first), the matching way or the victim.
+  row_t               c1_row;
+  logic [NumWays-1:0] c1_match, c1_invalid, c1_oldest, c1_sel;
+  logic               c1_hit;
+  always_comb begin
+    c1_row = c1_fwd_w_q ? w_row_q : c1_fwd_h1_q ? h1_row_q : c1_fwd_h2_q ? h2_row_q : c1_ram_q;
+    for (int w = 0; w < NumWays; w++) begin
+      c1_match[w]   = c1_row[w].valid && c1_row[w].tag == c1_tag_q;
+      c1_invalid[w] = !c1_row[w].valid;
+      c1_oldest[w]  = c1_row[w].age == AgeW'(NumWays - 1);
+    end
+    c1_hit = |c1_match;
+    // First matching way, else the first invalid way, else the least recently used one.
+    c1_sel = '0;
+    if (c1_hit) c1_sel = c1_match & ~(c1_match - 1'b1);
+    else if (|c1_invalid) c1_sel = c1_invalid & ~(c1_invalid - 1'b1);
+    else c1_sel = c1_oldest;
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      c2_valid_q <= 1'b0;
+      c2_idx_q   <= '0;
+      c2_tag_q   <= '0;
+      c2_node_q  <= '0;
+      c2_row_q   <= '0;
+      c2_sel_q   <= '0;
+      c2_hit_q   <= 1'b0;
+    end else begin
+      c2_valid_q <= c1_valid_q;
+      c2_idx_q   <= c1_idx_q;
+      c2_tag_q   <= c1_tag_q;
+      c2_node_q  <= c1_node_q;
+      c2_row_q   <= c1_row;
+      c2_sel_q   <= c1_sel;
+      c2_hit_q   <= c1_hit;
+    end
+  end
+
+  // C2: promote the node in the selected way, age every younger way by one.
+  way_t                           c2_way, c2_new_way;
+  logic [AgeW-1:0]                c2_age;
+  logic [NodesPerEntry-1:0]       c2_node_eq;
+  logic [CountW-1:0]              c2_pos;
+  row_t                           c2_new_row;
+  always_comb begin
+    c2_way = '0;
+    for (int w = 0; w < NumWays; w++)
+      if (c2_sel_q[w]) c2_way = c2_row_q[w];
+    c2_age = c2_way.age;
+    if (!c2_hit_q) begin  // a newly allocated way
+      c2_way.valid = 1'b1;
+      c2_way.tag   = c2_tag_q;
+      c2_way.count = '0;
+      c2_way.nodes = '0;
+    end
+    // Position of the node in the list, or where it is inserted.
+    c2_pos = c2_way.count < CountW'(NodesPerEntry) ? c2_way.count : CountW'(NodesPerEntry - 1);
+    for (int i = NodesPerEntry - 1; i >= 0; i--) begin
+      c2_node_eq[i] = CountW'(i) < c2_way.count && c2_way.nodes[i] == c2_node_q;
+      if (c2_node_eq[i]) c2_pos = CountW'(i);
+    end
+    c2_new_way = c2_way;
+    if (!(|c2_node_eq) && c2_way.count < CountW'(NodesPerEntry))
+      c2_new_way.count = c2_way.count + 1'b1;
+    for (int i = 1; i < NodesPerEntry; i++)
+      if (CountW'(i) <= c2_pos) c2_new_way.nodes[i] = c2_way.nodes[i-1];
+    // InjectFault (test only): the lowest bit of a node id written to way 0 is flipped.
+    c2_new_way.nodes[0] = c2_node_q ^ NodeIdWidth'(InjectFault && c2_sel_q[0]);
+    c2_new_way.age = '0;
+    for (int w = 0; w < NumWays; w++) begin
+      c2_new_row[w] = c2_sel_q[w] ? c2_new_way : c2_row_q[w];
+      if (!c2_sel_q[w] && c2_row_q[w].age < c2_age)
+        c2_new_row[w].age = c2_row_q[w].age + 1'b1;
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      w_valid_q <= 1'b0;
+      w_idx_q   <= '0;
+      w_row_q   <= '0;
+    end else begin
+      w_valid_q <= c2_valid_q;
+      w_idx_q   <= c2_idx_q;
+      w_row_q   <= c2_new_row;
+    end
+  end
+
+  // ---------------------------------------------------------------------------------------------
+  // Assertions
+  // ---------------------------------------------------------------------------------------------
+  initial begin : gen_param_checks
+    assert (NumSets >= 2 && (NumSets & (NumSets - 1)) == 0)
+      else $fatal(1, "NumSets must be a power of two >= 2");
+    assert (NumWays >= 2 && NumWays <= 16) else $fatal(1, "NumWays must be 2..16");
+    assert (NodesPerEntry >= 1 && NodesPerEntry <= 8) else $fatal(1, "NodesPerEntry: 1..8");
+    assert (TagBits >= 1 && TagBits <= 64) else $fatal(1, "TagBits must be 1..64");
+  end
+
+  // At most one way matches a tag (an entry is only allocated when none does).
+`ifndef SYNTHESIS
+  OneWayMatches_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      c1_valid_q |-> $onehot0(c1_match));
+`endif
+  // The selected way is one-hot.
+`ifndef SYNTHESIS
+  SelOneHot_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      c2_valid_q |-> $onehot(c2_sel_q));
+`endif
+  // Back-to-back updates never target the same set (the interlock).
+`ifndef SYNTHESIS
+  NoBackToBackSameSet_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      (c1_valid_q && c2_valid_q) |-> c1_idx_q != c2_idx_q);
+`endif
+  // Lookup outputs are never X.
+`ifndef SYNTHESIS
+  LookupKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      lk_valid_o |-> !$isunknown({lk_count_o, lk_nodes_o}));
+`endif
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,145 @@
+`default_nettype none
+// HRPP skip controller: takes the traversal engine's outcomes, decides whether a ray's walk from
+// the root can be skipped, and issues the table updates (docs/microarchitecture.md).
+//
+// Two inputs, each registered (P0, F0) and each able to take one message per cycle:
+//   predicted-walk results (pw_*): the predicted subtrees were walked; hit_i = one of them hit
+//     (node_i: which). Decision: ActSkip if the ray is an any-hit query or the mode is
+//     ClosestSpec (node_i is then refreshed in the table), ActShrink in ClosestExact mode,
+//     ActFull without a hit. Every ray gets exactly one.
+//   final outcomes (upd_*): the walk from the root is done; hit_i = write node_i to the table
+//     (the verified predicted node, or the hit leaf's go-up ancestor); 0 = nothing to write.
+// The table takes one update per cycle: a final outcome goes first, a predicted-walk result
+// that needs the port then waits. A message leaves its register when its decision fits in the
+// output FIFO and the table accepts its update.
+module hrpp_skip_ctrl
+  import hrpp_pkg::*;
+#(
+  parameter int unsigned IdWidth = 6,        /// ray id bits
+  parameter int unsigned IdxW = 8,           /// set index bits
+  parameter int unsigned TagBits = 12,       /// stored tag bits
+  parameter int unsigned NodeIdWidth = 17,   /// node id bits
+  parameter int unsigned FifoDepth = 4       /// skip decision FIFO entries
+) (
+  input  logic                   clk_i,
+  input  logic                   rst_ni,
+  input  logic                   enable_i,      /// the table finished its reset clear
+  input  mode_e                  cfg_mode_i,
+  // Predicted-walk results from the traversal engine
+  input  logic                   pw_valid_i,
+  output logic                   pw_ready_o,
+  input  logic [IdWidth-1:0]     pw_id_i,
+  input  logic                   pw_hit_i,
+  input  logic [NodeIdWidth-1:0] pw_node_i,
+  // Final outcomes from the traversal engine
+  input  logic                   upd_valid_i,
+  output logic                   upd_ready_o,
+  input  logic [IdWidth-1:0]     upd_id_i,
+  input  logic                   upd_hit_i,
+  input  logic [NodeIdWidth-1:0] upd_node_i,
+  // Key store reads by id (combinational): the ray's set, tag and query type
+  output logic [IdWidth-1:0]     ksp_id_o,
+  input  logic [IdxW-1:0]        ksp_idx_i,
+  input  logic [TagBits-1:0]     ksp_tag_i,
+  input  logic                   ksp_any_hit_i,
+  output logic [IdWidth-1:0]     ksf_id_o,
+  input  logic [IdxW-1:0]        ksf_idx_i,
+  input  logic [TagBits-1:0]     ksf_tag_i,
+  // Table update
+  output logic                   up_valid_o,
+  input  logic                   up_ready_i,
+  output logic [IdxW-1:0]        up_idx_o,
+  output logic [TagBits-1:0]     up_tag_o,
+  output logic [NodeIdWidth-1:0] up_node_o,
+  // Skip decisions
+  output logic                   skip_valid_o,
+  input  logic                   skip_ready_i,
+  output logic [IdWidth-1:0]     skip_id_o,
+  output action_e                skip_action_o
+);
+
+  // P0 and F0: the registered messages
+  logic                   p0_valid_q, p0_hit_q, f0_valid_q, f0_hit_q;
+  logic [IdWidth-1:0]     p0_id_q, f0_id_q;
+  logic [NodeIdWidth-1:0] p0_node_q, f0_node_q;
+
+  action_e action;
+  logic    fifo_full, fifo_empty, p_needs, f_req, p_req, p_advance, f_advance;
+
+  assign ksp_id_o = p0_id_q;
+  assign ksf_id_o = f0_id_q;
+
+  always_comb begin
+    action = ActFull;
+    if (p0_hit_q) begin
+      if (ksp_any_hit_i || cfg_mode_i == ModeClosestSpec) action = ActSkip;
+      else action = ActShrink;
+    end
+  end
+
+  // The table port: a final outcome first.
+  assign p_needs    = action == ActSkip;
+  assign f_req      = f0_valid_q && f0_hit_q;
+  assign p_req      = p0_valid_q && p_needs && !fifo_full;
+  assign up_valid_o = f_req || p_req;
+  assign up_idx_o   = f_req ? ksf_idx_i : ksp_idx_i;
+  assign up_tag_o   = f_req ? ksf_tag_i : ksp_tag_i;
+  assign up_node_o  = f_req ? f0_node_q : p0_node_q;
+
+  assign f_advance   = f0_valid_q && (!f0_hit_q || up_ready_i);
+  assign p_advance   = p0_valid_q && !fifo_full && (!p_needs || (up_ready_i && !f_req));
+  assign pw_ready_o  = enable_i && (!p0_valid_q || p_advance);
+  assign upd_ready_o = enable_i && (!f0_valid_q || f_advance);
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      p0_valid_q <= 1'b0;
+      p0_id_q    <= '0;
+      p0_hit_q   <= 1'b0;
+      p0_node_q  <= '0;
+      f0_valid_q <= 1'b0;
+      f0_id_q    <= '0;
+      f0_hit_q   <= 1'b0;
+      f0_node_q  <= '0;
+    end else begin
+      if (pw_ready_o) begin
+        p0_valid_q <= pw_valid_i;
+        p0_id_q    <= pw_id_i;
+        p0_hit_q   <= pw_hit_i;
+        p0_node_q  <= pw_node_i;
+      end
+      if (upd_ready_o) begin
+        f0_valid_q <= upd_valid_i;
+        f0_id_q    <= upd_id_i;
+        f0_hit_q   <= upd_hit_i;
+        f0_node_q  <= upd_node_i;
+      end
+    end
+  end
+
+  logic [IdWidth+1:0] fifo_out;
+  hrpp_fifo #(.Depth(FifoDepth), .Width(IdWidth + 2)) u_fifo (
+    .clk_i, .rst_ni,
+    .push_i(p_advance), .data_i({p0_id_q, action}),
+    .pop_i(skip_valid_o && skip_ready_i), .data_o(fifo_out),
+    .empty_o(fifo_empty), .full_o(fifo_full), .count_o()
+  );
+  assign skip_valid_o  = !fifo_empty;
+  assign skip_id_o     = fifo_out[IdWidth+1:2];
+  assign skip_action_o = action_e'(fifo_out[1:0]);
+
+`ifndef SYNTHESIS
+  SkipKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      skip_valid_o |-> !$isunknown({skip_id_o, skip_action_o}));
+  SkipStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      skip_valid_o && !skip_ready_i |=> skip_valid_o && $stable({skip_id_o, skip_action_o}));
+`endif
+  // A message that needs the table port is never dropped: it advances only when accepted.
+`ifndef SYNTHESIS
+  NoDroppedUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      (f_advance && f0_hit_q) |-> up_valid_o && up_ready_i);
+`endif
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,35 @@
+// Test harness for the hash unit: eight parameter sets side by side on the same inputs
+// (tb_hash.cc compares each key with the C++ hash of docs/hash.md).
+module tb_hash_top
+  import hrpp_pkg::*;
+(
+  input  logic [2:0][31:0]  org_i,
+  input  logic [2:0][31:0]  dir_i,
+  input  logic signed [8:0] cell_exp_i,
+  output logic [7:0][63:0]  key_o,
+  output logic [7:0]        invalid_o
+);
+  // Keep in sync with kConfigs in tb_hash.cc.
+  localparam hash_variant_e V[8] = '{HashFaithful, HashFaithful, HashFaithful, HashFaithful,
+                                     HashImproved, HashImproved, HashImproved, HashImproved};
+  localparam int unsigned P[8] = '{6, 2, 10, 1, 6, 6, 6, 6};
+  localparam int unsigned E[8] = '{3, 2, 8, 0, 3, 3, 3, 3};
+  localparam int unsigned GO[8] = '{5, 5, 5, 5, 5, 16, 1, 10};
+  localparam int unsigned GD[8] = '{3, 3, 3, 3, 3, 16, 1, 8};
+  localparam combine_e C[8] = '{CombineXor, CombineConcat, CombineXor, CombineConcat,
+                                CombineConcat, CombineXor, CombineConcat, CombineXor};
+
+  for (genvar i = 0; i < 8; i++) begin : gen_hash
+    localparam int unsigned FO = V[i] == HashFaithful ? 1 + E[i] + P[i] : GO[i];
+    localparam int unsigned FD = V[i] == HashFaithful ? 1 + E[i] + P[i] : GD[i];
+    localparam int unsigned KW = C[i] == CombineXor ? (FO > FD ? 3 * FO : 3 * FD) : 3 * FO + 3 * FD;
+    logic [KW-1:0] key;
+    hrpp_hash #(
+      .Variant(V[i]), .Precision(P[i]), .ExpBits(E[i]), .OriginBits(GO[i]), .DirBits(GD[i]),
+      .Combine(C[i])
+    ) u_hash (
+      .org_i, .dir_i, .cell_exp_i, .key_o(key), .invalid_o(invalid_o[i])
+    );
+    assign key_o[i] = 64'(key);
+  end
+endmodule
