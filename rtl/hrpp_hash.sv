@@ -1,8 +1,11 @@
 `default_nettype none
 // HRPP hash unit: the key of a ray from the float32 bit patterns of its origin and direction,
-// exactly as docs/hash.md specifies (and model/src/hash.cc computes). Combinational; the
-// instantiating module registers around it. Rays with an infinite or NaN component are flagged
-// invalid_o (they are never looked up or inserted).
+// exactly as docs/hash.md specifies (and model/src/hash.cc computes). Pipelined: key_o and
+// invalid_o belong to the inputs of HashLatency (2) cycles earlier.
+//   stage 1: canonicalize; shift amounts and trailing-zero counts of the significands
+//   stage 2: shifts (the sticky bit is "trailing zeros < shift"), magnitudes
+//   output : two's-complement negation, origin/direction combination (combinational)
+// Rays with an infinite or NaN component are flagged invalid_o (never looked up or inserted).
 module hrpp_hash
   import hrpp_pkg::*;
 #(
@@ -16,32 +19,29 @@ module hrpp_hash
   localparam int unsigned FieldO = Variant == HashFaithful ? 1 + ExpBits + Precision : OriginBits,
   localparam int unsigned FieldD = Variant == HashFaithful ? 1 + ExpBits + Precision : DirBits,
   localparam int unsigned KeyWidth = Combine == CombineXor ?
-      (FieldO > FieldD ? 3 * FieldO : 3 * FieldD) : 3 * FieldO + 3 * FieldD
+      (FieldO > FieldD ? 3 * FieldO : 3 * FieldD) : 3 * FieldO + 3 * FieldD,
+  localparam int unsigned MaxF = FaithW > 16 ? FaithW : 16  // widest field
 ) (
+  input  logic                  clk_i,
+  input  logic                  rst_ni,
   input  logic [2:0][31:0]      org_i,       /// origin x, y, z (index 0 = x)
   input  logic [2:0][31:0]      dir_i,       /// direction x, y, z
   input  logic signed [8:0]     cell_exp_i,  /// improved: origin cells are 2^cell_exp_i wide
-  output logic [KeyWidth-1:0]   key_o,       /// the key
-  output logic                  invalid_o    /// a component is infinite or NaN
+  output logic [KeyWidth-1:0]   key_o,       /// the key (HashLatency cycles later)
+  output logic                  invalid_o    /// a component was infinite or NaN
 );
 
-  // ---------------------------------------------------------------------------------------------
-  // Step 1: canonical bit pattern (-0 and denormals to +0, every NaN to +inf)
-  // ---------------------------------------------------------------------------------------------
+  // Canonical bit pattern (-0 and denormals to +0, every NaN to +inf).
   function automatic logic [31:0] canon(logic [31:0] b);
     if (b[30:23] == 8'd0) return 32'd0;
     if (b[30:23] == 8'hFF && b[22:0] != 23'd0) return 32'h7F80_0000;
     return b;
   endfunction
 
-  // ---------------------------------------------------------------------------------------------
-  // Step 2: fields
-  // ---------------------------------------------------------------------------------------------
-  function automatic logic [FaithW-1:0] faithful_field(logic [31:0] b);
-    logic [31:0] c;
+  // Faithful field: sign | top ExpBits exponent bits | top Precision mantissa bits.
+  function automatic logic [FaithW-1:0] faithful_field(logic [31:0] c);
     logic [7:0] e_top;  // the top ExpBits exponent bits, right-aligned
     logic [FaithW-1:0] f;
-    c = canon(b);
     e_top = c[30:23] >> (8 - ExpBits);
     f = FaithW'(c[31]) << (ExpBits + Precision);
     if (ExpBits > 0) f |= FaithW'(e_top) << Precision;
@@ -49,66 +49,132 @@ module hrpp_hash
     return f;
   endfunction
 
-  // floor(x / 2^k), low OriginBits bits, two's complement.
-  function automatic logic [OriginBits-1:0] grid_origin_field(logic [31:0] b,
-                                                              logic signed [8:0] k);
-    logic [31:0] c;
-    logic [23:0] mant;
-    logic signed [10:0] sh;
-    logic [5:0] n;
-    logic [OriginBits-1:0] mag;
-    logic frac;
-    c = canon(b);
-    mant = {1'b1, c[22:0]};
-    sh = 11'(signed'({3'b0, c[30:23]})) - 11'sd150 - 11'(k);
-    mag = '0;
-    frac = 1'b0;
-    if (c[30:23] == 8'hFF) return c[31] ? OriginBits'(1) << (OriginBits - 1) : '1;
-    if (c[30:23] == 8'd0) return '0;
-    if (sh >= 0) begin
-      if (sh < 11'sd24) mag = OriginBits'({16'd0, mant} << sh[4:0]);  // sh >= 24: low bits zero
-      else if (sh < 11'sd40) mag = OriginBits'({mant, 16'd0} << (sh[5:0] - 6'd16));
-    end else begin
-      n = (sh <= -11'sd24) ? 6'd24 : 6'(-sh);
-      mag = OriginBits'(mant >> n);
-      frac = (mant & ~(24'hFF_FFFF << n)) != 24'd0 || n == 6'd24;
-    end
-    return c[31] ? OriginBits'(~(mag + OriginBits'(frac)) + 1'b1) : mag;
-  endfunction
-
-  // floor(d * 2^(DirBits-1)) clamped to [-2^(DirBits-1), 2^(DirBits-1)-1], two's complement.
-  function automatic logic [DirBits-1:0] grid_dir_field(logic [31:0] b);
-    logic [31:0] c;
-    logic [23:0] mant;
-    logic [7:0] sh;
-    logic [DirBits-1:0] mag;
-    logic frac;
-    c = canon(b);
-    mant = {1'b1, c[22:0]};
-    if (c[30:23] == 8'd0) return '0;
-    if (c[30:23] >= 8'd127)  // |d| >= 1, infinities, NaN: saturate
-      return c[31] ? DirBits'(1) << (DirBits - 1) : {1'b0, {(DirBits - 1) {1'b1}}};
-    sh = 8'd150 - c[30:23] - 8'(DirBits - 1);  // >= 9: no clamp needed below 1
-    mag = sh >= 8'd24 ? '0 : DirBits'(mant >> sh[4:0]);
-    frac = sh >= 8'd24 ? 1'b1 : (mant & ~(24'hFF_FFFF << sh[4:0])) != 24'd0;
-    return c[31] ? DirBits'(~(mag + DirBits'(frac)) + 1'b1) : mag;
+  // Trailing zeros of a nonzero 24-bit significand (its bit 23 is set): 0..23.
+  function automatic logic [4:0] trailing_zeros(logic [23:0] m);
+    logic [4:0] n;
+    n = 5'd23;
+    for (int i = 22; i >= 0; i--)
+      if (m[i]) n = 5'(i);
+    return n;
   endfunction
 
   // ---------------------------------------------------------------------------------------------
-  // Step 3: combine (origin x|y|z, direction z|y|x)
+  // Stage 1
   // ---------------------------------------------------------------------------------------------
-  logic [3*FieldO-1:0] o_fields;
-  logic [3*FieldD-1:0] d_fields;
+  // Per component (0..2 origin x, y, z; 3..5 direction x, y, z):
+  typedef struct packed {
+    logic            fixed;  // the field is known: `field` (faithful; zero; special; saturated)
+    logic [MaxF-1:0] field;
+    logic            sign;
+    logic [23:0]     mant;
+    logic [4:0]      tz;     // trailing zeros of mant
+    logic signed [10:0] sh;  // origin: e - 150 - k (a left shift if >= 0); direction: right shift
+  } s1_t;
+
+  s1_t [5:0] s1_d, s1_q;
+  logic      inv1_d, inv1_q;
 
   always_comb begin
-    for (int i = 0; i < 3; i++) begin
+    inv1_d = 1'b0;
+    for (int i = 0; i < 6; i++) begin
+      logic [31:0] c;
+      c = canon(i < 3 ? org_i[i] : dir_i[i-3]);
+      inv1_d |= (i < 3 ? org_i[i][30:23] : dir_i[i-3][30:23]) == 8'hFF;
+      s1_d[i] = '0;
+      s1_d[i].sign = c[31];
+      s1_d[i].mant = {1'b1, c[22:0]};
+      s1_d[i].tz = trailing_zeros({1'b1, c[22:0]});
       if (Variant == HashFaithful) begin
-        o_fields[(2-i)*FieldO +: FieldO] = FieldO'(faithful_field(org_i[i]));
-        d_fields[i*FieldD +: FieldD] = FieldD'(faithful_field(dir_i[i]));
+        s1_d[i].fixed = 1'b1;
+        s1_d[i].field = MaxF'(faithful_field(c));
+      end else if (c[30:23] == 8'd0) begin
+        s1_d[i].fixed = 1'b1;  // field 0
+      end else if (i < 3) begin
+        if (c[30:23] == 8'hFF) begin  // +inf and NaN: all ones; -inf: 1 then zeros
+          s1_d[i].fixed = 1'b1;
+          s1_d[i].field = c[31] ? MaxF'(1) << (OriginBits - 1) : MaxF'((1 << OriginBits) - 1);
+        end
+        s1_d[i].sh = 11'(signed'({3'b0, c[30:23]})) - 11'sd150 - 11'(cell_exp_i);
       end else begin
-        o_fields[(2-i)*FieldO +: FieldO] = FieldO'(grid_origin_field(org_i[i], cell_exp_i));
-        d_fields[i*FieldD +: FieldD] = FieldD'(grid_dir_field(dir_i[i]));
+        if (c[30:23] >= 8'd127) begin  // |d| >= 1, infinities, NaN: saturate
+          s1_d[i].fixed = 1'b1;
+          s1_d[i].field = c[31] ? MaxF'(1) << (DirBits - 1) : MaxF'((1 << (DirBits - 1)) - 1);
+        end
+        // Right shift of the significand for floor(d * 2^(DirBits-1)); >= 9 since e <= 126.
+        s1_d[i].sh = 11'sd150 - 11'(signed'({3'b0, c[30:23]})) - 11'(DirBits - 1);
       end
+    end
+  end
+
+  // ---------------------------------------------------------------------------------------------
+  // Stage 2: magnitudes
+  // ---------------------------------------------------------------------------------------------
+  typedef struct packed {
+    logic            fixed;
+    logic [MaxF-1:0] field;
+    logic            neg;   // negate (mag + frac)
+    logic [15:0]     mag;   // the low field bits of |x| shifted (truncated)
+    logic            frac;  // bits were shifted out (floor of a negative value subtracts one)
+  } s2_t;
+
+  s2_t [5:0] s2_d, s2_q;
+  logic      inv2_q;
+
+  always_comb begin
+    for (int i = 0; i < 6; i++) begin
+      logic [5:0] n;
+      s2_d[i] = '0;
+      s2_d[i].fixed = s1_q[i].fixed;
+      s2_d[i].field = s1_q[i].field;
+      s2_d[i].neg = s1_q[i].sign;
+      if (i < 3) begin
+        if (s1_q[i].sh >= 0) begin  // |x| / 2^k is an integer: left shift
+          if (s1_q[i].sh < 11'sd16) s2_d[i].mag = 16'(s1_q[i].mant << s1_q[i].sh[3:0]);
+        end else begin               // right shift by n = -sh, fraction bits shifted out
+          n = (s1_q[i].sh <= -11'sd24) ? 6'd24 : 6'(-s1_q[i].sh);
+          s2_d[i].mag = 16'(s1_q[i].mant >> n);
+          s2_d[i].frac = {1'b0, s1_q[i].tz} < n;
+        end
+      end else begin
+        n = (s1_q[i].sh >= 11'sd24) ? 6'd24 : 6'(s1_q[i].sh);
+        s2_d[i].mag = 16'(s1_q[i].mant >> n);
+        s2_d[i].frac = {1'b0, s1_q[i].tz} < n;
+      end
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      s1_q   <= '0;
+      inv1_q <= 1'b0;
+      s2_q   <= '0;
+      inv2_q <= 1'b0;
+    end else begin
+      s1_q   <= s1_d;
+      inv1_q <= inv1_d;
+      s2_q   <= s2_d;
+      inv2_q <= inv1_q;
+    end
+  end
+
+  // ---------------------------------------------------------------------------------------------
+  // Output: fields, combination (origin x|y|z, direction z|y|x)
+  // ---------------------------------------------------------------------------------------------
+  logic [5:0][MaxF-1:0] field;
+  always_comb begin
+    for (int i = 0; i < 6; i++) begin
+      if (s2_q[i].fixed) field[i] = s2_q[i].field;
+      else if (s2_q[i].neg) field[i] = MaxF'(~(s2_q[i].mag + 16'(s2_q[i].frac)) + 1'b1);
+      else field[i] = MaxF'(s2_q[i].mag);
+    end
+  end
+
+  logic [3*FieldO-1:0] o_fields;
+  logic [3*FieldD-1:0] d_fields;
+  always_comb begin
+    for (int i = 0; i < 3; i++) begin
+      o_fields[(2-i)*FieldO +: FieldO] = FieldO'(field[i]);
+      d_fields[i*FieldD +: FieldD] = FieldD'(field[3+i]);
     end
   end
 
@@ -117,12 +183,7 @@ module hrpp_hash
   end else begin : gen_concat
     assign key_o = {o_fields, d_fields};
   end
-
-  always_comb begin
-    invalid_o = 1'b0;
-    for (int i = 0; i < 3; i++)
-      invalid_o |= org_i[i][30:23] == 8'hFF || dir_i[i][30:23] == 8'hFF;
-  end
+  assign invalid_o = inv2_q;
 
   // ---------------------------------------------------------------------------------------------
   // Assertions

@@ -2,7 +2,8 @@
 // HRPP skip controller: takes the traversal engine's outcomes, decides whether a ray's walk from
 // the root can be skipped, and issues the table updates (docs/microarchitecture.md).
 //
-// Two inputs, each registered (P0, F0) and each able to take one message per cycle:
+// Two inputs, each registered (P0, F0, with the ray's set, tag and query type read from the key
+// store by id as the message is accepted) and each able to take one message per cycle:
 //   predicted-walk results (pw_*): the predicted subtrees were walked; hit_i = one of them hit
 //     (node_i: which). Decision: ActSkip if the ray is an any-hit query or the mode is
 //     ClosestSpec (node_i is then refreshed in the table), ActShrink in ClosestExact mode,
@@ -37,7 +38,7 @@ module hrpp_skip_ctrl
   input  logic [IdWidth-1:0]     upd_id_i,
   input  logic                   upd_hit_i,
   input  logic [NodeIdWidth-1:0] upd_node_i,
-  // Key store reads by id (combinational): the ray's set, tag and query type
+  // Key store reads (combinational) by the ids of the messages on the inputs
   output logic [IdWidth-1:0]     ksp_id_o,
   input  logic [IdxW-1:0]        ksp_idx_i,
   input  logic [TagBits-1:0]     ksp_tag_i,
@@ -58,21 +59,23 @@ module hrpp_skip_ctrl
   output action_e                skip_action_o
 );
 
-  // P0 and F0: the registered messages
-  logic                   p0_valid_q, p0_hit_q, f0_valid_q, f0_hit_q;
-  logic [IdWidth-1:0]     p0_id_q, f0_id_q;
+  // P0 and F0: the registered messages and their rays' keys
+  logic                   p0_valid_q, p0_hit_q, p0_any_hit_q, f0_valid_q, f0_hit_q;
+  logic [IdWidth-1:0]     p0_id_q;
+  logic [IdxW-1:0]        p0_idx_q, f0_idx_q;
+  logic [TagBits-1:0]     p0_tag_q, f0_tag_q;
   logic [NodeIdWidth-1:0] p0_node_q, f0_node_q;
 
   action_e action;
   logic    fifo_full, fifo_empty, p_needs, f_req, p_req, p_advance, f_advance;
 
-  assign ksp_id_o = p0_id_q;
-  assign ksf_id_o = f0_id_q;
+  assign ksp_id_o = pw_id_i;
+  assign ksf_id_o = upd_id_i;
 
   always_comb begin
     action = ActFull;
     if (p0_hit_q) begin
-      if (ksp_any_hit_i || cfg_mode_i == ModeClosestSpec) action = ActSkip;
+      if (p0_any_hit_q || cfg_mode_i == ModeClosestSpec) action = ActSkip;
       else action = ActShrink;
     end
   end
@@ -82,8 +85,8 @@ module hrpp_skip_ctrl
   assign f_req      = f0_valid_q && f0_hit_q;
   assign p_req      = p0_valid_q && p_needs && !fifo_full;
   assign up_valid_o = f_req || p_req;
-  assign up_idx_o   = f_req ? ksf_idx_i : ksp_idx_i;
-  assign up_tag_o   = f_req ? ksf_tag_i : ksp_tag_i;
+  assign up_idx_o   = f_req ? f0_idx_q : p0_idx_q;
+  assign up_tag_o   = f_req ? f0_tag_q : p0_tag_q;
   assign up_node_o  = f_req ? f0_node_q : p0_node_q;
 
   assign f_advance   = f0_valid_q && (!f0_hit_q || up_ready_i);
@@ -93,26 +96,34 @@ module hrpp_skip_ctrl
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      p0_valid_q <= 1'b0;
-      p0_id_q    <= '0;
-      p0_hit_q   <= 1'b0;
-      p0_node_q  <= '0;
-      f0_valid_q <= 1'b0;
-      f0_id_q    <= '0;
-      f0_hit_q   <= 1'b0;
-      f0_node_q  <= '0;
+      p0_valid_q   <= 1'b0;
+      p0_id_q      <= '0;
+      p0_hit_q     <= 1'b0;
+      p0_node_q    <= '0;
+      p0_idx_q     <= '0;
+      p0_tag_q     <= '0;
+      p0_any_hit_q <= 1'b0;
+      f0_valid_q   <= 1'b0;
+      f0_hit_q     <= 1'b0;
+      f0_node_q    <= '0;
+      f0_idx_q     <= '0;
+      f0_tag_q     <= '0;
     end else begin
       if (pw_ready_o) begin
-        p0_valid_q <= pw_valid_i;
-        p0_id_q    <= pw_id_i;
-        p0_hit_q   <= pw_hit_i;
-        p0_node_q  <= pw_node_i;
+        p0_valid_q   <= pw_valid_i;
+        p0_id_q      <= pw_id_i;
+        p0_hit_q     <= pw_hit_i;
+        p0_node_q    <= pw_node_i;
+        p0_idx_q     <= ksp_idx_i;
+        p0_tag_q     <= ksp_tag_i;
+        p0_any_hit_q <= ksp_any_hit_i;
       end
       if (upd_ready_o) begin
         f0_valid_q <= upd_valid_i;
-        f0_id_q    <= upd_id_i;
         f0_hit_q   <= upd_hit_i;
         f0_node_q  <= upd_node_i;
+        f0_idx_q   <= ksf_idx_i;
+        f0_tag_q   <= ksf_tag_i;
       end
     end
   end

@@ -3,7 +3,7 @@
 // stream and its predicted / root walks (docs/microarchitecture.md has the interfaces, the
 // pipeline and a timing diagram).
 //
-//   rays in ──> [A: input regs] ─hash─> [B: key regs, key store write, table lookup]
+//   rays in ──> [A: input regs] ─hash (2 stages)─> [B: key regs, key store write, table lookup]
 //               ─> table (3 cycles) ─> prediction FIFO ──> predictions out
 //   predicted-walk results, final outcomes in ──> skip controller ──> table updates,
 //                                                                      skip decisions out
@@ -27,7 +27,7 @@ module hrpp_top
   parameter int unsigned TagBits = 12,         /// stored tag bits (at most the full tag)
   // Interfaces
   parameter int unsigned IdWidth = 6,          /// ray id bits: rays in flight have distinct ids
-  parameter int unsigned PredFifoDepth = 8,    /// prediction FIFO entries (a power of two)
+  parameter int unsigned PredFifoDepth = 16,   /// prediction FIFO entries (a power of two)
   parameter int unsigned SkipFifoDepth = 4,    /// skip decision FIFO entries (a power of two)
   parameter bit InjectFault = 1'b0,            /// test only: a one-bit fault in the table
   localparam int unsigned IdxW = $clog2(NumSets),
@@ -102,7 +102,7 @@ module hrpp_top
   end
 
   // ---------------------------------------------------------------------------------------------
-  // Hash, then B: key registers
+  // Hash (two pipeline stages; id and query type travel beside it), then B: key registers
   // ---------------------------------------------------------------------------------------------
   logic [KeyWidth-1:0] key;
   logic                key_invalid;
@@ -111,9 +111,23 @@ module hrpp_top
     .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
     .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine))
   ) u_hash (
-    .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i), .key_o(key),
-    .invalid_o(key_invalid)
+    .clk_i, .rst_ni, .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i),
+    .key_o(key), .invalid_o(key_invalid)
   );
+
+  logic [1:0]              h_valid_q, h_any_hit_q;
+  logic [1:0][IdWidth-1:0] h_id_q;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      h_valid_q   <= '0;
+      h_any_hit_q <= '0;
+      h_id_q      <= '0;
+    end else begin
+      h_valid_q   <= {h_valid_q[0], a_valid_q};
+      h_any_hit_q <= {h_any_hit_q[0], kind_is_any_hit(a_kind_q) || cfg_mode_i == ModeAnyHit};
+      h_id_q      <= {h_id_q[0], a_id_q};
+    end
+  end
 
   // Set index: XOR of all IdxW-bit chunks of the key; tag: the key above the index.
   logic [IdxW-1:0]    key_idx;
@@ -138,10 +152,10 @@ module hrpp_top
       b_idx_q     <= '0;
       b_tag_q     <= '0;
     end else begin
-      b_valid_q   <= a_valid_q;
+      b_valid_q   <= h_valid_q[1];
       b_invalid_q <= key_invalid;
-      b_any_hit_q <= kind_is_any_hit(a_kind_q) || cfg_mode_i == ModeAnyHit;
-      b_id_q      <= a_id_q;
+      b_any_hit_q <= h_any_hit_q[1];
+      b_id_q      <= h_id_q[1];
       b_idx_q     <= key_idx;
       b_tag_q     <= key_tag;
     end
@@ -150,7 +164,7 @@ module hrpp_top
   // Key store: each in-flight ray's set, tag and query type, by id (distributed RAM).
   localparam int unsigned KsW = IdxW + TagBits + 1;
   logic [KsW-1:0]     ks_mem_q[2**IdWidth];
-  logic [IdWidth-1:0] ksp_id, ksf_id;
+  logic [IdWidth-1:0] ksp_id, ksf_id;  // the ids of the messages being accepted
   logic [IdxW-1:0]    ksp_idx, ksf_idx;
   logic [TagBits-1:0] ksp_tag, ksf_tag;
   logic               ksp_any_hit, ksf_any_hit_unused;
@@ -217,7 +231,8 @@ module hrpp_top
   assign pred_valid_o = !pred_empty;
   assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
 
-  assign in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(b_valid_q) +
+  assign in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(h_valid_q[0]) +
+                     (PredCountW + 1)'(h_valid_q[1]) + (PredCountW + 1)'(b_valid_q) +
                      (PredCountW + 1)'(d_valid_q[0]) + (PredCountW + 1)'(d_valid_q[1]) +
                      (PredCountW + 1)'(d_valid_q[2]);
   assign ray_ready_o = init_done && (in_flight + (PredCountW + 1)'(pred_count)) <

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -56,13 +57,15 @@ int main(int argc, char** argv) {
   const int cell_exps[] = {-149, -60, -20, -7, -3, 0, 3, 12, 40, 127};
   std::mt19937_64 rng(12345);
   uint64_t vectors = 0, mismatches = 0;
-  auto check = [&](const std::array<uint32_t, 6>& b, int k) {
-    for (int i = 0; i < 3; ++i) {
-      dut->org_i[i] = b[i];
-      dut->dir_i[i] = b[3 + i];
-    }
-    dut->cell_exp_i = static_cast<uint16_t>(k) & 0x1FF;
-    dut->eval();
+  // The unit is pipelined: a vector applied before a clock edge reaches the output registers
+  // one edge later, so each edge's output is compared with the previous vector.
+  dut->rst_ni = 0;
+  dut->clk_i = 0;
+  dut->eval();
+  dut->rst_ni = 1;
+  dut->eval();
+  std::optional<std::pair<std::array<uint32_t, 6>, int>> previous;
+  auto compare = [&](const std::array<uint32_t, 6>& b, int k) {
     bool invalid = false;
     for (uint32_t v : b) invalid |= ((v >> 23) & 0xFF) == 0xFF;
     for (int c = 0; c < 8; ++c) {
@@ -80,6 +83,19 @@ int main(int argc, char** argv) {
       }
     }
     ++vectors;
+  };
+  auto check = [&](const std::array<uint32_t, 6>& b, int k) {
+    for (int i = 0; i < 3; ++i) {
+      dut->org_i[i] = b[i];
+      dut->dir_i[i] = b[3 + i];
+    }
+    dut->cell_exp_i = static_cast<uint16_t>(k) & 0x1FF;
+    dut->clk_i = 0;
+    dut->eval();
+    dut->clk_i = 1;
+    dut->eval();
+    if (previous) compare(previous->first, previous->second);
+    previous = {b, k};
   };
   // Every special value in every component position, for every cell exponent.
   for (int k : cell_exps)
@@ -103,6 +119,7 @@ int main(int argc, char** argv) {
     }
     check(b, cell_exps[kd(rng)]);
   }
+  check({0, 0, 0, 0, 0, 0}, 0);  // flushes the last vector
   std::printf("hash: %llu vectors x 8 configurations, %llu mismatches\n",
               (unsigned long long)vectors, (unsigned long long)mismatches);
   dut->final();

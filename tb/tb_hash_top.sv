@@ -1,8 +1,11 @@
-// Test harness for the hash unit: eight parameter sets side by side on the same inputs
+// Test harness for the hash unit: eight parameter sets side by side on the same inputs, each
+// output HashLatency (2) cycles after its inputs
 // (tb_hash.cc compares each key with the C++ hash of docs/hash.md).
 module tb_hash_top
   import hrpp_pkg::*;
 (
+  input  logic              clk_i,
+  input  logic              rst_ni,
   input  logic [2:0][31:0]  org_i,
   input  logic [2:0][31:0]  dir_i,
   input  logic signed [8:0] cell_exp_i,
@@ -28,7 +31,7 @@ module tb_hash_top
       .Variant(V[i]), .Precision(P[i]), .ExpBits(E[i]), .OriginBits(GO[i]), .DirBits(GD[i]),
       .Combine(C[i])
     ) u_hash (
-      .org_i, .dir_i, .cell_exp_i, .key_o(key), .invalid_o(invalid_o[i])
+      .clk_i, .rst_ni, .org_i, .dir_i, .cell_exp_i, .key_o(key), .invalid_o(invalid_o[i])
     );
     assign key_o[i] = 64'(key);
   end

@@ -25,6 +25,7 @@ void CycleModel::reset() {
   clearing_ = true;
   clear_idx_ = 0;
   a_.reset();
+  for (auto& h : h_) h.reset();
   b_.reset();
   for (auto& d : d_) d.reset();
   pred_fifo_.clear();
@@ -36,14 +37,15 @@ void CycleModel::reset() {
 }
 
 int CycleModel::in_flight() const {
-  return int(a_.has_value()) + int(b_.has_value()) + int(d_[0].has_value()) +
+  return int(a_.has_value()) + int(h_[0].has_value()) + int(h_[1].has_value()) +
+         int(b_.has_value()) + int(d_[0].has_value()) +
          int(d_[1].has_value()) + int(d_[2].has_value());
 }
 
 CycleModel::Decision CycleModel::decide() const {
   Decision d;
-  const KeyEntry& kp = key_store_[p0_.id];
-  const KeyEntry& kf = key_store_[f0_.id];
+  const KeyEntry& kp = p0_.key;
+  const KeyEntry& kf = f0_.key;
   if (p0_.hit)
     d.action = kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip
                                                                     : Action::kShrink;
@@ -113,8 +115,9 @@ void CycleModel::tick(const DutIn& in) {
   if (dec.update && dec.up_ready) issued = dec.update;
   if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
   if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
-  if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node};
-  if (o.upd_ready) f0_ = Msg{in.upd_valid, in.upd_id, in.upd_hit, in.upd_node};
+  if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
+  if (o.upd_ready)
+    f0_ = Msg{in.upd_valid, in.upd_id, in.upd_hit, in.upd_node, key_store_[in.upd_id]};
 
   // Key store write (B), after U0's read above.
   if (b_) key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
@@ -125,19 +128,22 @@ void CycleModel::tick(const DutIn& in) {
   d_[2] = d_[1];
   d_[1] = d_[0];
   d_[0] = looked_up;
-  if (a_) {
+  const std::optional<DutIn> hashed = h_[kHashLatency - 1];
+  for (int i = kHashLatency - 1; i > 0; --i) h_[i] = h_[i - 1];
+  h_[0] = a_;
+  if (hashed) {
+    const DutIn* a = &*hashed;
     const HashKey k = split_key(
-        hash_key({a_->org[0], a_->org[1], a_->org[2], a_->dir[0], a_->dir[1], a_->dir[2]},
-                 cfg_.hash),
+        hash_key({a->org[0], a->org[1], a->org[2], a->dir[0], a->dir[1], a->dir[2]}, cfg_.hash),
         cfg_.hash);
     B b;
-    b.id = a_->ray_id;
+    b.id = a->ray_id;
     b.idx = k.index;
     b.tag = table_.stored_tag(k.tag);
     b.invalid = false;
-    for (uint32_t v : {a_->org[0], a_->org[1], a_->org[2], a_->dir[0], a_->dir[1], a_->dir[2]})
+    for (uint32_t v : {a->org[0], a->org[1], a->org[2], a->dir[0], a->dir[1], a->dir[2]})
       b.invalid |= ((v >> 23) & 0xFF) == 0xFF;
-    b.any_hit = is_any_hit(static_cast<RayKind>(a_->ray_kind)) || cfg_.mode == PredictMode::kAnyHit;
+    b.any_hit = is_any_hit(static_cast<RayKind>(a->ray_kind)) || cfg_.mode == PredictMode::kAnyHit;
     b_ = b;
   } else {
     b_.reset();

@@ -26,7 +26,7 @@ struct CycleConfig {
   TableConfig table;  // finite; tag_bits = the RTL's TagBits
   PredictMode mode = PredictMode::kClosestExact;
   int id_bits = 6;
-  int pred_fifo_depth = 8;
+  int pred_fifo_depth = 16;
   int skip_fifo_depth = 4;
   std::string validate() const;
 };
@@ -91,11 +91,12 @@ class CycleModel {
     uint64_t tag = 0;
     bool any_hit = false;
   };
-  struct Msg {  // P0 or F0
+  struct Msg {  // P0 or F0, with the ray's key read from the key store at acceptance
     bool valid = false;
     uint32_t id = 0;
     bool hit = false;
     uint32_t node = 0;
+    KeyEntry key;
   };
   struct Decision {  // what P0 and F0 do this cycle (combinational in the RTL)
     Action action = Action::kFull;
@@ -110,8 +111,11 @@ class CycleModel {
   uint64_t cycle_ = 0;
   bool clearing_ = true;
   uint32_t clear_idx_ = 0;
-  // Lookup path: A (input regs), B (key regs), D0..D2 (beside the table's lookup).
+  // Lookup path: A (input regs), H0..H1 (the hash's two stages), B (key regs), D0..D2 (beside
+  // the table's lookup).
+  static constexpr int kHashLatency = 2;
   std::optional<DutIn> a_;
+  std::array<std::optional<DutIn>, kHashLatency> h_;
   struct B {
     uint32_t id = 0, idx = 0;
     uint64_t tag = 0;
