@@ -63,13 +63,21 @@ build: setup $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
 # ---------------------------------------------------------------------------------------------
-# Main job: the default scene's summary (scene, camera, lights, materials, BVH statistics)
-# and a cross-check of our traversal against Embree on it.
+# Main job on the default scene: its summary (scene, camera, lights, materials, BVH statistics),
+# a cross-check of our traversal against Embree, the predictor (the 6 KB table of the RTL's
+# default configuration, improved hash) with its per-kind figures, pictures in out/render/, and
+# the RTL against the cycle model on the scene's rays.
 # ---------------------------------------------------------------------------------------------
+PREDICT_DEFAULT := --hash improved --origin-bits 5 --dir-bits 3 --combine concat --table 128x8 \
+                   --nodes-per-entry 2 --tag-bits 8 --mode closest-exact
+
 run: build
 	@mkdir -p $(OUT)
 	$(BUILD)/hrpp info $(SCENE)
 	$(BUILD)/hrpp check-embree $(SCENE) --rays 65536 --kind all --json $(OUT)/check-embree.json
+	$(BUILD)/hrpp predict $(SCENE) $(PREDICT_DEFAULT) --json $(OUT)/predict.json
+	$(BUILD)/hrpp render $(SCENE) $(PREDICT_DEFAULT) --out $(OUT)/render
+	$(BUILD)/tb_hrpp --scene $(SCENE) --rays 100000 --config default
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -6,10 +6,10 @@
 // per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
 //   lookup: L1 read address | L2 RAM data (or the colliding write) registered | L3 compare,
 //           outputs registered: lk_valid_o ... three cycles after lk_valid_i.
-//   update: T0 read address | T1 RAM data registered | C1 forward, match, victim |
-//           C2 new row | W write to both copies.
+//   update: T0 read address | T1 RAM data registered | C1 forward, match | C2 select the way |
+//           C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
-// equals that of the update accepted in the previous cycle waits one cycle (up_ready_o low);
+// equals that of an update accepted in either of the two previous cycles waits (up_ready_o low);
 // every other hazard is forwarded, so one lookup and one update per cycle are sustained.
 // After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
 module hrpp_pred_table
@@ -169,10 +169,10 @@ module hrpp_pred_table
   // Update pipeline
   // ---------------------------------------------------------------------------------------------
   // T0: the accepted request; its read address goes to the update RAM.
-  logic                   t0_valid_q, t1_valid_q, c1_valid_q, c2_valid_q;
-  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, c1_idx_q, c2_idx_q;
+  logic                   t0_valid_q, t1_valid_q, c1_valid_q, c2_valid_q, c3_valid_q;
+  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, c1_idx_q, c2_idx_q, c3_idx_q;
   logic [TagBits-1:0]     t0_tag_q, t1_tag_q, c1_tag_q, c2_tag_q;
-  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, c1_node_q, c2_node_q;
+  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, c1_node_q, c2_node_q, c3_node_q;
   // History of the two writes before the current one (for forwarding).
   logic                   h1_valid_q;
   logic [IdxW-1:0]        h1_idx_q;
@@ -180,13 +180,19 @@ module hrpp_pred_table
   // T1 -> C1: RAM data and the forwarding selects (computed one cycle ahead).
   row_t                   c1_ram_q;
   logic                   c1_fwd_w_q, c1_fwd_h1_q, c1_fwd_h2_q;
-  // C1 -> C2
+  // C1 -> C2: the current row and, per way, tag match / invalid / least recently used.
   row_t                   c2_row_q;
-  logic [NumWays-1:0]     c2_sel_q;  // one-hot way to update
-  logic                   c2_hit_q;  // the tag was present
+  logic [NumWays-1:0]     c2_match_q, c2_invalid_q, c2_oldest_q;
+  // C2 -> C3: the selected way (cleared if newly allocated) and its age.
+  row_t                   c3_row_q;
+  logic [NumWays-1:0]     c3_sel_q;   // one-hot way to update
+  way_t                   c3_way_q;
+  logic [AgeW-1:0]        c3_age_q;
 
-  // Same set as the request accepted in the previous cycle: wait one cycle.
-  assign up_ready_o = !clearing_q && !(t0_valid_q && t0_idx_q == up_idx_i);
+  // An update waits while the update accepted in either of the two previous cycles has its set:
+  // C1 needs that update's new row, which leaves C3 only two cycles after its own C1.
+  assign up_ready_o = !clearing_q && !(t0_valid_q && t0_idx_q == up_idx_i) &&
+                      !(t1_valid_q && t1_idx_q == up_idx_i);
   assign up_re      = t0_valid_q;
   assign up_raddr   = t0_idx_q;
 
@@ -226,9 +232,9 @@ module hrpp_pred_table
       c1_tag_q   <= t1_tag_q;
       c1_node_q  <= t1_node_q;
       c1_ram_q   <= row_t'(up_rdata);
-      // Next cycle, C1 reads in W what C2 holds now, in h1 what W holds now, in h2 what h1 holds
+      // Next cycle, C1 reads in W what C3 holds now, in h1 what W holds now, in h2 what h1 holds
       // now: the three writes its RAM read (presented two cycles before C1) cannot have seen.
-      c1_fwd_w_q  <= c2_valid_q && c2_idx_q == t1_idx_q;
+      c1_fwd_w_q  <= c3_valid_q && c3_idx_q == t1_idx_q;
       c1_fwd_h1_q <= w_valid_q && w_idx_q == t1_idx_q;
       c1_fwd_h2_q <= h1_valid_q && h1_idx_q == t1_idx_q;
       h1_valid_q <= w_valid_q;
@@ -238,10 +244,9 @@ module hrpp_pred_table
     end
   end
 
-  // C1: the current row (newest write first), the matching way or the victim.
+  // C1: the current row (newest write first); per way: match, invalid, least recently used.
   row_t               c1_row;
-  logic [NumWays-1:0] c1_match, c1_invalid, c1_oldest, c1_sel;
-  logic               c1_hit;
+  logic [NumWays-1:0] c1_match, c1_invalid, c1_oldest;
   always_comb begin
     c1_row = c1_fwd_w_q ? w_row_q : c1_fwd_h1_q ? h1_row_q : c1_fwd_h2_q ? h2_row_q : c1_ram_q;
     for (int w = 0; w < NumWays; w++) begin
@@ -249,69 +254,94 @@ module hrpp_pred_table
       c1_invalid[w] = !c1_row[w].valid;
       c1_oldest[w]  = c1_row[w].age == AgeW'(NumWays - 1);
     end
-    c1_hit = |c1_match;
-    // First matching way, else the first invalid way, else the least recently used one.
-    c1_sel = '0;
-    if (c1_hit) c1_sel = c1_match & ~(c1_match - 1'b1);
-    else if (|c1_invalid) c1_sel = c1_invalid & ~(c1_invalid - 1'b1);
-    else c1_sel = c1_oldest;
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      c2_valid_q <= 1'b0;
-      c2_idx_q   <= '0;
-      c2_tag_q   <= '0;
-      c2_node_q  <= '0;
-      c2_row_q   <= '0;
-      c2_sel_q   <= '0;
-      c2_hit_q   <= 1'b0;
+      c2_valid_q   <= 1'b0;
+      c2_idx_q     <= '0;
+      c2_tag_q     <= '0;
+      c2_node_q    <= '0;
+      c2_row_q     <= '0;
+      c2_match_q   <= '0;
+      c2_invalid_q <= '0;
+      c2_oldest_q  <= '0;
     end else begin
-      c2_valid_q <= c1_valid_q;
-      c2_idx_q   <= c1_idx_q;
-      c2_tag_q   <= c1_tag_q;
-      c2_node_q  <= c1_node_q;
-      c2_row_q   <= c1_row;
-      c2_sel_q   <= c1_sel;
-      c2_hit_q   <= c1_hit;
+      c2_valid_q   <= c1_valid_q;
+      c2_idx_q     <= c1_idx_q;
+      c2_tag_q     <= c1_tag_q;
+      c2_node_q    <= c1_node_q;
+      c2_row_q     <= c1_row;
+      c2_match_q   <= c1_match;
+      c2_invalid_q <= c1_invalid;
+      c2_oldest_q  <= c1_oldest;
     end
   end
 
-  // C2: promote the node in the selected way, age every younger way by one.
-  way_t                           c2_way, c2_new_way;
-  logic [AgeW-1:0]                c2_age;
-  logic [NodesPerEntry-1:0]       c2_node_eq;
-  logic [CountW-1:0]              c2_pos;
-  row_t                           c2_new_row;
+  // C2: the first matching way, else the first invalid way, else the least recently used one;
+  // that way, cleared when newly allocated, and its age.
+  logic [NumWays-1:0] c2_sel;
+  way_t               c2_way;
   always_comb begin
+    if (|c2_match_q) c2_sel = c2_match_q & ~(c2_match_q - 1'b1);
+    else if (|c2_invalid_q) c2_sel = c2_invalid_q & ~(c2_invalid_q - 1'b1);
+    else c2_sel = c2_oldest_q;
     c2_way = '0;
     for (int w = 0; w < NumWays; w++)
-      if (c2_sel_q[w]) c2_way = c2_row_q[w];
-    c2_age = c2_way.age;
-    if (!c2_hit_q) begin  // a newly allocated way
+      if (c2_sel[w]) c2_way = c2_row_q[w];
+    if (!(|c2_match_q)) begin  // a newly allocated way (its age stays for the LRU update)
       c2_way.valid = 1'b1;
       c2_way.tag   = c2_tag_q;
       c2_way.count = '0;
       c2_way.nodes = '0;
     end
-    // Position of the node in the list, or where it is inserted.
-    c2_pos = c2_way.count < CountW'(NodesPerEntry) ? c2_way.count : CountW'(NodesPerEntry - 1);
-    for (int i = NodesPerEntry - 1; i >= 0; i--) begin
-      c2_node_eq[i] = CountW'(i) < c2_way.count && c2_way.nodes[i] == c2_node_q;
-      if (c2_node_eq[i]) c2_pos = CountW'(i);
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      c3_valid_q <= 1'b0;
+      c3_idx_q   <= '0;
+      c3_node_q  <= '0;
+      c3_row_q   <= '0;
+      c3_sel_q   <= '0;
+      c3_way_q   <= '0;
+      c3_age_q   <= '0;
+    end else begin
+      c3_valid_q <= c2_valid_q;
+      c3_idx_q   <= c2_idx_q;
+      c3_node_q  <= c2_node_q;
+      c3_row_q   <= c2_row_q;
+      c3_sel_q   <= c2_sel;
+      c3_way_q   <= c2_way;
+      c3_age_q   <= c2_way.age;
     end
-    c2_new_way = c2_way;
-    if (!(|c2_node_eq) && c2_way.count < CountW'(NodesPerEntry))
-      c2_new_way.count = c2_way.count + 1'b1;
+  end
+
+  // C3: promote the node in the selected way, age every younger way by one.
+  way_t                     c3_new_way;
+  logic [NodesPerEntry-1:0] c3_node_eq;
+  logic [CountW-1:0]        c3_pos;
+  row_t                     c3_new_row;
+  always_comb begin
+    // Position of the node in the list, or where it is inserted.
+    c3_pos = c3_way_q.count < CountW'(NodesPerEntry) ? c3_way_q.count
+                                                     : CountW'(NodesPerEntry - 1);
+    for (int i = NodesPerEntry - 1; i >= 0; i--) begin
+      c3_node_eq[i] = CountW'(i) < c3_way_q.count && c3_way_q.nodes[i] == c3_node_q;
+      if (c3_node_eq[i]) c3_pos = CountW'(i);
+    end
+    c3_new_way = c3_way_q;
+    if (!(|c3_node_eq) && c3_way_q.count < CountW'(NodesPerEntry))
+      c3_new_way.count = c3_way_q.count + 1'b1;
     for (int i = 1; i < NodesPerEntry; i++)
-      if (CountW'(i) <= c2_pos) c2_new_way.nodes[i] = c2_way.nodes[i-1];
+      if (CountW'(i) <= c3_pos) c3_new_way.nodes[i] = c3_way_q.nodes[i-1];
     // InjectFault (test only): the lowest bit of a node id written to way 0 is flipped.
-    c2_new_way.nodes[0] = c2_node_q ^ NodeIdWidth'(InjectFault && c2_sel_q[0]);
-    c2_new_way.age = '0;
+    c3_new_way.nodes[0] = c3_node_q ^ NodeIdWidth'(InjectFault && c3_sel_q[0]);
+    c3_new_way.age = '0;
     for (int w = 0; w < NumWays; w++) begin
-      c2_new_row[w] = c2_sel_q[w] ? c2_new_way : c2_row_q[w];
-      if (!c2_sel_q[w] && c2_row_q[w].age < c2_age)
-        c2_new_row[w].age = c2_row_q[w].age + 1'b1;
+      c3_new_row[w] = c3_sel_q[w] ? c3_new_way : c3_row_q[w];
+      if (!c3_sel_q[w] && c3_row_q[w].age < c3_age_q)
+        c3_new_row[w].age = c3_row_q[w].age + 1'b1;
     end
   end
 
@@ -321,9 +351,9 @@ module hrpp_pred_table
       w_idx_q   <= '0;
       w_row_q   <= '0;
     end else begin
-      w_valid_q <= c2_valid_q;
-      w_idx_q   <= c2_idx_q;
-      w_row_q   <= c2_new_row;
+      w_valid_q <= c3_valid_q;
+      w_idx_q   <= c3_idx_q;
+      w_row_q   <= c3_new_row;
     end
   end
 
@@ -338,23 +368,18 @@ module hrpp_pred_table
     assert (TagBits >= 1 && TagBits <= 64) else $fatal(1, "TagBits must be 1..64");
   end
 
-  // At most one way matches a tag (an entry is only allocated when none does).
 `ifndef SYNTHESIS
+  // At most one way matches a tag (an entry is only allocated when none does).
   OneWayMatches_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c1_valid_q |-> $onehot0(c1_match));
-`endif
   // The selected way is one-hot.
-`ifndef SYNTHESIS
   SelOneHot_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c2_valid_q |-> $onehot(c2_sel_q));
-`endif
-  // Back-to-back updates never target the same set (the interlock).
-`ifndef SYNTHESIS
-  NoBackToBackSameSet_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      (c1_valid_q && c2_valid_q) |-> c1_idx_q != c2_idx_q);
-`endif
+      c3_valid_q |-> $onehot(c3_sel_q));
+  // Updates of one set are at least three cycles apart (the interlock).
+  SameSetSpacing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      c1_valid_q |-> !(c2_valid_q && c2_idx_q == c1_idx_q) &&
+                     !(c3_valid_q && c3_idx_q == c1_idx_q));
   // Lookup outputs are never X.
-`ifndef SYNTHESIS
   LookupKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       lk_valid_o |-> !$isunknown({lk_count_o, lk_nodes_o}));
 `endif

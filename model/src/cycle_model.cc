@@ -56,9 +56,10 @@ CycleModel::Decision CycleModel::decide() const {
   d.p_req = p0_.valid && p_needs && !fifo_full;
   if (d.f_req) d.update = Op{kf.idx, kf.tag, f0_.node};
   else if (d.p_req) d.update = Op{kp.idx, kp.tag, p0_.node};
-  // The table's interlock: not the set of the update accepted in the previous cycle (T0).
+  // The table's interlock: not the set of an update accepted in the two previous cycles (T0, T1).
   const uint32_t up_idx = d.f_req ? kf.idx : kp.idx;
-  d.up_ready = !clearing_ && !(up_[0] && up_[0]->idx == up_idx);
+  d.up_ready = !clearing_ && !(up_[0] && up_[0]->idx == up_idx) &&
+               !(up_[1] && up_[1]->idx == up_idx);
   d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.up_ready && !d.f_req));
   return d;
@@ -92,7 +93,10 @@ void CycleModel::tick(const DutIn& in) {
 
   // The write presented in this cycle (W), then the lookup read presented in this cycle (B):
   // the lookup sees the write (the RTL forwards a colliding write).
-  if (up_[4]) table_.update(up_[4]->idx, up_[4]->tag, 0, up_[4]->node);
+  if (up_[kUpdateStages - 1]) {
+    const Op& w = *up_[kUpdateStages - 1];
+    table_.update(w.idx, w.tag, 0, w.node);
+  }
   std::optional<Pred> looked_up;
   if (b_) {
     Pred p;
@@ -123,7 +127,7 @@ void CycleModel::tick(const DutIn& in) {
   if (b_) key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
 
   // Pipelines advance.
-  for (int i = 4; i > 0; --i) up_[i] = up_[i - 1];
+  for (int i = kUpdateStages - 1; i > 0; --i) up_[i] = up_[i - 1];
   up_[0] = issued;
   d_[2] = d_[1];
   d_[1] = d_[0];

@@ -125,9 +125,10 @@ class CycleModel {
   std::array<std::optional<Pred>, 3> d_;
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;
-  // Update path: P0 and F0, then T0, T1, C1, C2, W.
+  // Update path: P0 and F0, then T0, T1, C1, C2, C3, W.
   Msg p0_, f0_;
-  std::array<std::optional<Op>, 5> up_;  // [0] = T0 ... [4] = W
+  static constexpr int kUpdateStages = 6;
+  std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [5] = W
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
 };
 
