@@ -3,7 +3,8 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, check-embree, results, synth, synth-sweep, synth-check, clean.
+# Other targets: setup, build, lint, check-embree, results, sim-long, synth, synth-sweep,
+# synth-check, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
