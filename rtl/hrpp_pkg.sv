@@ -36,10 +36,6 @@ package hrpp_pkg;
     return kind == KindShadow || kind == KindAo;
   endfunction
 
-  function automatic int unsigned clog2_min1(int unsigned n);
-    return n <= 2 ? 1 : $clog2(n);
-  endfunction
-
 endpackage
 
 `default_nettype wire

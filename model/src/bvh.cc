@@ -31,16 +31,6 @@ struct Bin {
 
 }  // namespace
 
-uint32_t Bvh::leaf_of_prim(uint32_t prim) const {
-  for (uint32_t i = 0; i < nodes.size(); ++i) {
-    const BvhNode& n = nodes[i];
-    if (!n.is_leaf()) continue;
-    for (uint32_t k = 0; k < n.count; ++k)
-      if (prim_ids[n.right_or_first + k] == prim) return i;
-  }
-  return kNoNode;
-}
-
 size_t Bvh::memory_bytes() const {
   return nodes.size() * sizeof(BvhNode) + tris.size() * sizeof(Triangle) +
          prim_ids.size() * 4 + tri_degenerate.size() + parent.size() * 4 + depth.size() * 2;

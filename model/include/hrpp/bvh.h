@@ -60,8 +60,6 @@ struct Bvh {
     while (levels-- > 0 && parent[node] != kNoNode) node = parent[node];
     return node;
   }
-  /// Index of the leaf (or kNoNode) that holds scene triangle prim; O(triangles).
-  uint32_t leaf_of_prim(uint32_t prim) const;
   size_t memory_bytes() const;
 };
 
