@@ -1,5 +1,7 @@
 #include "hrpp/predictor.h"
 
+#include <chrono>
+
 namespace hrpp {
 
 const char* predict_mode_name(PredictMode m) {
@@ -35,6 +37,9 @@ PredictStats& PredictStats::operator+=(const PredictStats& o) {
   wrong_results += o.wrong_results;
   exact_mismatches += o.exact_mismatches;
   baseline_hits += o.baseline_hits;
+  table_updates += o.table_updates;
+  baseline_ns += o.baseline_ns;
+  hrpp_ns += o.hrpp_ns;
   return *this;
 }
 
@@ -78,7 +83,10 @@ nlohmann::json PredictStats::to_json() const {
           {"true_negative", true_negative},
           {"wrong_results", wrong_results},
           {"exact_mismatches", exact_mismatches},
-          {"baseline_hits", baseline_hits}};
+          {"baseline_hits", baseline_hits},
+          {"table_updates", table_updates},
+          {"baseline_ns", baseline_ns},
+          {"hrpp_ns", hrpp_ns}};
 }
 
 bool in_subtree(const Bvh& bvh, uint32_t node, uint32_t leaf) {
@@ -110,6 +118,18 @@ RayResult Predictor::process(const RayRecord& rec) {
   RayResult res;
   PredictStats s;
   s.rays = 1;
+  const uint64_t ray_no = issued_++;
+  // Writes of rays issued update_delay or more rays ago have landed.
+  while (!pending_.empty() && pending_.front().due <= ray_no) {
+    const PendingUpdate& u = pending_.front();
+    table_.update(u.index, u.tag, u.key, u.node);
+    pending_.pop_front();
+  }
+  using Clock = std::chrono::steady_clock;
+  const bool timed = cfg_.measure_time;
+  auto ns_since = [](Clock::time_point t0) {
+    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+  };
   const Ray& ray = rec.ray;
   if (validate_ray(ray) != RayError::kNone) {  // never hashed
     res.invalid = true;
@@ -124,11 +144,15 @@ RayResult Predictor::process(const RayRecord& rec) {
   };
 
   // Baseline: the full walk from the root.
+  Clock::time_point t0;
+  if (timed) t0 = Clock::now();
   res.baseline = walk(ray, 0, &res.base_counters);
+  uint64_t base_ns = timed ? ns_since(t0) : 0;
   s.baseline = res.base_counters;
   s.baseline_hits = res.baseline.hit();
 
   // Lookup.
+  if (timed) t0 = Clock::now();
   res.key = hash_ray(ray, cfg_.hash);
   const Prediction p = table_.lookup(res.key.index, res.key.tag, res.key.key);
   res.predicted = p.count > 0;
@@ -168,6 +192,7 @@ RayResult Predictor::process(const RayRecord& rec) {
   } else {
     answer = res.baseline;  // the full walk is the baseline walk
     res.hrpp_counters += res.base_counters;
+    s.hrpp_ns = base_ns;  // HRPP runs the same walk; it is not run twice
   }
   res.answer = answer;
   res.verified = verified_node != kNoNode;
@@ -178,8 +203,18 @@ RayResult Predictor::process(const RayRecord& rec) {
   } else if (answer.hit()) {
     res.update_node = bvh_.ancestor(answer.leaf, cfg_.go_up);
   }
-  if (res.update_node != kNoNode)
-    table_.update(res.key.index, res.key.tag, res.key.key, res.update_node);
+  if (res.update_node != kNoNode) {
+    s.table_updates = 1;
+    if (cfg_.update_delay == 0)
+      table_.update(res.key.index, res.key.tag, res.key.key, res.update_node);
+    else
+      pending_.push_back({ray_no + 1 + cfg_.update_delay, res.key.index, res.key.tag,
+                          res.key.key, res.update_node});
+  }
+  if (timed) {
+    s.hrpp_ns += ns_since(t0);
+    s.baseline_ns = base_ns;
+  }
 
   // Statistics.
   s.hrpp = res.hrpp_counters;

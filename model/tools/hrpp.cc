@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hrpp/bvh.h"
+#include "hrpp/cost_model.h"
 #include "hrpp/crosscheck.h"
 #include "hrpp/predictor.h"
 #include "hrpp/ray_stream.h"
@@ -21,6 +22,10 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 namespace {
 
@@ -392,6 +397,11 @@ struct PredictArgs {
   std::string scene, json_path, stream;
   WorkloadArgs w;
   PredictorArgs p;
+  // Cost of accuracy (docs/cost_model.md).
+  uint32_t update_delay = 0;
+  int pipeline_latency = -1;  // >= 0: update_delay from the RTL's cycle model
+  bool measure_time = false;
+  std::string spec_images;
 };
 
 int cmd_predict(const PredictArgs& a) {
@@ -403,6 +413,9 @@ int cmd_predict(const PredictArgs& a) {
   Scene scene = load_scene(a.scene);
   Bvh bvh = build_bvh(scene.triangles);
   if (!finish_predictor_config("predict", a.p, scene, bvh, &cfg)) return 2;
+  cfg.update_delay = a.pipeline_latency >= 0 ? rtl_update_delay(uint32_t(a.pipeline_latency))
+                                             : a.update_delay;
+  cfg.measure_time = a.measure_time;
   WorkloadOptions wo;
   nlohmann::json workload;
   if (stream) {
@@ -425,6 +438,8 @@ int cmd_predict(const PredictArgs& a) {
   }
 
   Predictor pred(bvh, cfg);
+  std::unique_ptr<SpecImage> spec_image;
+  if (!stream) spec_image = std::make_unique<SpecImage>(scene, wo.width, wo.height, wo.spp);
   const uint64_t expected = stream ? stream->header().ray_count
                                    : uint64_t(wo.width) * wo.height * wo.spp;
   const char* unit = stream ? "stream rays" : "camera samples";
@@ -432,7 +447,8 @@ int cmd_predict(const PredictArgs& a) {
   auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
   auto process = [&](const RayRecord& r) {
-    pred.process(r);
+    const RayResult res = pred.process(r);
+    if (spec_image) spec_image->add(r, res);
     if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFFF)) return;
     auto now = std::chrono::steady_clock::now();
     if (now - last < std::chrono::seconds(2)) return;
@@ -455,7 +471,23 @@ int cmd_predict(const PredictArgs& a) {
   if (workload.contains("spp")) j["spp"] = workload["spp"];
   if (workload.contains("seed")) j["seed"] = workload["seed"];
   j["seconds"] = secs;
-
+  // Cost of accuracy (docs/cost_model.md): cost-model cycles, CPU time, speculative image error.
+  const CostModel cost;
+  j["config"]["update_delay"] = cfg.update_delay;
+  j["config"]["pipeline_latency"] = a.pipeline_latency;
+  j["cost_model"] = cost.to_json();
+  j["cost"] = cycle_cost_json(pred.total(), cost);
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (pred.by_kind(RayKind(k)).rays)
+      j["by_kind"][std::string(ray_kind_name(RayKind(k)))]["cost"] =
+          cycle_cost_json(pred.by_kind(RayKind(k)), cost);
+  if (spec_image) {
+    if (!a.spec_images.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(a.spec_images, ec);
+    }
+    j["image_error"] = spec_image->finish(a.spec_images);
+  }
   if (stream) {
     std::printf("predict %s: rays from %s (%llu records), generated with %s\n", scene.path.c_str(),
                 a.stream.c_str(), (unsigned long long)stream->header().ray_count,
@@ -478,6 +510,22 @@ int cmd_predict(const PredictArgs& a) {
     if (pred.by_kind(RayKind(k)).rays)
       row(std::string(ray_kind_name(RayKind(k))).c_str(), pred.by_kind(RayKind(k)));
   row("all", pred.total());
+  {
+    const CycleCost cc = cycle_cost(pred.total(), cost);
+    std::printf("  cost model: %.1f -> %.1f cycles per ray (%.2f%% saved), update delay %u rays",
+                cc.baseline / std::max<uint64_t>(1, pred.total().rays),
+                cc.hrpp / std::max<uint64_t>(1, pred.total().rays), 100 * cc.saved_fraction(),
+                cfg.update_delay);
+    if (cfg.measure_time)
+      std::printf(", CPU %.0f -> %.0f ns per ray",
+                  double(pred.total().baseline_ns) / std::max<uint64_t>(1, pred.total().rays),
+                  double(pred.total().hrpp_ns) / std::max<uint64_t>(1, pred.total().rays));
+    if (j.contains("image_error"))
+      std::printf(", image MAE %.5f, %.3f%% pixels differ",
+                  j["image_error"]["mean_abs_error"].get<double>(),
+                  100 * j["image_error"]["differing_pixel_fraction"].get<double>());
+    std::printf("\n");
+  }
   std::printf("  skipped = 1 - HRPP interior-node tests (wasted predicted tests included) / baseline; %.1f s, %.2f M rays/s\n",
               secs, pred.total().rays / secs / 1e6);
   if (pred.total().exact_mismatches) {
@@ -630,6 +678,28 @@ int main(int argc, char** argv) {
                                     "of generating them");
   for (CLI::Option* o : wopts) stream_opt->excludes(o);
   pr->add_option("--json", pa.json_path, "write the report as JSON to this file");
+  auto* delay_opt = pr->add_option("--update-delay", pa.update_delay,
+                                   "rays looked up between a ray's lookup and its table write "
+                                   "(0: the untimed model; docs/cost_model.md)");
+  pr->add_option("--pipeline-latency", pa.pipeline_latency,
+                 "traversal-engine walk latency in cycles: the update delay is the RTL's, from "
+                 "the cycle model (docs/cost_model.md)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->excludes(delay_opt);
+  pr->add_flag("--measure-time", pa.measure_time,
+               "measure the CPU time per ray of the baseline walk and of HRPP's work");
+  pr->add_option("--spec-images", pa.spec_images,
+                 "write DIR/spec_compare.png: exact | predictor's answers | difference "
+                 "(primary rays)")
+      ->excludes(stream_opt);
+
+  // sweep: the Python driver (model/tools/sweep.py) in the project's venv.
+  std::vector<std::string> sweep_args;
+  auto* sw = app.add_subcommand("sweep", "Sweep predictor parameters over scenes: CSV, Pareto "
+                                         "fronts, plots (model/tools/sweep.py --help)");
+  sw->allow_extras();
+  sw->prefix_command();
+  sw->set_help_flag();
 
   TraceArgs ta;
   auto* tr = app.add_subcommand("trace", "Generate a scene's ray workload and write it as a "
@@ -659,6 +729,21 @@ int main(int argc, char** argv) {
     if (*pr) return cmd_predict(pa);
     if (*tr) return cmd_trace(ta);
     if (*rd) return cmd_render(ra);
+    if (*sw) {
+      std::vector<std::string> args = {HRPP_PYTHON, HRPP_SOURCE_DIR "/model/tools/sweep.py",
+                                       "--hrpp", "/proc/self/exe"};
+      for (const std::string& e : sw->remaining()) args.push_back(e);
+      char self[4096];
+      const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+      if (n > 0) args[3] = std::string(self, size_t(n));
+      std::vector<char*> argv2;
+      for (std::string& s : args) argv2.push_back(s.data());
+      argv2.push_back(nullptr);
+      execv(argv2[0], argv2.data());
+      std::fprintf(stderr, "hrpp sweep: cannot run %s: %s (run `make setup`)\n", HRPP_PYTHON,
+                   std::strerror(errno));
+      return 2;
+    }
   } catch (const SceneError& e) {
     std::fprintf(stderr, "hrpp: %s\n", e.what());
     return 2;

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -31,6 +32,12 @@ struct PredictorConfig {
   TableConfig table;
   uint32_t go_up = 0;  // L: the stored node is the hit leaf's L-th ancestor
   PredictMode mode = PredictMode::kClosestExact;
+  /// Rays issued between a ray's lookup and the table write of its outcome (0: the untimed
+  /// model, where the next ray sees the write). A pipelined unit has many rays in flight, so
+  /// later rays look up a staler table (docs/cost_model.md, "Pipeline latency").
+  uint32_t update_delay = 0;
+  /// Measure the CPU time of the baseline walk and of HRPP's work per ray (baseline_ns, hrpp_ns).
+  bool measure_time = false;
 };
 
 struct PredictStats {
@@ -44,6 +51,9 @@ struct PredictStats {
   uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
+  uint64_t table_updates = 0;     // rays whose outcome wrote the table
+  uint64_t baseline_ns = 0;       // measure_time: CPU time of the baseline walks
+  uint64_t hrpp_ns = 0;           // measure_time: hash, lookup, predicted and full walks, update
 
   PredictStats& operator+=(const PredictStats& o);
   double skipped_interior_fraction() const;
@@ -82,6 +92,14 @@ class Predictor {
   const Bvh& bvh_;
   PredictorConfig cfg_;
   PredTable table_;
+  struct PendingUpdate {
+    uint64_t due;  // the ray number before whose lookup the write lands
+    uint32_t index;
+    uint64_t tag, key;
+    uint32_t node;
+  };
+  std::deque<PendingUpdate> pending_;  // update_delay > 0: writes not yet in the table
+  uint64_t issued_ = 0;                // rays processed (valid or not)
   PredictStats total_;
   std::array<PredictStats, kNumRayKinds> by_kind_{};
 };

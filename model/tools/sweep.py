@@ -1,0 +1,576 @@
+#!/usr/bin/env python3
+"""What accuracy costs in time: sweeps predictor parameters over scenes (docs/cost_model.md).
+
+    hrpp sweep SCENE... --param NAME=V1,V2,... [--param ...] [--res WxH] [--spp N] --csv FILE
+               [--plots DIR] [--report FILE] [--scheduler ADDRESS | --workers N | --no-dask]
+
+Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
+`hrpp predict` run, an independent task of a Dask distributed cluster: a LocalCluster with
+--workers processes by default, the cluster at --scheduler ADDRESS when given (its workers must
+see the same paths: the hrpp binary and the scenes). --no-dask runs the tasks one after another in
+this process (the reference the Dask test compares with). The CSV has one row per scene x
+configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a run is
+reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
+
+Pareto fronts use the cost model's deterministic cycles, never the noisy CPU times.
+"""
+import argparse
+import csv
+import io
+import itertools
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
+PARAMS = {
+    "hash": ("--hash", "faithful"),
+    "precision": ("--precision", "6"),
+    "exp_bits": ("--exp-bits", "3"),
+    "origin_bits": ("--origin-bits", "5"),
+    "dir_bits": ("--dir-bits", "3"),
+    "combine": ("--combine", "xor"),
+    "table": ("--table", "unbounded"),
+    "tag_bits": ("--tag-bits", "full"),
+    "nodes_per_entry": ("--nodes-per-entry", "1"),
+    "go_up": ("--go-up", "0"),
+    "update_delay": ("--update-delay", "0"),
+    "latency": ("--pipeline-latency", "none"),
+    "mode": ("--mode", "closest-exact"),
+    "spp": ("--spp", "1"),
+    "order": ("--order", "scanline"),
+}
+ALIASES = {"exp": "exp_bits", "ways": "table", "k": "nodes_per_entry", "nodes": "nodes_per_entry",
+           "go_up_level": "go_up", "pipeline_latency": "latency", "ray_order": "order",
+           "variant": "hash", "hash_variant": "hash", "size": "table"}
+KIND_ORDER = ["primary", "shadow", "ao", "reflection", "refraction", "diffuse", "all"]
+
+RESULT_COLUMNS = [
+    "rays", "table_bytes", "table_entries", "update_delay_rays",
+    "pred_precision", "pred_recall", "true_positive", "false_positive", "false_negative",
+    "skipped_interior", "skipped_tri", "skipped_walks", "wrong_results", "wrong_fraction",
+    "accuracy", "baseline_cycles_per_ray", "hrpp_cycles_per_ray", "saved_cycles",
+    "baseline_ns_per_ray", "hrpp_ns_per_ray", "image_mae", "image_differ"]
+
+
+class BadInput(Exception):
+    pass
+
+
+def parse_params(specs):
+    """['precision=5,6', 'table=64x4,unbounded'] -> ordered {name: [values]}."""
+    grid = {}
+    for spec in specs:
+        if "=" not in spec:
+            raise BadInput(f"--param {spec!r}: expected NAME=V1,V2,...")
+        name, values = spec.split("=", 1)
+        name = name.strip().lower().replace("-", "_")
+        name = ALIASES.get(name, name)
+        if name not in PARAMS:
+            raise BadInput(f"--param {spec!r}: unknown parameter {name!r}; known: "
+                           + ", ".join(PARAMS))
+        vals = [v.strip() for v in values.split(",")]
+        if not vals or any(v == "" for v in vals):
+            raise BadInput(f"--param {spec!r}: empty value")
+        if name in grid:
+            raise BadInput(f"--param {name} given twice")
+        grid[name] = vals
+    return grid
+
+
+def expand(grid):
+    """The configurations, in grid order: dicts with every parameter (defaults filled in)."""
+    names = list(grid)
+    configs = []
+    for combo in itertools.product(*(grid[n] for n in names)):
+        c = {n: d for n, (_, d) in PARAMS.items()}
+        c.update(dict(zip(names, combo)))
+        configs.append(c)
+    return configs
+
+
+def predict_args(cfg):
+    args = []
+    for name, (opt, default) in PARAMS.items():
+        v = cfg[name]
+        if name in ("tag_bits", "latency") and v in ("full", "none"):
+            continue
+        args += [opt, v]
+    return args
+
+
+def run_one(task):
+    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds)."""
+    index, hrpp, scene, cfg, res, timing, images = task
+    t0 = time.time()
+    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
+        out = os.path.join(tmp, "predict.json")
+        cmd = [hrpp, "predict", scene, "--res", res, "--json", out] + predict_args(cfg)
+        if timing:
+            cmd.append("--measure-time")
+        if images:
+            cmd += ["--spec-images", images]
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}"}, 0
+        with open(out) as f:
+            data = json.load(f)
+    return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
+
+
+def rows_of(scene, cfg, res, data, timing):
+    stem = pathlib.Path(scene).stem
+    kinds = dict(data.get("by_kind", {}))
+    kinds["all"] = data
+    ie = data.get("image_error", {})
+    rows = []
+    for kind in sorted(kinds, key=KIND_ORDER.index):
+        k = kinds[kind]
+        rays = k["rays"]
+        cost = k["cost"]
+        wrong = k["wrong_results"]
+        r = {"scene": stem, "kind": kind, "res": res}
+        r.update(cfg)
+        r.update({
+            "rays": rays,
+            "table_bytes": data["table_bytes"],
+            "table_entries": data["table_entries"],
+            "update_delay_rays": data["config"]["update_delay"],
+            "pred_precision": k["precision"], "pred_recall": k["recall"],
+            "true_positive": k["true_positive"], "false_positive": k["false_positive"],
+            "false_negative": k["false_negative"],
+            "skipped_interior": k["skipped_interior_fraction"],
+            "skipped_tri": k["skipped_tri_fraction"],
+            "skipped_walks": k["skipped_walks"],
+            "wrong_results": wrong,
+            "wrong_fraction": wrong / rays if rays else 0.0,
+            "accuracy": 1.0 - (wrong / rays if rays else 0.0),
+            "baseline_cycles_per_ray": cost["baseline_cycles_per_ray"],
+            "hrpp_cycles_per_ray": cost["hrpp_cycles_per_ray"],
+            "saved_cycles": cost["saved_cycle_fraction"],
+            "baseline_ns_per_ray": k["baseline_ns"] / rays if timing and rays else "",
+            "hrpp_ns_per_ray": k["hrpp_ns"] / rays if timing and rays else "",
+            # The image error is of the primary rays' picture: on the primary and "all" rows.
+            "image_mae": ie.get("mean_abs_error", "") if kind in ("primary", "all") else "",
+            "image_differ": ie.get("differing_pixel_fraction", "") if kind in ("primary", "all")
+            else "",
+        })
+        rows.append(r)
+    return rows
+
+
+def fmt(v):
+    if isinstance(v, float):
+        return repr(round(v, 9))
+    return str(v)
+
+
+def write_csv(path, rows):
+    cols = ["scene", "kind", "res"] + list(PARAMS) + RESULT_COLUMNS
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    for r in rows:
+        w.writerow([fmt(r[c]) for c in cols])
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(buf.getvalue())
+    os.replace(tmp, path)
+
+
+def read_csv(paths):
+    rows = []
+    for p in paths:
+        with open(p, newline="") as f:
+            for r in csv.DictReader(f):
+                for c in RESULT_COLUMNS:
+                    if r.get(c, "") != "":
+                        r[c] = float(r[c])
+                rows.append(r)
+    return rows
+
+
+# ---- Pareto fronts -------------------------------------------------------------------------------
+
+def pareto_front(points, minimize=(), maximize=()):
+    """Indices of the points no other point dominates (at least as good in every objective and
+    better in one). points: dicts (or sequences) indexed by the objective keys. Sorted by the
+    first objective."""
+    def key(p):
+        return tuple(p[m] for m in minimize) + tuple(-p[m] for m in maximize)
+    keys = [key(p) for p in points]
+    front = []
+    for i, ki in enumerate(keys):
+        dominated = any(all(a <= b for a, b in zip(kj, ki)) and kj != ki
+                        for j, kj in enumerate(keys) if j != i)
+        if not dominated:
+            front.append(i)
+    return sorted(front, key=lambda i: keys[i])
+
+
+# ---- the sweep -----------------------------------------------------------------------------------
+
+def run_sweep(args, configs, scenes):
+    tasks = []
+    images = None
+    for s in scenes:
+        for ci, cfg in enumerate(configs):
+            if args.images:
+                images = os.path.join(os.path.abspath(args.images),
+                                      f"{pathlib.Path(s).stem}-{ci:04d}")
+            tasks.append(((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images))
+    n = len(tasks)
+    results = {}
+    t0 = time.time()
+
+    def progress(i, index, rows, secs):
+        if "error" in rows:
+            raise SystemExit(f"sweep: {rows['error']}")
+        results[index] = rows
+        a = rows[-1]
+        print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} "
+              f"saved {100 * a['saved_cycles']:6.2f}% cycles, skipped "
+              f"{100 * a['skipped_interior']:6.2f}% nodes ({secs:.1f} s; total "
+              f"{time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
+
+    if args.no_dask:
+        for i, t in enumerate(tasks, 1):
+            progress(i, *run_one(t))
+    else:
+        from dask.distributed import Client, LocalCluster, as_completed
+        if args.scheduler:
+            client = Client(args.scheduler)
+            cluster = None
+        else:
+            cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
+                                   processes=True, dashboard_address=None)
+            client = Client(cluster)
+        try:
+            print(f"sweep: {n} runs on {len(client.scheduler_info()['workers'])} Dask workers "
+                  f"({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
+            futures = client.map(run_one, tasks, pure=False)
+            for i, fut in enumerate(as_completed(futures), 1):
+                progress(i, *fut.result())
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    rows = []
+    for s in scenes:
+        for ci in range(len(configs)):
+            rows += results[(s, ci)]
+    return rows
+
+
+# ---- plots and report ----------------------------------------------------------------------------
+
+def label(r, varied):
+    return " ".join(f"{n}={r[n]}" for n in varied) or "default"
+
+
+def varied_params(rows):
+    return [n for n in PARAMS if len({r[n] for r in rows}) > 1]
+
+
+def groups(rows):
+    out = {}
+    for r in rows:
+        out.setdefault((r["scene"], r["kind"]), []).append(r)
+    return out
+
+
+def plot_all(rows, outdir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    outdir = pathlib.Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    files = []
+    allrows = [r for r in rows if r["kind"] == "all"]
+    scenes = sorted({r["scene"] for r in rows})
+    kinds = [k for k in KIND_ORDER if any(r["kind"] == k for r in rows)]
+
+    def grid_axes(title):
+        fig, axes = plt.subplots(len(scenes), len(kinds), squeeze=False,
+                                 figsize=(3.2 * len(kinds), 2.8 * len(scenes)))
+        fig.suptitle(title)
+        return fig, axes
+
+    def save(fig, name):
+        fig.tight_layout()
+        p = outdir / name
+        fig.savefig(p, dpi=80)
+        plt.close(fig)
+        files.append(p)
+
+    # 1. accuracy against time, Pareto front marked.
+    fig, axes = grid_axes("correct answers vs cost-model cycles per ray (Pareto front: red line); "
+                          "marker size: prediction precision")
+    g = groups(rows)
+    for i, s in enumerate(scenes):
+        for j, k in enumerate(kinds):
+            ax = axes[i][j]
+            pts = g.get((s, k), [])
+            if not pts:
+                ax.set_visible(False)
+                continue
+            for mode, colour in (("anyhit", "tab:green"), ("closest-exact", "tab:blue"),
+                                 ("closest-spec", "tab:orange")):
+                sel = [p for p in pts if p["mode"] == mode]
+                if sel:
+                    ax.scatter([p["hrpp_cycles_per_ray"] for p in sel],
+                               [p["accuracy"] for p in sel],
+                               s=[8 + 40 * p["pred_precision"] for p in sel], c=colour,
+                               label=mode, alpha=0.7)
+            front = [pts[f] for f in pareto_front(pts, ["hrpp_cycles_per_ray"], ["accuracy"])]
+            ax.plot([p["hrpp_cycles_per_ray"] for p in front], [p["accuracy"] for p in front],
+                    "r-", lw=1)
+            ax.axvline(pts[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
+            ax.set_title(f"{s} / {k}", fontsize=9)
+            ax.set_xlabel("cycles per ray (dotted: baseline)", fontsize=8)
+            ax.set_ylabel("correct answers", fontsize=8)
+            ax.tick_params(labelsize=7)
+            if i == 0 and j == 0:
+                ax.legend(fontsize=6)
+    save(fig, "accuracy_vs_time.png")
+
+    # 2. skipped work against table bytes, finite vs unbounded.
+    fig, axes = plt.subplots(1, len(scenes), squeeze=False, figsize=(3.4 * len(scenes), 3))
+    for i, s in enumerate(scenes):
+        ax = axes[0][i]
+        pts = [r for r in allrows if r["scene"] == s]
+        fin = [p for p in pts if p["table"] != "unbounded"]
+        unb = [p for p in pts if p["table"] == "unbounded"]
+        if fin:
+            ax.scatter([p["table_bytes"] for p in fin], [100 * p["skipped_interior"] for p in fin],
+                       s=12, label="finite")
+        if unb:
+            ax.scatter([p["table_bytes"] for p in unb], [100 * p["skipped_interior"] for p in unb],
+                       s=18, marker="x", c="k", label="unbounded")
+        ax.set_xscale("log")
+        ax.set_title(s, fontsize=9)
+        ax.set_xlabel("table bytes", fontsize=8)
+        ax.set_ylabel("% interior tests skipped", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=6)
+    save(fig, "skipped_vs_bytes.png")
+
+    # 3. prediction hit rate against pipeline latency (update delay in rays).
+    if len({r["update_delay_rays"] for r in rows}) > 1:
+        fig, axes = plt.subplots(1, len(kinds), squeeze=False, figsize=(3.4 * len(kinds), 3))
+        for j, k in enumerate(kinds):
+            ax = axes[0][j]
+            for s in scenes:
+                pts = sorted((r for r in rows if r["scene"] == s and r["kind"] == k),
+                             key=lambda r: r["update_delay_rays"])
+                other = [n for n in varied_params(pts) if n not in ("update_delay", "latency")]
+                if other:  # one line per combination of the other swept parameters
+                    continue
+                ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
+                        [p["pred_precision"] for p in pts], "o-", ms=3, label=f"{s} precision")
+                ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
+                        [p["pred_recall"] for p in pts], "x--", ms=3, label=f"{s} recall")
+            ax.set_xscale("log")
+            ax.set_title(k, fontsize=9)
+            ax.set_xlabel("update delay, rays (0 drawn at 0.5)", fontsize=8)
+            ax.set_ylabel("prediction precision / recall", fontsize=8)
+            ax.tick_params(labelsize=7)
+            ax.legend(fontsize=5)
+        save(fig, "hit_rate_vs_latency.png")
+
+    # 4. speculative image error against time saved.
+    spec = [r for r in allrows if r["mode"] == "closest-spec" and r["image_mae"] != ""]
+    if spec:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        for s in scenes:
+            pts = [r for r in spec if r["scene"] == s]
+            ax.scatter([100 * p["saved_cycles"] for p in pts],
+                       [100 * p["image_differ"] for p in pts], s=12, label=s)
+        ax.set_xlabel("% cost-model cycles saved (all rays)")
+        ax.set_ylabel("% pixels that differ from the exact image")
+        ax.set_title("closest-spec: image error vs time saved", fontsize=9)
+        ax.legend(fontsize=6)
+        save(fig, "spec_error_vs_saved.png")
+    return files
+
+
+def pct(x):
+    return f"{100 * x:.2f}%"
+
+
+def report(rows, plots, path, command):
+    varied = varied_params(rows)
+    lines = [f"# HRPP sweep report", "",
+             f"Regenerate with `{command}`.", "",
+             "Time is the cost model's cycles per ray (docs/cost_model.md; deterministic), and the "
+             "golden model's measured CPU time per ray (noisy, reported only). Accuracy: the share "
+             "of correct answers (only closest-spec can be wrong), prediction precision and recall, "
+             "net skipped interior-node tests. Swept: " + (", ".join(varied) or "nothing") + ".", ""]
+    for p in plots:
+        lines += [f"![{p.stem}]({os.path.relpath(p, pathlib.Path(path).parent)})", ""]
+    lines += ["## Pareto-optimal configurations (cycles per ray vs correct answers)", ""]
+    for (s, k), pts in sorted(groups(rows).items(),
+                              key=lambda x: (x[0][0], KIND_ORDER.index(x[0][1]))):
+        front = [pts[i] for i in pareto_front(pts, ["hrpp_cycles_per_ray"], ["accuracy"])]
+        lines += [f"### {s} / {k}", "",
+                  "| configuration | cycles/ray (baseline) | saved | correct | precision | recall "
+                  "| skipped nodes | table bytes | CPU ns/ray base / HRPP |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for p in front:
+            cpu = (f"{p['baseline_ns_per_ray']:.0f} / {p['hrpp_ns_per_ray']:.0f}"
+                   if p["hrpp_ns_per_ray"] != "" else "-")
+            lines.append(
+                f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
+                f"({p['baseline_cycles_per_ray']:.1f}) | {pct(p['saved_cycles'])} | "
+                f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
+                f"{pct(p['skipped_interior'])} | {int(p['table_bytes']):,} | {cpu} |")
+        lines.append("")
+    lines += ["## Recommendation", ""] + recommend(rows, varied)
+    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
+    pathlib.Path(path).write_text("\n".join(lines) + "\n")
+
+
+def recommend(rows, varied):
+    """The smallest finite table keeping 90% of the unbounded table's cycle savings (same other
+    parameters), and what one more bit of precision or one more way buys."""
+    out = []
+    allrows = [r for r in rows if r["kind"] == "all"]
+    others = [n for n in varied if n != "table"]
+
+    def key(r, skip):
+        return tuple(r[n] for n in others if n not in skip) + (r["scene"],)
+
+    unb = {key(r, ()): r for r in allrows if r["table"] == "unbounded"}
+    if unb:
+        out += ["Smallest table keeping 90% of the unbounded table's saved cycles (same other "
+                "parameters):", "", "| scene | other parameters | unbounded saves | smallest "
+                "table | its bytes | it saves |", "|---|---|---|---|---|---|"]
+        for kk, u in sorted(unb.items(), key=lambda x: x[0][::-1]):
+            cands = sorted((r for r in allrows if r["table"] != "unbounded" and key(r, ()) == kk),
+                           key=lambda r: r["table_bytes"])
+            best = next((r for r in cands if u["saved_cycles"] > 0
+                         and r["saved_cycles"] >= 0.9 * u["saved_cycles"]), None)
+            oth = " ".join(f"{n}={u[n]}" for n in others) or "-"
+            if best is None:
+                msg = ("none saves anything" if u["saved_cycles"] <= 0
+                       else "none of the swept tables")
+                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {msg} | - | - |")
+            else:
+                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {best['table']} "
+                           f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
+        out.append("")
+
+    def delta(param, step_ok, what):
+        d = []
+        for a in allrows:
+            for b in allrows:
+                if a is b or a["scene"] != b["scene"]:
+                    continue
+                if any(a[n] != b[n] for n in PARAMS if n != param):
+                    continue
+                if step_ok(a[param], b[param]):
+                    d.append(b["saved_cycles"] - a["saved_cycles"])
+        if d:
+            out.append(f"- {what}: {100 * sum(d) / len(d):+.2f} points of saved cycles on average "
+                       f"(min {100 * min(d):+.2f}, max {100 * max(d):+.2f}; {len(d)} pairs)")
+
+    def int_step(a, b):
+        return a.isdigit() and b.isdigit() and int(b) == int(a) + 1
+
+    delta("precision", int_step, "one more bit of precision (P to P+1)")
+    delta("origin_bits", int_step, "one more origin bit (improved hash)")
+    delta("dir_bits", int_step, "one more direction bit (improved hash)")
+    tables = sorted({r["table"] for r in allrows if "x" in r["table"]})
+
+    def more_ways(a, b):  # same sets, the next larger number of ways swept
+        if "x" not in a or "x" not in b:
+            return False
+        sa, wa = map(int, a.split("x"))
+        sb, wb = map(int, b.split("x"))
+        larger = sorted({int(t.split("x")[1]) for t in tables
+                         if int(t.split("x")[0]) == sa and int(t.split("x")[1]) > wa})
+        return sa == sb and larger and wb == larger[0]
+
+    delta("table", more_ways, "the next number of ways (same sets)")
+    if not out:
+        out.append("(sweep `table` with `unbounded` and finite sizes, or `precision`, to get a "
+                   "recommendation)")
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scenes", nargs="*", help="glTF scenes (.glb)")
+    ap.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
+                    help="parameter values to sweep; names: " + ", ".join(PARAMS))
+    ap.add_argument("--res", default="64x64", help="image resolution WxH (default 64x64)")
+    ap.add_argument("--spp", help="samples per pixel (same as --param spp=N)")
+    ap.add_argument("--csv", help="CSV file to write (required unless --from-csv)")
+    ap.add_argument("--plots", help="directory for the PNG plots")
+    ap.add_argument("--report", help="markdown report to write (plots need --plots)")
+    ap.add_argument("--images", help="directory for each closest-spec run's exact | speculative | "
+                                     "difference picture")
+    ap.add_argument("--from-csv", nargs="+", help="plot and report these CSVs; run nothing")
+    ap.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://HOST:PORT)")
+    ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                    help="local Dask cluster: worker processes (default: all cores)")
+    ap.add_argument("--no-dask", action="store_true", help="run the tasks one by one, here")
+    ap.add_argument("--no-timing", action="store_true",
+                    help="do not measure CPU times (the CSV is then reproducible byte for byte)")
+    ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"), help="the hrpp binary")
+    ap.add_argument("--command", help=argparse.SUPPRESS)  # shown in the report
+    args = ap.parse_args()
+    command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
+    try:
+        if args.from_csv:
+            rows = read_csv(args.from_csv)
+        else:
+            if not args.scenes:
+                raise BadInput("no scene given")
+            if not args.csv:
+                raise BadInput("--csv FILE is required")
+            for s in args.scenes:
+                if not os.path.isfile(s):
+                    raise BadInput(f"{s}: no such scene file")
+            params = list(args.param)
+            if args.spp:
+                if any(p.split("=")[0].strip() == "spp" for p in params):
+                    raise BadInput("give spp either as --spp or as --param spp=...")
+                params.append(f"spp={args.spp}")
+            w, _, h = args.res.partition("x")
+            if not (w.isdigit() and h.isdigit() and int(w) > 0 and int(h) > 0):
+                raise BadInput(f"--res must be WIDTHxHEIGHT, got {args.res!r}")
+            if args.workers < 1:
+                raise BadInput("--workers must be at least 1")
+            if not os.access(args.hrpp, os.X_OK):
+                raise BadInput(f"{args.hrpp}: not an executable (build it: make build)")
+            configs = expand(parse_params(params))
+            scenes = [os.path.abspath(s) for s in args.scenes]
+            rows = run_sweep(args, configs, scenes)
+            write_csv(args.csv, rows)
+            print(f"sweep: wrote {args.csv} ({len(rows)} rows, {len(configs)} configurations x "
+                  f"{len(scenes)} scenes)", file=sys.stderr)
+            rows = read_csv([args.csv])
+    except BadInput as e:
+        print(f"hrpp sweep: {e}", file=sys.stderr)
+        return 2
+    plots = plot_all(rows, args.plots) if args.plots else []
+    for p in plots:
+        print(f"sweep: wrote {p}", file=sys.stderr)
+    if args.report:
+        report(rows, plots, args.report, command)
+        print(f"sweep: wrote {args.report}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
