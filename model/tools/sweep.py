@@ -82,6 +82,9 @@ def parse_params(specs):
         if name in grid:
             raise BadInput(f"--param {name} given twice")
         grid[name] = vals
+    if "latency" in grid and "update_delay" in grid:
+        raise BadInput("sweep either latency (cycles of the traversal engine; the update delay "
+                       "then comes from the RTL's cycle model) or update_delay (rays), not both")
     return grid
 
 
@@ -102,6 +105,8 @@ def predict_args(cfg):
         v = cfg[name]
         if name in ("tag_bits", "latency") and v in ("full", "none"):
             continue
+        if name == "update_delay" and cfg["latency"] != "none":
+            continue  # the latency sets the update delay (from the RTL's cycle model)
         args += [opt, v]
     return args
 
@@ -119,7 +124,8 @@ def run_one(task):
             cmd += ["--spec-images", images]
         proc = subprocess.run(cmd, capture_output=True, text=True)
         if proc.returncode != 0:
-            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}"}, 0
+            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
+                           "rc": proc.returncode}, 0
         with open(out) as f:
             data = json.load(f)
     return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
@@ -232,8 +238,9 @@ def run_sweep(args, configs, scenes):
     t0 = time.time()
 
     def progress(i, index, rows, secs):
-        if "error" in rows:
-            raise SystemExit(f"sweep: {rows['error']}")
+        if "error" in rows:  # bad input (hrpp's exit code 2) stays exit code 2
+            print(f"hrpp sweep: {rows['error']}", file=sys.stderr)
+            raise SystemExit(2 if rows["rc"] == 2 else 1)
         results[index] = rows
         a = rows[-1]
         print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} "
