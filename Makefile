@@ -4,7 +4,7 @@
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
 # Other targets: setup, build, lint, check-embree, results, sim-long, synth, synth-sweep,
-# synth-check, clean.
+# synth-check, sweep, report, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -24,7 +24,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean \
-  synth synth-sweep synth-check
+  synth synth-sweep synth-check sweep report
 
 all: build
 
@@ -137,6 +137,36 @@ synth-check: build
 	  $(BUILD)/tb_hrpp_netlist --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config default \
 	    --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
 	else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi
+
+# ---------------------------------------------------------------------------------------------
+# What accuracy costs in time (docs/cost_model.md, model/tools/sweep.py): predictor parameters
+# swept over the shared scenes as Dask tasks (a local cluster of JOBS workers; SWEEP_SCHEDULER=
+# tcp://HOST:PORT for a remote one), CSVs in out/sweep/; `make report` adds the plots and
+# out/report.md. About 15 minutes on 2 cores at the default 256x256, 1 spp.
+# ---------------------------------------------------------------------------------------------
+SWEEP_SCENES    ?= $(wildcard $(SHARED)/scenes/*.glb)
+SWEEP_RES       ?= 256x256
+SWEEP_SPP       ?= 1
+SWEEP_SCHEDULER ?=
+SWEEP_RUN = $(BUILD)/hrpp sweep $(SWEEP_SCENES) --res $(SWEEP_RES) --spp $(SWEEP_SPP) \
+  $(if $(SWEEP_SCHEDULER),--scheduler $(SWEEP_SCHEDULER),--workers $(JOBS))
+SWEEP_RTL_DEFAULT := --param hash=improved --param origin_bits=5 --param dir_bits=3 \
+  --param combine=concat --param table=128x8 --param nodes_per_entry=2 --param tag_bits=8
+
+sweep: build
+	@test -n "$(SWEEP_SCENES)" || { echo "sweep: no scenes in $(SHARED)/scenes (set SWEEP_SCENES)"; exit 2; }
+	$(SWEEP_RUN) --param precision=4,5,6,7 --param table=64x4,256x4,256x8,1024x8,4096x8,unbounded \
+	  --param nodes_per_entry=2 --param mode=anyhit,closest-exact,closest-spec \
+	  --csv $(OUT)/sweep/grid.csv --images $(OUT)/sweep/images
+	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-exact,closest-spec \
+	  --param latency=none,0,300 --csv $(OUT)/sweep/latency.csv
+	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-spec \
+	  --param update_delay=0,16,64,256,1024,4096 --csv $(OUT)/sweep/delay.csv
+
+report: sweep
+	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/grid.csv \
+	  $(OUT)/sweep/latency.csv $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots \
+	  --report $(OUT)/report.md --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
 
 clean:
 	rm -rf $(BUILD) $(OUT)

@@ -57,7 +57,7 @@ RESULT_COLUMNS = [
     "pred_precision", "pred_recall", "true_positive", "false_positive", "false_negative",
     "skipped_interior", "skipped_tri", "skipped_walks", "wrong_results", "wrong_fraction",
     "accuracy", "baseline_cycles_per_ray", "hrpp_cycles_per_ray", "saved_cycles",
-    "baseline_ns_per_ray", "hrpp_ns_per_ray", "image_mae", "image_differ"]
+    "baseline_ns_per_ray", "hrpp_ns_per_ray", "image_mae", "image_differ", "spec_image"]
 
 
 class BadInput(Exception):
@@ -167,6 +167,7 @@ def rows_of(scene, cfg, res, data, timing):
             "image_mae": ie.get("mean_abs_error", "") if kind in ("primary", "all") else "",
             "image_differ": ie.get("differing_pixel_fraction", "") if kind in ("primary", "all")
             else "",
+            "spec_image": ie.get("image", "") if kind in ("primary", "all") else "",
         })
         rows.append(r)
     return rows
@@ -198,7 +199,7 @@ def read_csv(paths):
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
                 for c in RESULT_COLUMNS:
-                    if r.get(c, "") != "":
+                    if r.get(c, "") != "" and c != "spec_image":
                         r[c] = float(r[c])
                 rows.append(r)
     return rows
@@ -229,7 +230,8 @@ def run_sweep(args, configs, scenes):
     images = None
     for s in scenes:
         for ci, cfg in enumerate(configs):
-            if args.images:
+            images = None
+            if args.images and cfg["mode"] == "closest-spec":
                 images = os.path.join(os.path.abspath(args.images),
                                       f"{pathlib.Path(s).stem}-{ci:04d}")
             tasks.append(((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images))
@@ -370,17 +372,17 @@ def plot_all(rows, outdir):
         ax.legend(fontsize=6)
     save(fig, "skipped_vs_bytes.png")
 
-    # 3. prediction hit rate against pipeline latency (update delay in rays).
-    if len({r["update_delay_rays"] for r in rows}) > 1:
+    # 3. prediction hit rate against pipeline latency (update delay in rays): one line per scene
+    # and combination of the other parameters that was run at more than one delay.
+    lines3 = delay_groups(rows)
+    if lines3:
         fig, axes = plt.subplots(1, len(kinds), squeeze=False, figsize=(3.4 * len(kinds), 3))
         for j, k in enumerate(kinds):
             ax = axes[0][j]
-            for s in scenes:
-                pts = sorted((r for r in rows if r["scene"] == s and r["kind"] == k),
-                             key=lambda r: r["update_delay_rays"])
-                other = [n for n in varied_params(pts) if n not in ("update_delay", "latency")]
-                if other:  # one line per combination of the other swept parameters
+            for (s, kk, _), pts in sorted(lines3.items()):
+                if kk != k:
                     continue
+                pts = sorted(pts, key=lambda r: r["update_delay_rays"])
                 ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
                         [p["pred_precision"] for p in pts], "o-", ms=3, label=f"{s} precision")
                 ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
@@ -440,9 +442,70 @@ def report(rows, plots, path, command):
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
                 f"{pct(p['skipped_interior'])} | {int(p['table_bytes']):,} | {cpu} |")
         lines.append("")
+    lines += latency_section(rows, varied)
+    lines += spec_section(rows, varied, path)
     lines += ["## Recommendation", ""] + recommend(rows, varied)
     pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
     pathlib.Path(path).write_text("\n".join(lines) + "\n")
+
+
+def delay_groups(rows):
+    """Rows run at more than one update delay, grouped by scene, kind and the other parameters."""
+    g = {}
+    for r in rows:
+        other = tuple(r[n] for n in PARAMS if n not in ("update_delay", "latency"))
+        g.setdefault((r["scene"], r["kind"], other), []).append(r)
+    return {k: sorted(v, key=lambda r: r["update_delay_rays"]) for k, v in g.items()
+            if len({r["update_delay_rays"] for r in v}) > 1}
+
+
+def latency_section(rows, varied):
+    """What the pipeline's update delay costs against the untimed model (delay 0)."""
+    g = delay_groups(rows)
+    if not g:
+        return []
+    shown = [n for n in varied if n not in ("update_delay", "latency")]
+    out = ["## Pipeline latency against the untimed model", "",
+           "Update delay: rays looked up between a ray's lookup and its table write (0: the "
+           "untimed model; `latency=C`: the RTL's delay for a traversal engine taking C cycles, "
+           "from the cycle model, at most 63 with the default 64 ray ids).", "",
+           "| scene | kind | configuration | latency (cycles) | update delay (rays) | precision "
+           "| recall | skipped nodes | saved cycles |", "|---|---|---|---|---|---|---|---|---|"]
+    for (s, k, _), pts in sorted(g.items(), key=lambda x: (x[0][0], KIND_ORDER.index(x[0][1]),
+                                                           x[0][2])):
+        for p in pts:
+            out.append(f"| {s} | {k} | {label(p, shown)} | {p['latency']} | "
+                       f"{int(p['update_delay_rays'])} | {p['pred_precision']:.4f} | "
+                       f"{p['pred_recall']:.4f} | {pct(p['skipped_interior'])} | "
+                       f"{pct(p['saved_cycles'])} |")
+    return out + [""]
+
+
+def spec_section(rows, varied, path):
+    """Per scene, the closest-spec configuration that saves the most cycles: its wrong answers and
+    image error, with its exact | speculative | difference picture when the sweep wrote one."""
+    spec = [r for r in rows if r["kind"] == "all" and r["mode"] == "closest-spec"]
+    if not spec:
+        return []
+    out = ["## Speculative closest hits at the configuration that saves the most time", "",
+           "Image error of the primary rays' picture (base colour under a light at the eye; "
+           "8-bit sRGB) against the exact one: mean absolute error over pixels and channels "
+           "(0..1) and the share of pixels that differ.", "",
+           "| scene | configuration | saved cycles | wrong answers (all rays) | MAE | pixels "
+           "differ | picture |", "|---|---|---|---|---|---|---|"]
+    pics = []
+    for s in sorted({r["scene"] for r in spec}):
+        best = max((r for r in spec if r["scene"] == s), key=lambda r: r["saved_cycles"])
+        pic = best.get("spec_image", "")
+        link = "-"
+        if pic:
+            rel = os.path.relpath(pic, pathlib.Path(path).parent)
+            link = f"[png]({rel})"
+            pics.append(f"![{s}]({rel})")
+        out.append(f"| {s} | {label(best, varied)} | {pct(best['saved_cycles'])} | "
+                   f"{pct(best['wrong_fraction'])} | {best['image_mae']:.5f} | "
+                   f"{pct(best['image_differ'])} | {link} |")
+    return out + [""] + [p + "\n" for p in pics]
 
 
 def recommend(rows, varied):
