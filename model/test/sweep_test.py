@@ -124,6 +124,11 @@ class Errors(unittest.TestCase):
             p = run_sweep(TETRA, "--param", "colour=red", "--csv", out, "--no-dask")
             self.assertEqual(p.returncode, 2)
             self.assertIn("unknown parameter 'colour'", p.stderr)
+            # The same through `hrpp sweep`, which runs this driver with the venv's python.
+            p = subprocess.run([HRPP, "sweep", TETRA, "--param", "colour=red", "--csv", out],
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("unknown parameter 'colour'", p.stderr)
             p = run_sweep(os.path.join(d, "nope.glb"), "--param", "precision=4", "--csv", out)
             self.assertEqual(p.returncode, 2)
             self.assertIn("nope.glb: no such scene file", p.stderr)

@@ -577,7 +577,7 @@ def recommend(rows, varied):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__,
+    ap = argparse.ArgumentParser(prog="hrpp sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="*", help="glTF scenes (.glb)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
