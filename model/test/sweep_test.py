@@ -48,6 +48,16 @@ class Pareto(unittest.TestCase):
         self.assertEqual(sweep.pareto_front(pts, ["c"]), [1, 2])  # equal points both stay
         self.assertEqual(sweep.pareto_front([], ["c"]), [])
 
+    def test_baseline_point_joins_the_front(self):
+        pts = [{"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 120.0,
+                "baseline_cycles_per_ray": 100.0, "accuracy": 1.0},   # exact but slower
+               {"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 80.0,
+                "baseline_cycles_per_ray": 100.0, "accuracy": 0.9}]   # speculative, faster
+        allp = sweep.with_baselines(pts)
+        front = sweep.pareto_front(allp, ["hrpp_cycles_per_ray"], ["accuracy"])
+        self.assertEqual(front, [1, 2])  # the speculative point and the baseline, not point 0
+        self.assertTrue(allp[2]["baseline"])
+
     def test_three_objectives(self):
         pts = [(1, 5, 0.5), (2, 1, 0.5), (1, 5, 0.4), (3, 3, 0.9)]
         # minimise 0 and 1, maximise 2; (1,5,0.4) is dominated by (1,5,0.5).
@@ -101,8 +111,9 @@ class Tiny(unittest.TestCase):
                 self.assertGreater(os.path.getsize(os.path.join(d, "plots", f)), 1000, f)
             report = pathlib.Path(d, "report.md").read_text()
             self.assertIn("## Pareto-optimal configurations", report)
-            self.assertIn("### spd_tetra / all", report)
+            self.assertIn("### spd_tetra / all / closest-hit queries", report)
             self.assertIn("Smallest table keeping 90%", report)
+            self.assertIn("| no predictor (the baseline walk, spp=1) |", report)
 
     def test_latency_rows(self):
         with tempfile.TemporaryDirectory() as d:
