@@ -159,7 +159,7 @@ sweep: build
 	  --param nodes_per_entry=2 --param mode=anyhit,closest-exact,closest-spec \
 	  --csv $(OUT)/sweep/grid.csv --images $(OUT)/sweep/images
 	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-exact,closest-spec \
-	  --param latency=none,0,300 --csv $(OUT)/sweep/latency.csv
+	  --param latency=none,0,300 --csv $(OUT)/sweep/latency.csv --images $(OUT)/sweep/images-rtl
 	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-spec \
 	  --param update_delay=0,16,64,256,1024,4096 --csv $(OUT)/sweep/delay.csv
 
