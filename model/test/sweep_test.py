@@ -119,13 +119,18 @@ class Tiny(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             a = os.path.join(d, "a.csv")
             p = run_sweep(CORNELL, "--param", "latency=0,100",
-                          "--res", "16x16", "--no-dask", "--csv", a)
+                          "--res", "16x16", "--no-dask", "--csv", a, "--plots", d,
+                          "--report", os.path.join(d, "report.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
             rows = read(a)
             delays = sorted({int(r["update_delay_rays"]) for r in rows})
             self.assertEqual(len(delays), 2)
             self.assertEqual(delays[1], 63)  # capped by the RTL's 64 ray ids
             self.assertTrue(all(float(r["hrpp_ns_per_ray"]) > 0 for r in rows))
+            self.assertGreater(os.path.getsize(os.path.join(d, "hit_rate_vs_latency.png")), 1000)
+            report = pathlib.Path(d, "report.md").read_text()
+            self.assertIn("## Pipeline latency against the untimed model", report)
+            self.assertIn("| cornell_box | all | default | 100 | 63 |", report)
 
 
 class Errors(unittest.TestCase):

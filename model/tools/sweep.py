@@ -420,24 +420,39 @@ def plot_all(rows, outdir):
     # and combination of the other parameters that was run at more than one delay.
     lines3 = delay_groups(rows)
     if lines3:
-        fig, axes = plt.subplots(1, len(kinds), squeeze=False, figsize=(3.4 * len(kinds), 3))
-        for j, k in enumerate(kinds):
-            ax = axes[0][j]
-            for (s, kk, _), pts in sorted(lines3.items()):
-                if kk != k:
-                    continue
-                pts = sorted(pts, key=lambda r: r["update_delay_rays"])
-                ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
-                        [p["pred_precision"] for p in pts], "o-", ms=3, label=f"{s} precision")
-                ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
-                        [p["pred_recall"] for p in pts], "x--", ms=3, label=f"{s} recall")
-            ax.set_xscale("log")
-            ax.set_title(k, fontsize=9)
-            ax.set_xlabel("update delay, rays (0 drawn at 0.5)", fontsize=8)
-            ax.set_ylabel("prediction precision / recall", fontsize=8)
-            ax.tick_params(labelsize=7)
-            ax.legend(fontsize=5)
-        save(fig, "hit_rate_vs_latency.png")
+        # One row of panels per combination of the other parameters, one column per ray kind;
+        # colour = scene, solid = precision, dashed = recall.
+        others = sorted({o for (_, _, o) in lines3})
+        names = [n for n in PARAMS if n not in ("update_delay", "latency")]
+        vary = [i for i, n in enumerate(names) if len({o[i] for o in others}) > 1]
+        colours = {s: f"C{i % 10}" for i, s in enumerate(scenes)}
+        fig, axes = plt.subplots(len(others), len(kinds), squeeze=False,
+                                 figsize=(3.4 * len(kinds), 2.8 * len(others) + 0.8))
+        fig.suptitle("prediction precision (solid) and recall (dashed) against the update delay")
+        for i, o in enumerate(others):
+            title = " ".join(f"{names[v]}={o[v]}" for v in vary)
+            for j, k in enumerate(kinds):
+                ax = axes[i][j]
+                for (s, kk, oo), pts in sorted(lines3.items()):
+                    if kk != k or oo != o:
+                        continue
+                    x = [max(0.5, p["update_delay_rays"]) for p in pts]
+                    ax.plot(x, [p["pred_precision"] for p in pts], "o-", ms=3, c=colours[s],
+                            label=s)
+                    ax.plot(x, [p["pred_recall"] for p in pts], "x--", ms=3, c=colours[s])
+                ax.set_xscale("log")
+                ax.set_ylim(-0.02, 1.02)
+                ax.set_title(f"{k} {title}", fontsize=8)
+                ax.set_xlabel("update delay, rays (0 drawn at 0.5)", fontsize=7)
+                ax.set_ylabel("precision / recall", fontsize=7)
+                ax.tick_params(labelsize=7)
+        handles, labels_ = axes[0][0].get_legend_handles_labels()
+        fig.legend(handles, labels_, loc="lower center", ncol=max(1, len(scenes)), fontsize=7)
+        fig.tight_layout(rect=(0, 0.06, 1, 1))
+        p = outdir / "hit_rate_vs_latency.png"
+        fig.savefig(p, dpi=80)
+        plt.close(fig)
+        files.append(p)
 
     # 4. speculative image error against time saved.
     spec = [r for r in allrows if r["mode"] == "closest-spec" and r["image_mae"] != ""]
