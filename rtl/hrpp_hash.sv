@@ -77,13 +77,17 @@ module hrpp_hash
   always_comb begin
     inv1_d = 1'b0;
     for (int i = 0; i < 6; i++) begin
-      logic [31:0] c;
-      c = canon(i < 3 ? org_i[i] : dir_i[i-3]);
-      inv1_d |= (i < 3 ? org_i[i][30:23] : dir_i[i-3][30:23]) == 8'hFF;
+      logic [31:0] b, c;
+      b = i < 3 ? org_i[i] : dir_i[i-3];
+      c = canon(b);
+      inv1_d |= b[30:23] == 8'hFF;
       s1_d[i] = '0;
-      s1_d[i].sign = c[31];
-      s1_d[i].mant = {1'b1, c[22:0]};
-      s1_d[i].tz = trailing_zeros({1'b1, c[22:0]});
+      // Sign, significand, trailing zeros and shift come from the raw pattern, in parallel with
+      // the canonicalization: they matter only for a component that is not `fixed`, and every
+      // pattern canon() changes (zero, denormal, NaN) is fixed.
+      s1_d[i].sign = b[31];
+      s1_d[i].mant = {1'b1, b[22:0]};
+      s1_d[i].tz = trailing_zeros({1'b1, b[22:0]});
       if (Variant == HashFaithful) begin
         s1_d[i].fixed = 1'b1;
         s1_d[i].field = MaxF'(faithful_field(c));
@@ -94,14 +98,14 @@ module hrpp_hash
           s1_d[i].fixed = 1'b1;
           s1_d[i].field = c[31] ? MaxF'(1) << (OriginBits - 1) : MaxF'((1 << OriginBits) - 1);
         end
-        s1_d[i].sh = 11'(signed'({3'b0, c[30:23]})) - 11'sd150 - 11'(cell_exp_i);
+        s1_d[i].sh = 11'(signed'({3'b0, b[30:23]})) - 11'sd150 - 11'(cell_exp_i);
       end else begin
         if (c[30:23] >= 8'd127) begin  // |d| >= 1, infinities, NaN: saturate
           s1_d[i].fixed = 1'b1;
           s1_d[i].field = c[31] ? MaxF'(1) << (DirBits - 1) : MaxF'((1 << (DirBits - 1)) - 1);
         end
         // Right shift of the significand for floor(d * 2^(DirBits-1)); >= 9 since e <= 126.
-        s1_d[i].sh = 11'sd150 - 11'(signed'({3'b0, c[30:23]})) - 11'(DirBits - 1);
+        s1_d[i].sh = 11'sd150 - 11'(signed'({3'b0, b[30:23]})) - 11'(DirBits - 1);
       end
     end
   end

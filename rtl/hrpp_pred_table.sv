@@ -4,8 +4,8 @@
 //
 // Two copies of the table in block RAM, written together: the lookup copy serves one lookup
 // per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
-//   lookup: L1 read address | L2 RAM data (or the colliding write) registered | L3 compare,
-//           outputs registered: lk_valid_o ... three cycles after lk_valid_i.
+//   lookup: L1 read address | L2 RAM data | L3 RAM data registered, collision select, tag
+//           compare | L4 way select, outputs registered: lk_valid_o four cycles after lk_valid_i.
 //   update: T0 read address | T1 RAM data registered | C1 forward, match | C2 select the way |
 //           C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
@@ -108,14 +108,21 @@ module hrpp_pred_table
   // ---------------------------------------------------------------------------------------------
   // Lookup pipeline
   // ---------------------------------------------------------------------------------------------
-  // L2: the RAM data, or the row written in the cycle of the read (collision).
+  // Every block-RAM output goes straight into a register (its clock-to-output delay is most of
+  // a cycle); the collision select, the tag compare and the way select follow in later stages.
+  // L2: the RAM data; the row written in the cycle of the read, and whether it collided.
   logic               l2_valid_q, l2_collide_q;
   logic [TagBits-1:0] l2_tag_q;
   row_t               l2_wrow_q;
-  // L3: the row, registered
-  logic               l3_valid_q;
+  // L3: the RAM data registered, beside the collision flag and row.
+  logic               l3_valid_q, l3_collide_q;
   logic [TagBits-1:0] l3_tag_q;
-  row_t               l3_row_q;
+  row_t               l3_ram_q, l3_wrow_q;
+  // L4: per way, whether it matches, and its count and nodes.
+  logic                                      l4_valid_q;
+  logic [NumWays-1:0]                        l4_match_q;
+  logic [NumWays-1:0][CountW-1:0]            l4_count_q;
+  logic [NumWays-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] l4_nodes_q;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -124,32 +131,57 @@ module hrpp_pred_table
       l2_tag_q     <= '0;
       l2_wrow_q    <= '0;
       l3_valid_q   <= 1'b0;
+      l3_collide_q <= 1'b0;
       l3_tag_q     <= '0;
-      l3_row_q     <= '0;
+      l3_ram_q     <= '0;
+      l3_wrow_q    <= '0;
     end else begin
       l2_valid_q   <= lk_valid_i;
       l2_collide_q <= lk_valid_i && we && waddr == lk_idx_i;
       l2_tag_q     <= lk_tag_i;
       l2_wrow_q    <= wdata;
       l3_valid_q   <= l2_valid_q;
+      l3_collide_q <= l2_collide_q;
       l3_tag_q     <= l2_tag_q;
-      l3_row_q     <= l2_collide_q ? l2_wrow_q : row_t'(lk_rdata);
+      l3_ram_q     <= row_t'(lk_rdata);
+      l3_wrow_q    <= l2_wrow_q;
     end
   end
 
-  // L3: first matching way -> registered outputs.
+  // L3: the row (the colliding write, else the RAM data); per way, tag match.
+  row_t               l3_row;
+  logic [NumWays-1:0] l3_match;
+  always_comb begin
+    l3_row = l3_collide_q ? l3_wrow_q : l3_ram_q;
+    for (int w = 0; w < NumWays; w++)
+      l3_match[w] = l3_row[w].valid && l3_row[w].tag == l3_tag_q;
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      l4_valid_q <= 1'b0;
+      l4_match_q <= '0;
+      l4_count_q <= '0;
+      l4_nodes_q <= '0;
+    end else begin
+      l4_valid_q <= l3_valid_q;
+      l4_match_q <= l3_valid_q ? l3_match : '0;
+      for (int w = 0; w < NumWays; w++) begin
+        l4_count_q[w] <= l3_row[w].count;
+        l4_nodes_q[w] <= l3_row[w].nodes;
+      end
+    end
+  end
+
+  // L4: the matching way (at most one matches) -> registered outputs (zero without a match).
   logic [CountW-1:0]                         lk_count_d;
   logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes_d;
-  logic [NumWays-1:0]                        lk_match;
   always_comb begin
     lk_count_d = '0;
     lk_nodes_d = '0;
-    for (int w = NumWays - 1; w >= 0; w--) begin
-      lk_match[w] = l3_row_q[w].valid && l3_row_q[w].tag == l3_tag_q;
-      if (lk_match[w]) begin
-        lk_count_d = l3_row_q[w].count;
-        lk_nodes_d = l3_row_q[w].nodes;
-      end
+    for (int w = 0; w < NumWays; w++) begin
+      lk_count_d |= l4_count_q[w] & {CountW{l4_match_q[w]}};
+      lk_nodes_d |= l4_nodes_q[w] & {(NodesPerEntry * NodeIdWidth){l4_match_q[w]}};
     end
   end
 
@@ -159,9 +191,9 @@ module hrpp_pred_table
       lk_count_o <= '0;
       lk_nodes_o <= '0;
     end else begin
-      lk_valid_o <= l3_valid_q;
-      lk_count_o <= l3_valid_q ? lk_count_d : '0;
-      lk_nodes_o <= l3_valid_q ? lk_nodes_d : '0;
+      lk_valid_o <= l4_valid_q;
+      lk_count_o <= lk_count_d;
+      lk_nodes_o <= lk_nodes_d;
     end
   end
 
@@ -173,21 +205,27 @@ module hrpp_pred_table
   logic [IdxW-1:0]        t0_idx_q, t1_idx_q, c1_idx_q, c2_idx_q, c3_idx_q;
   logic [TagBits-1:0]     t0_tag_q, t1_tag_q, c1_tag_q, c2_tag_q;
   logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, c1_node_q, c2_node_q, c3_node_q;
-  // History of the two writes before the current one (for forwarding).
-  logic                   h1_valid_q;
-  logic [IdxW-1:0]        h1_idx_q;
-  row_t                   h1_row_q, h2_row_q;
-  // T1 -> C1: RAM data and the forwarding selects (computed one cycle ahead).
+  // The row written one cycle ago (for forwarding).
+  row_t                   h1_row_q;
+  // T1 -> C1: RAM data.
   row_t                   c1_ram_q;
-  logic                   c1_fwd_w_q, c1_fwd_h1_q, c1_fwd_h2_q;
-  // C1 -> C2: the current row and, per way, tag match / invalid / least recently used.
+  // The newest write C1's RAM read cannot see (selected in T1), and per way whether to use it
+  // (one copy per way: each drives a way's bits of C1's 2:1 mux).
+  row_t                   c1_fwd_row_q;
+  (* keep *) logic [NumWays-1:0] c1_use_fwd_q;
+  // T0 -> T1: which rows T1 forwards (set compares one cycle ahead; one copy per way).
+  (* keep *) logic [NumWays-1:0] t1_fwd_c3_q, t1_fwd_w_q, t1_fwd_h1_q;
+  // C1 -> C2: the current row and, per way, one-hot decisions (see C1).
   row_t                   c2_row_q;
-  logic [NumWays-1:0]     c2_match_q, c2_invalid_q, c2_oldest_q;
-  // C2 -> C3: the selected way (cleared if newly allocated) and its age.
+  logic [NumWays-1:0]     c2_match_q, c2_first_inv_q, c2_oldest_q;
+  logic                   c2_any_match_q, c2_any_inv_q;
+  logic [NumWays-1:0][NodesPerEntry-1:0][(NodeIdWidth+1)/2-1:0] c2_node_eq_part_q;
+  // C2 -> C3: the selected way (cleared if newly allocated), which of its nodes equal the node.
   row_t                   c3_row_q;
   logic [NumWays-1:0]     c3_sel_q;   // one-hot way to update
   way_t                   c3_way_q;
-  logic [AgeW-1:0]        c3_age_q;
+  logic [NodesPerEntry-1:0] c3_node_eq_q;
+  row_t                   c3_new_row;  // C3's result
 
   // An update waits while the update accepted in either of the two previous cycles has its set:
   // C1 needs that update's new row, which leaves C3 only two cycles after its own C1.
@@ -211,13 +249,12 @@ module hrpp_pred_table
       c1_tag_q    <= '0;
       c1_node_q   <= '0;
       c1_ram_q    <= '0;
-      c1_fwd_w_q  <= 1'b0;
-      c1_fwd_h1_q <= 1'b0;
-      c1_fwd_h2_q <= 1'b0;
-      h1_valid_q  <= 1'b0;
-      h1_idx_q    <= '0;
+      c1_fwd_row_q <= '0;
+      c1_use_fwd_q <= '0;
+      t1_fwd_c3_q  <= '0;
+      t1_fwd_w_q   <= '0;
+      t1_fwd_h1_q  <= '0;
       h1_row_q    <= '0;
-      h2_row_q    <= '0;
     end else begin
       t0_valid_q <= up_valid_i && up_ready_o;
       t0_idx_q   <= up_idx_i;
@@ -234,104 +271,129 @@ module hrpp_pred_table
       c1_ram_q   <= row_t'(up_rdata);
       // Next cycle, C1 reads in W what C3 holds now, in h1 what W holds now, in h2 what h1 holds
       // now: the three writes its RAM read (presented two cycles before C1) cannot have seen.
-      c1_fwd_w_q  <= c3_valid_q && c3_idx_q == t1_idx_q;
-      c1_fwd_h1_q <= w_valid_q && w_idx_q == t1_idx_q;
-      c1_fwd_h2_q <= h1_valid_q && h1_idx_q == t1_idx_q;
-      h1_valid_q <= w_valid_q;
-      h1_idx_q   <= w_idx_q;
+      // C1 needs the newest of: the row C3 computes now (in W when C1 runs), the row W writes
+      // now, the row written one cycle ago (h1); its RAM read, presented in T0, saw none of them.
+      // The set compares are made in T0 against the stages those rows are in one cycle earlier.
+      t1_fwd_c3_q <= {NumWays{c2_valid_q && c2_idx_q == t0_idx_q}};
+      t1_fwd_w_q  <= {NumWays{c3_valid_q && c3_idx_q == t0_idx_q}};
+      t1_fwd_h1_q <= {NumWays{w_valid_q && w_idx_q == t0_idx_q}};
+      c1_use_fwd_q <= t1_fwd_c3_q | t1_fwd_w_q | t1_fwd_h1_q;
+      for (int w = 0; w < NumWays; w++)
+        c1_fwd_row_q[w] <= t1_fwd_c3_q[w] ? c3_new_row[w] : t1_fwd_w_q[w] ? w_row_q[w] : h1_row_q[w];
       h1_row_q   <= w_row_q;
-      h2_row_q   <= h1_row_q;
     end
   end
 
-  // C1: the current row (newest write first); per way: match, invalid, least recently used.
+  // C1: the current row (newest write first); per way: tag match (at most one way matches),
+  // the first invalid way and the least recently used way, all one-hot, so C2 only selects;
+  // and the node compare's first level (two bits at a time), finished in C2.
+  localparam int unsigned EqGroups = (NodeIdWidth + 1) / 2;
+  typedef logic [NumWays-1:0][NodesPerEntry-1:0][EqGroups-1:0] node_eq_part_t;
   row_t               c1_row;
-  logic [NumWays-1:0] c1_match, c1_invalid, c1_oldest;
+  logic [NumWays-1:0] c1_match, c1_invalid, c1_first_invalid, c1_oldest;
+  node_eq_part_t      c1_node_eq_part;
   always_comb begin
-    c1_row = c1_fwd_w_q ? w_row_q : c1_fwd_h1_q ? h1_row_q : c1_fwd_h2_q ? h2_row_q : c1_ram_q;
+    for (int w = 0; w < NumWays; w++) c1_row[w] = c1_use_fwd_q[w] ? c1_fwd_row_q[w] : c1_ram_q[w];
     for (int w = 0; w < NumWays; w++) begin
       c1_match[w]   = c1_row[w].valid && c1_row[w].tag == c1_tag_q;
       c1_invalid[w] = !c1_row[w].valid;
       c1_oldest[w]  = c1_row[w].age == AgeW'(NumWays - 1);
+      for (int i = 0; i < NodesPerEntry; i++)
+        for (int g = 0; g < EqGroups; g++)
+          c1_node_eq_part[w][i][g] = 2'(c1_row[w].nodes[i] >> (2 * g)) == 2'(c1_node_q >> (2 * g));
+    end
+    for (int w = 0; w < NumWays; w++) begin
+      c1_first_invalid[w] = c1_invalid[w];
+      for (int v = 0; v < w; v++)
+        if (c1_invalid[v]) c1_first_invalid[w] = 1'b0;
     end
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      c2_valid_q   <= 1'b0;
-      c2_idx_q     <= '0;
-      c2_tag_q     <= '0;
-      c2_node_q    <= '0;
-      c2_row_q     <= '0;
-      c2_match_q   <= '0;
-      c2_invalid_q <= '0;
-      c2_oldest_q  <= '0;
+      c2_valid_q       <= 1'b0;
+      c2_idx_q         <= '0;
+      c2_tag_q         <= '0;
+      c2_node_q        <= '0;
+      c2_row_q         <= '0;
+      c2_match_q       <= '0;
+      c2_any_match_q   <= 1'b0;
+      c2_first_inv_q   <= '0;
+      c2_any_inv_q     <= 1'b0;
+      c2_oldest_q      <= '0;
+      c2_node_eq_part_q <= '0;
     end else begin
-      c2_valid_q   <= c1_valid_q;
-      c2_idx_q     <= c1_idx_q;
-      c2_tag_q     <= c1_tag_q;
-      c2_node_q    <= c1_node_q;
-      c2_row_q     <= c1_row;
-      c2_match_q   <= c1_match;
-      c2_invalid_q <= c1_invalid;
-      c2_oldest_q  <= c1_oldest;
+      c2_valid_q       <= c1_valid_q;
+      c2_idx_q         <= c1_idx_q;
+      c2_tag_q         <= c1_tag_q;
+      c2_node_q        <= c1_node_q;
+      c2_row_q         <= c1_row;
+      c2_match_q       <= c1_match;
+      c2_any_match_q   <= |c1_match;
+      c2_first_inv_q   <= c1_first_invalid;
+      c2_any_inv_q     <= |c1_invalid;
+      c2_oldest_q      <= c1_oldest;
+      c2_node_eq_part_q <= c1_node_eq_part;
     end
   end
 
-  // C2: the first matching way, else the first invalid way, else the least recently used one;
-  // that way, cleared when newly allocated, and its age.
-  logic [NumWays-1:0] c2_sel;
-  way_t               c2_way;
+  // C2: the way to update: the matching one, else the first invalid one, else the least
+  // recently used one; that way (cleared when newly allocated) and its node matches.
+  logic [NumWays-1:0]       c2_sel;
+  way_t                     c2_way;
+  logic [NodesPerEntry-1:0] c2_way_node_eq;
+  logic [NumWays-1:0][NodesPerEntry-1:0] c2_node_eq;  // per way: node i equals the node
   always_comb begin
-    if (|c2_match_q) c2_sel = c2_match_q & ~(c2_match_q - 1'b1);
-    else if (|c2_invalid_q) c2_sel = c2_invalid_q & ~(c2_invalid_q - 1'b1);
-    else c2_sel = c2_oldest_q;
-    c2_way = '0;
+    c2_sel = c2_any_match_q ? c2_match_q : c2_any_inv_q ? c2_first_inv_q : c2_oldest_q;
     for (int w = 0; w < NumWays; w++)
-      if (c2_sel[w]) c2_way = c2_row_q[w];
-    if (!(|c2_match_q)) begin  // a newly allocated way (its age stays for the LRU update)
-      c2_way.valid = 1'b1;
-      c2_way.tag   = c2_tag_q;
-      c2_way.count = '0;
-      c2_way.nodes = '0;
+      for (int i = 0; i < NodesPerEntry; i++)
+        c2_node_eq[w][i] = CountW'(i) < c2_row_q[w].count && &c2_node_eq_part_q[w][i];
+    c2_way = '0;
+    c2_way_node_eq = '0;
+    for (int w = 0; w < NumWays; w++) begin
+      c2_way         |= c2_row_q[w] & {$bits(way_t){c2_sel[w]}};
+      c2_way_node_eq |= c2_node_eq[w] & {NodesPerEntry{c2_sel[w]}};
+    end
+    if (!c2_any_match_q) begin  // a newly allocated way (its age stays for the LRU update)
+      c2_way.valid   = 1'b1;
+      c2_way.tag     = c2_tag_q;
+      c2_way.count   = '0;
+      c2_way.nodes   = '0;
+      c2_way_node_eq = '0;
     end
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      c3_valid_q <= 1'b0;
-      c3_idx_q   <= '0;
-      c3_node_q  <= '0;
-      c3_row_q   <= '0;
-      c3_sel_q   <= '0;
-      c3_way_q   <= '0;
-      c3_age_q   <= '0;
+      c3_valid_q   <= 1'b0;
+      c3_idx_q     <= '0;
+      c3_node_q    <= '0;
+      c3_row_q     <= '0;
+      c3_sel_q     <= '0;
+      c3_way_q     <= '0;
+      c3_node_eq_q <= '0;
     end else begin
-      c3_valid_q <= c2_valid_q;
-      c3_idx_q   <= c2_idx_q;
-      c3_node_q  <= c2_node_q;
-      c3_row_q   <= c2_row_q;
-      c3_sel_q   <= c2_sel;
-      c3_way_q   <= c2_way;
-      c3_age_q   <= c2_way.age;
+      c3_valid_q   <= c2_valid_q;
+      c3_idx_q     <= c2_idx_q;
+      c3_node_q    <= c2_node_q;
+      c3_row_q     <= c2_row_q;
+      c3_sel_q     <= c2_sel;
+      c3_way_q     <= c2_way;
+      c3_node_eq_q <= c2_way_node_eq;
     end
   end
 
   // C3: promote the node in the selected way, age every younger way by one.
   way_t                     c3_new_way;
-  logic [NodesPerEntry-1:0] c3_node_eq;
   logic [CountW-1:0]        c3_pos;
-  row_t                     c3_new_row;
   always_comb begin
     // Position of the node in the list, or where it is inserted.
     c3_pos = c3_way_q.count < CountW'(NodesPerEntry) ? c3_way_q.count
                                                      : CountW'(NodesPerEntry - 1);
-    for (int i = NodesPerEntry - 1; i >= 0; i--) begin
-      c3_node_eq[i] = CountW'(i) < c3_way_q.count && c3_way_q.nodes[i] == c3_node_q;
-      if (c3_node_eq[i]) c3_pos = CountW'(i);
-    end
+    for (int i = NodesPerEntry - 1; i >= 0; i--)
+      if (c3_node_eq_q[i]) c3_pos = CountW'(i);
     c3_new_way = c3_way_q;
-    if (!(|c3_node_eq) && c3_way_q.count < CountW'(NodesPerEntry))
+    if (!(|c3_node_eq_q) && c3_way_q.count < CountW'(NodesPerEntry))
       c3_new_way.count = c3_way_q.count + 1'b1;
     for (int i = 1; i < NodesPerEntry; i++)
       if (CountW'(i) <= c3_pos) c3_new_way.nodes[i] = c3_way_q.nodes[i-1];
@@ -340,7 +402,7 @@ module hrpp_pred_table
     c3_new_way.age = '0;
     for (int w = 0; w < NumWays; w++) begin
       c3_new_row[w] = c3_sel_q[w] ? c3_new_way : c3_row_q[w];
-      if (!c3_sel_q[w] && c3_row_q[w].age < c3_age_q)
+      if (!c3_sel_q[w] && c3_row_q[w].age < c3_way_q.age)
         c3_new_row[w].age = c3_row_q[w].age + 1'b1;
     end
   end
@@ -379,6 +441,9 @@ module hrpp_pred_table
   SameSetSpacing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c1_valid_q |-> !(c2_valid_q && c2_idx_q == c1_idx_q) &&
                      !(c3_valid_q && c3_idx_q == c1_idx_q));
+  // At most one way matches in a lookup too.
+  LookupOneMatch_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      $onehot0(l4_match_q));
   // Lookup outputs are never X.
   LookupKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       lk_valid_o |-> !$isunknown({lk_count_o, lk_nodes_o}));

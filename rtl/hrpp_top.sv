@@ -4,9 +4,9 @@
 // pipeline and a timing diagram).
 //
 //   rays in ──> [A: input regs] ─hash (2 stages)─> [B: key regs, key store write, table lookup]
-//               ─> table (3 cycles) ─> prediction FIFO ──> predictions out
-//   predicted-walk results, final outcomes in ──> skip controller ──> table updates,
-//                                                                      skip decisions out
+//               ─> table (4 cycles) ─> prediction FIFO ──> predictions out
+//   predicted-walk results, final outcomes in ──> skip controller ──> update queue ──> table
+//                                                                 └──> skip decisions out
 //
 // All outputs come from registers or FIFO heads; ready outputs depend on state only.
 module hrpp_top
@@ -161,9 +161,12 @@ module hrpp_top
     end
   end
 
-  // Key store: each in-flight ray's set, tag and query type, by id (distributed RAM).
+  // Key store: each in-flight ray's set, tag and query type, by id. Distributed RAM: it is read
+  // combinationally as a message is accepted (in block RAM, the skip controller's registers
+  // would become the RAM's output registers and its slow clock-to-output would start the
+  // handshake paths).
   localparam int unsigned KsW = IdxW + TagBits + 1;
-  logic [KsW-1:0]     ks_mem_q[2**IdWidth];
+  (* ram_style = "distributed" *) logic [KsW-1:0] ks_mem_q[2**IdWidth];
   logic [IdWidth-1:0] ksp_id, ksf_id;  // the ids of the messages being accepted
   logic [IdxW-1:0]    ksp_idx, ksf_idx;
   logic [TagBits-1:0] ksp_tag, ksf_tag;
@@ -185,6 +188,11 @@ module hrpp_top
   logic [IdxW-1:0]                           up_idx;
   logic [TagBits-1:0]                        up_tag;
   logic [NodeIdWidth-1:0]                    up_node;
+  // The skip controller's update requests, queued (U) before the table.
+  logic                                      sc_up_valid, uq_full, uq_empty;
+  logic [IdxW-1:0]                           sc_up_idx;
+  logic [TagBits-1:0]                        sc_up_tag;
+  logic [NodeIdWidth-1:0]                    sc_up_node;
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
@@ -197,20 +205,32 @@ module hrpp_top
     .up_node_i(up_node)
   );
 
-  // The ray's id and validity travel beside the table's 3-cycle lookup.
-  logic [2:0]               d_valid_q, d_invalid_q;
-  logic [2:0][IdWidth-1:0]  d_id_q;
+  // Update queue (two entries): the skip controller sees only whether it is full, so its
+  // handshake does not wait for the table's same-set interlock, which looks at the queue's head.
+  hrpp_fifo #(.Depth(2), .Width(IdxW + TagBits + NodeIdWidth)) u_update_fifo (
+    .clk_i, .rst_ni,
+    .push_i(sc_up_valid && !uq_full), .data_i({sc_up_idx, sc_up_tag, sc_up_node}),
+    .pop_i(up_valid && up_ready), .data_o({up_idx, up_tag, up_node}),
+    .empty_o(uq_empty), .full_o(uq_full), .count_o()
+  );
+  assign up_valid = !uq_empty;
+
+  // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
+  localparam int unsigned LookupLatency = 4;
+  logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
+  logic [LookupLatency-1:0][IdWidth-1:0] d_id_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       d_valid_q   <= '0;
       d_invalid_q <= '0;
       d_id_q      <= '0;
     end else begin
-      d_valid_q   <= {d_valid_q[1:0], b_valid_q};
-      d_invalid_q <= {d_invalid_q[1:0], b_invalid_q};
-      d_id_q      <= {d_id_q[1:0], b_id_q};
+      d_valid_q   <= {d_valid_q[LookupLatency-2:0], b_valid_q};
+      d_invalid_q <= {d_invalid_q[LookupLatency-2:0], b_invalid_q};
+      d_id_q      <= {d_id_q[LookupLatency-2:0], b_id_q};
     end
   end
+  localparam int unsigned DL = LookupLatency - 1;
 
   // ---------------------------------------------------------------------------------------------
   // Prediction FIFO; rays are accepted only while every ray in flight has a FIFO place.
@@ -224,24 +244,25 @@ module hrpp_top
 
   hrpp_fifo #(.Depth(PredFifoDepth), .Width(PredW)) u_pred_fifo (
     .clk_i, .rst_ni,
-    .push_i(d_valid_q[2]), .data_i({d_id_q[2], d_invalid_q[2], lk_count, lk_nodes}),
+    .push_i(d_valid_q[DL]), .data_i({d_id_q[DL], d_invalid_q[DL], lk_count, lk_nodes}),
     .pop_i(pred_valid_o && pred_ready_i), .data_o(pred_out),
     .empty_o(pred_empty), .full_o(), .count_o(pred_count)
   );
   assign pred_valid_o = !pred_empty;
   assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
 
-  assign in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(h_valid_q[0]) +
-                     (PredCountW + 1)'(h_valid_q[1]) + (PredCountW + 1)'(b_valid_q) +
-                     (PredCountW + 1)'(d_valid_q[0]) + (PredCountW + 1)'(d_valid_q[1]) +
-                     (PredCountW + 1)'(d_valid_q[2]);
+  always_comb begin
+    in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(h_valid_q[0]) +
+                (PredCountW + 1)'(h_valid_q[1]) + (PredCountW + 1)'(b_valid_q);
+    for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountW + 1)'(d_valid_q[i]);
+  end
   assign ray_ready_o = init_done && (in_flight + (PredCountW + 1)'(pred_count)) <
                                     (PredCountW + 1)'(PredFifoDepth);
 
   // The table answers exactly when the id pipeline says it should.
 `ifndef SYNTHESIS
   LookupAligned_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      lk_valid == (d_valid_q[2] && !d_invalid_q[2]));
+      lk_valid == (d_valid_q[DL] && !d_invalid_q[DL]));
 `endif
 
   // ---------------------------------------------------------------------------------------------
@@ -256,8 +277,8 @@ module hrpp_top
     .upd_valid_i, .upd_ready_o, .upd_id_i, .upd_hit_i, .upd_node_i,
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
     .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
-    .up_valid_o(up_valid), .up_ready_i(up_ready), .up_idx_o(up_idx), .up_tag_o(up_tag),
-    .up_node_o(up_node),
+    .up_valid_o(sc_up_valid), .up_ready_i(!uq_full), .up_idx_o(sc_up_idx),
+    .up_tag_o(sc_up_tag), .up_node_o(sc_up_node),
     .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
   );
 

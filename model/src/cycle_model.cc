@@ -29,6 +29,7 @@ void CycleModel::reset() {
   b_.reset();
   for (auto& d : d_) d.reset();
   pred_fifo_.clear();
+  update_queue_.clear();
   key_store_.assign(size_t{1} << cfg_.id_bits, KeyEntry{});
   p0_ = Msg{};
   f0_ = Msg{};
@@ -37,9 +38,10 @@ void CycleModel::reset() {
 }
 
 int CycleModel::in_flight() const {
-  return int(a_.has_value()) + int(h_[0].has_value()) + int(h_[1].has_value()) +
-         int(b_.has_value()) + int(d_[0].has_value()) +
-         int(d_[1].has_value()) + int(d_[2].has_value());
+  int n = int(a_.has_value()) + int(b_.has_value());
+  for (const auto& h : h_) n += int(h.has_value());
+  for (const auto& d : d_) n += int(d.has_value());
+  return n;
 }
 
 CycleModel::Decision CycleModel::decide() const {
@@ -56,10 +58,8 @@ CycleModel::Decision CycleModel::decide() const {
   d.p_req = p0_.valid && p_needs && !fifo_full;
   if (d.f_req) d.update = Op{kf.idx, kf.tag, f0_.node};
   else if (d.p_req) d.update = Op{kp.idx, kp.tag, p0_.node};
-  // The table's interlock: not the set of an update accepted in the two previous cycles (T0, T1).
-  const uint32_t up_idx = d.f_req ? kf.idx : kp.idx;
-  d.up_ready = !clearing_ && !(up_[0] && up_[0]->idx == up_idx) &&
-               !(up_[1] && up_[1]->idx == up_idx);
+  // The update queue takes a request while it has room.
+  d.up_ready = update_queue_.size() < kUpdateQueueDepth;
   d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.up_ready && !d.f_req));
   return d;
@@ -112,11 +112,21 @@ void CycleModel::tick(const DutIn& in) {
 
   // Prediction FIFO.
   if (o.pred_valid && in.pred_ready) pred_fifo_.pop_front();
-  if (d_[2]) pred_fifo_.push_back(*d_[2]);
+  if (d_[kLookupLatency - 1]) pred_fifo_.push_back(*d_[kLookupLatency - 1]);
+
+  // The table takes the update queue's head unless it is of the set of an update accepted in
+  // either of the two previous cycles (T0, T1: the same-set interlock).
+  std::optional<Op> issued;
+  if (!clearing_ && !update_queue_.empty()) {
+    const uint32_t idx = update_queue_.front().idx;
+    if (!(up_[0] && up_[0]->idx == idx) && !(up_[1] && up_[1]->idx == idx)) {
+      issued = update_queue_.front();
+      update_queue_.pop_front();
+    }
+  }
 
   // Skip controller.
-  std::optional<Op> issued;
-  if (dec.update && dec.up_ready) issued = dec.update;
+  if (dec.update && dec.up_ready) update_queue_.push_back(*dec.update);
   if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
   if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
   if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
@@ -129,8 +139,7 @@ void CycleModel::tick(const DutIn& in) {
   // Pipelines advance.
   for (int i = kUpdateStages - 1; i > 0; --i) up_[i] = up_[i - 1];
   up_[0] = issued;
-  d_[2] = d_[1];
-  d_[1] = d_[0];
+  for (int i = kLookupLatency - 1; i > 0; --i) d_[i] = d_[i - 1];
   d_[0] = looked_up;
   const std::optional<DutIn> hashed = h_[kHashLatency - 1];
   for (int i = kHashLatency - 1; i > 0; --i) h_[i] = h_[i - 1];

@@ -111,8 +111,8 @@ class CycleModel {
   uint64_t cycle_ = 0;
   bool clearing_ = true;
   uint32_t clear_idx_ = 0;
-  // Lookup path: A (input regs), H0..H1 (the hash's two stages), B (key regs), D0..D2 (beside
-  // the table's lookup).
+  // Lookup path: A (input regs), H0..H1 (the hash's two stages), B (key regs), D0..D3 (beside
+  // the table's four-cycle lookup).
   static constexpr int kHashLatency = 2;
   std::optional<DutIn> a_;
   std::array<std::optional<DutIn>, kHashLatency> h_;
@@ -122,11 +122,14 @@ class CycleModel {
     bool invalid = false, any_hit = false;
   };
   std::optional<B> b_;
-  std::array<std::optional<Pred>, 3> d_;
+  static constexpr int kLookupLatency = 4;
+  std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;
-  // Update path: P0 and F0, then T0, T1, C1, C2, C3, W.
+  // Update path: P0 and F0, the update queue (U), then T0, T1, C1, C2, C3, W.
   Msg p0_, f0_;
+  static constexpr size_t kUpdateQueueDepth = 2;
+  std::deque<Op> update_queue_;
   static constexpr int kUpdateStages = 6;
   std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [5] = W
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
