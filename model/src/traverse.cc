@@ -65,9 +65,43 @@ namespace {
 
 constexpr int kStackSize = 1024;
 
-template <bool kAnyHit>
-Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+// intersect_box for the traversal loop, with the per-axis near/far choice made once per ray:
+// near plane = hi when inv < 0, else lo. The same operations on the same operands as
+// intersect_box (bit-identical results), without a swap per axis and box.
+struct BoxRay {
+  Vec3 org, inv;
+  bool neg[3];
+  explicit BoxRay(const RayPre& r) : org(r.org), inv(r.inv) {
+    for (int a = 0; a < 3; ++a) neg[a] = r.inv[a] < 0;
+  }
+  bool hit(const BvhNode& n, float tmin, float tmax, float* entry) const {
+    constexpr float kWiden = 1 + 2 * gamma(3);
+    for (int a = 0; a < 3; ++a) {
+      const float near = neg[a] ? n.hi[a] : n.lo[a];
+      const float far = neg[a] ? n.lo[a] : n.hi[a];
+      const float t0 = (near - org[a]) * inv[a];
+      const float t1 = ((far - org[a]) * inv[a]) * kWiden;
+      tmin = t0 > tmin ? t0 : tmin;
+      tmax = t1 < tmax ? t1 : tmax;
+    }
+    *entry = tmin;
+    return tmin <= tmax;
+  }
+};
+
+template <bool kAnyHit, bool kPath>
+Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req) {
   const RayPre r(ray);
+  const BoxRay br(r);
+  // Counted locally (in registers) and added to *counters on every return.
+  Counters local;
+  Counters* c = &local;
+  struct Flush {
+    Counters* from;
+    Counters* to;
+    ~Flush() { *to += *from; }
+  } flush{&local, counters};
+  const BvhNode* nodes = bvh.nodes.data();
   Hit hit;
   float limit = next_float_up(ray.tfar);  // accept t <= tfar
   struct Entry {
@@ -79,11 +113,10 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
   uint32_t node = req.start_node;
   float entry;
   c->box_tests++;
-  if (!intersect_box(r, bvh.nodes[node].lo, bvh.nodes[node].hi, ray.tnear, limit, &entry))
-    return hit;
+  if (!br.hit(nodes[node], ray.tnear, limit, &entry)) return hit;
   while (true) {
-    const BvhNode& n = bvh.nodes[node];
-    if (req.path) req.path->push_back(node);
+    const BvhNode& n = nodes[node];
+    if constexpr (kPath) req.path->push_back(node);
     if (n.is_leaf()) {
       c->leaf_visits++;
       for (uint32_t i = n.right_or_first, e = n.right_or_first + n.count; i < e; ++i) {
@@ -104,8 +137,8 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
       c->box_tests += 2;
       const uint32_t l = node + 1, rr = n.right_or_first;
       float tl, tr;
-      const bool hl = intersect_box(r, bvh.nodes[l].lo, bvh.nodes[l].hi, ray.tnear, limit, &tl);
-      const bool hr = intersect_box(r, bvh.nodes[rr].lo, bvh.nodes[rr].hi, ray.tnear, limit, &tr);
+      const bool hl = br.hit(nodes[l], ray.tnear, limit, &tl);
+      const bool hr = br.hit(nodes[rr], ray.tnear, limit, &tr);
       if (hl && hr) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (tr < tl) {
@@ -138,11 +171,11 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
 }  // namespace
 
 Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
-  return traverse<false>(bvh, ray, c, req);
+  return req.path ? traverse<false, true>(bvh, ray, c, req) : traverse<false, false>(bvh, ray, c, req);
 }
 
 Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
-  return traverse<true>(bvh, ray, c, req);
+  return req.path ? traverse<true, true>(bvh, ray, c, req) : traverse<true, false>(bvh, ray, c, req);
 }
 
 Hit brute_force_closest(const Bvh& bvh, const Ray& ray) {
