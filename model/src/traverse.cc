@@ -1,6 +1,10 @@
 #include "hrpp/traverse.h"
 
+#include <emmintrin.h>
+
 #include <array>
+#include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 namespace hrpp {
@@ -65,27 +69,36 @@ namespace {
 
 constexpr int kStackSize = 1024;
 
-// intersect_box for the traversal loop, with the per-axis near/far choice made once per ray:
-// near plane = hi when inv < 0, else lo. The same operations on the same operands as
-// intersect_box (bit-identical results), without a swap per axis and box.
+// intersect_box for the traversal loop, on the three axes at once (SSE2, the x86-64 baseline).
+// The per-axis near/far choice is made once per ray (near plane = hi when inv < 0, else lo), and
+// every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
+// exactly `t0 > tmin ? t0 : tmin` (a NaN t0 leaves tmin) and minps(t1, tmax) is `t1 < tmax ? t1 :
+// tmax`. The fourth lane (the node's right_or_first / count bits) meets a NaN inverse direction,
+// so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
+// the order of the remaining max/min does not matter (up to the sign of a zero entry distance,
+// which compares equal). Hits, entry comparisons and counters are those of intersect_box.
 struct BoxRay {
-  Vec3 org, inv;
-  bool neg[3];
-  explicit BoxRay(const RayPre& r) : org(r.org), inv(r.inv) {
-    for (int a = 0; a < 3; ++a) neg[a] = r.inv[a] < 0;
-  }
+  __m128 org, inv, neg;
+  explicit BoxRay(const RayPre& r)
+      : org(_mm_setr_ps(r.org.x, r.org.y, r.org.z, 0.f)),
+        inv(_mm_setr_ps(r.inv.x, r.inv.y, r.inv.z, std::numeric_limits<float>::quiet_NaN())),
+        neg(_mm_cmplt_ps(inv, _mm_setzero_ps())) {}
   bool hit(const BvhNode& n, float tmin, float tmax, float* entry) const {
+    static_assert(offsetof(BvhNode, lo) == 0 && offsetof(BvhNode, hi) == 16);
     constexpr float kWiden = 1 + 2 * gamma(3);
-    for (int a = 0; a < 3; ++a) {
-      const float near = neg[a] ? n.hi[a] : n.lo[a];
-      const float far = neg[a] ? n.lo[a] : n.hi[a];
-      const float t0 = (near - org[a]) * inv[a];
-      const float t1 = ((far - org[a]) * inv[a]) * kWiden;
-      tmin = t0 > tmin ? t0 : tmin;
-      tmax = t1 < tmax ? t1 : tmax;
-    }
-    *entry = tmin;
-    return tmin <= tmax;
+    const __m128 lo = _mm_loadu_ps(&n.lo.x), hi = _mm_loadu_ps(&n.hi.x);
+    const __m128 near = _mm_or_ps(_mm_and_ps(neg, hi), _mm_andnot_ps(neg, lo));
+    const __m128 far = _mm_or_ps(_mm_and_ps(neg, lo), _mm_andnot_ps(neg, hi));
+    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near, org), inv);
+    const __m128 t1 = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far, org), inv), _mm_set1_ps(kWiden));
+    __m128 a = _mm_max_ps(t0, _mm_set1_ps(tmin));
+    __m128 b = _mm_min_ps(t1, _mm_set1_ps(tmax));
+    a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
+    b = _mm_min_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1)));
+    a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+    b = _mm_min_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)));
+    *entry = _mm_cvtss_f32(a);
+    return _mm_comile_ss(a, b);
   }
 };
 
