@@ -9,18 +9,6 @@
 
 namespace hrpp {
 
-RayPre::RayPre(const Ray& r) : org(r.org), dir(r.dir) {
-  inv = Vec3(1.f / dir.x, 1.f / dir.y, 1.f / dir.z);  // +-0 gives +-inf
-  Vec3 a = glm::abs(dir);
-  kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-  kx = (kz + 1) % 3;
-  ky = (kx + 1) % 3;
-  if (dir[kz] < 0) std::swap(kx, ky);  // keep the winding
-  sx = dir[kx] / dir[kz];
-  sy = dir[ky] / dir[kz];
-  sz = 1.f / dir[kz];
-}
-
 bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
                    float* entry) {
   constexpr float kWiden = 1 + 2 * gamma(3);
@@ -37,8 +25,10 @@ bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, 
   return tmin <= tmax;
 }
 
-bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
-                        float* u, float* v) {
+namespace {
+// The body of intersect_triangle, inlined into the traversal loop.
+[[gnu::always_inline]] inline bool triangle_test(const RayPre& r, const Triangle& tri, float tmin,
+                                                 float tlimit, float* t, float* u, float* v) {
   const Vec3 A = tri.v0 - r.org, B = tri.v1 - r.org, C = tri.v2 - r.org;
   const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
@@ -63,6 +53,12 @@ bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float 
   *u = V * rcp;
   *v = W * rcp;
   return true;
+}
+}  // namespace
+
+bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
+                        float* u, float* v) {
+  return triangle_test(r, tri, tmin, tlimit, t, u, v);
 }
 
 namespace {
@@ -136,7 +132,7 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
         c->tri_tests++;
         if (bvh.tri_degenerate[i]) continue;
         float t, u, v;
-        if (intersect_triangle(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
+        if (triangle_test(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
           hit.t = limit = t;
           hit.u = u;
           hit.v = v;
