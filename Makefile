@@ -145,7 +145,8 @@ synth-check: build
 BENCH_ARGS ?=
 bench: build
 	@mkdir -p $(OUT)
-	$(BUILD)/hrpp_bench --shared $(SHARED) --tb $(BUILD)/tb_hrpp --out $(OUT)/bench.json $(BENCH_ARGS)
+	$(BUILD)/hrpp_bench --shared $(SHARED) --tb $(BUILD)/tb_hrpp --hrpp $(BUILD)/hrpp \
+	  --out $(OUT)/bench.json $(BENCH_ARGS)
 
 clean:
 	rm -rf $(BUILD) $(OUT)

@@ -8,12 +8,14 @@
 //            and AO rays, on one thread and on all threads;
 //   embree   the same with Embree 3 as a user gets it: its default ISA for this CPU, default scene
 //            flags and build quality, rtcIntersect1 / rtcOccluded1, a device with threads=1,
-//            flush-to-zero and denormals-are-zero set as Embree asks;
+//            flush-to-zero and denormals-are-zero set as Embree asks (and, as "embree-mxcsr-default",
+//            once more without them: the *_mxcsr_default ratios);
 //   predict  the predictor (the RTL's default configuration) on all the rays: one core on one
 //            thread, and 8 cores (8 tables) on one thread and on all threads;
 //   cosim    tb_hrpp --stream (the RTL and the cycle model in lockstep, parity checked on every
 //            cycle) on the first --cosim-rays rays.
-// Ratios are taken within a repetition (ours / Embree, above 1: ours faster) and reported as the
+// One-thread figures are process CPU time (the machine may be shared); all-thread figures are wall
+// time. Ratios are taken within a repetition (ours / Embree, above 1: ours faster) and reported as the
 // median with the min and max over the repetitions. A big procedural scene (10 million triangles
 // by default) is built and traced last, by ours and by Embree, each in its own process.
 //
@@ -30,6 +32,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -60,6 +63,22 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// One-thread measurements count the process's CPU time: on a shared machine, time spent
+// descheduled is not the code's. Several-thread measurements (scaling) need the wall clock.
+struct Timer {
+  Clock::time_point wall = Clock::now();
+  double cpu = process_cpu_seconds();
+  double seconds(unsigned threads) const {
+    return threads <= 1 ? process_cpu_seconds() - cpu : since(wall);
+  }
+};
 
 // ---- rays ---------------------------------------------------------------------------------------
 
@@ -119,9 +138,10 @@ uint64_t parallel_count(size_t n, unsigned threads, F fn) {
 // Times fn over every ray of v on `threads` threads: {"rays", "hits", "seconds"}.
 template <typename F>
 json time_rays(const std::vector<Ray>& v, unsigned threads, F fn) {
-  const auto t0 = Clock::now();
+  const Timer t;
   const uint64_t hits = parallel_count(v.size(), threads, [&](size_t i) { return fn(v[i]); });
-  return {{"rays", v.size()}, {"hits", hits}, {"seconds", since(t0)}};
+  return {{"rays", v.size()}, {"hits", hits}, {"seconds", t.seconds(threads)},
+          {"wall_seconds", since(t.wall)}};
 }
 
 // ---- children: one measurement each, JSON on stdout ---------------------------------------------
@@ -150,10 +170,10 @@ json trace_all(const Rays& rays, unsigned threads, Trace closest, Trace anyhit) 
 json child_ours(const ChildArgs& a) {
   const Rays rays = read_rays(a.stream);
   const Scene scene = load_scene(rays.scene);
-  const auto t0 = Clock::now();
+  const Timer t;
   const Bvh bvh = build_bvh(scene.triangles);
   json j;
-  j["build_seconds"] = since(t0);
+  j["build_seconds"] = t.seconds(1);
   j["triangles"] = scene.triangles.size();
   j["nodes"] = bvh.nodes.size();
   auto closest = [&](const Ray& r) {
@@ -182,13 +202,16 @@ void embree_mxcsr() {
 }
 
 json child_embree(const ChildArgs& a) {
-  embree_mxcsr();
-  g_embree_threads = true;
+  // "embree-mxcsr-default": the same without FTZ/DAZ (what a user gets who skips that advice).
+  const bool ftz = a.what == "embree";
+  if (ftz) embree_mxcsr();
+  g_embree_threads = ftz;
   const Rays rays = read_rays(a.stream);
   const Scene scene = load_scene(rays.scene);
+  const Timer t;
   EmbreeScene es(scene.triangles, kEmbreeBenchConfig, /*robust=*/false, /*high_quality=*/false);
   json j;
-  j["build_seconds"] = es.build_seconds();
+  j["build_seconds"] = t.seconds(1);  // process CPU time: any build thread Embree uses counts
   j["description"] = es.description();
   auto closest = [&](const Ray& r) { return uint64_t(es.intersect(r).hit()); };
   auto anyhit = [&](const Ray& r) { return uint64_t(es.occluded(r)); };
@@ -231,11 +254,11 @@ json child_predict(const ChildArgs& a) {
     o.cores = cores;
     o.threads = threads;
     o.width = rays.width;
-    const auto t0 = Clock::now();
+    const Timer t;
     TiledPredictor p(bvh, cfg, o);
     for (const RayRecord& r : rays.all) p.push(r);
     p.finish();
-    const double s = since(t0);
+    const double s = t.seconds(threads);
     const PredictStats st = p.total();
     if (st.exact_mismatches) throw std::runtime_error("predictor: exact mismatches");
     return json{{"rays", st.rays},
@@ -291,9 +314,9 @@ json child_big(const ChildArgs& a) {
   const std::vector<Ray> rays = big_rays(a.big_rays);
   auto closest_fn = std::function<uint64_t(const Ray&)>();
   if (a.what == "big-ours") {
-    t0 = Clock::now();
+    const Timer t;
     const Bvh bvh = build_bvh(tris);
-    j["build_seconds"] = since(t0);
+    j["build_seconds"] = t.seconds(1);
     j["nodes"] = bvh.nodes.size();
     j["bvh_bytes"] = bvh.memory_bytes();
     tris = {};
@@ -304,8 +327,9 @@ json child_big(const ChildArgs& a) {
     });
   } else {
     embree_mxcsr();
+    const Timer t;
     EmbreeScene es(tris, kEmbreeBenchConfig, false, false);
-    j["build_seconds"] = es.build_seconds();
+    j["build_seconds"] = t.seconds(1);
     tris = {};
     tris.shrink_to_fit();
     j["primary"] = time_rays(rays, 1, [&](const Ray& r) { return uint64_t(es.intersect(r).hit()); });
@@ -316,7 +340,7 @@ json child_big(const ChildArgs& a) {
 int child_main(const ChildArgs& a) {
   json j;
   if (a.what == "ours") j = child_ours(a);
-  else if (a.what == "embree") j = child_embree(a);
+  else if (a.what == "embree" || a.what == "embree-mxcsr-default") j = child_embree(a);
   else if (a.what == "predict") j = child_predict(a);
   else if (a.what == "big-ours" || a.what == "big-embree") j = child_big(a);
   else {
@@ -439,7 +463,8 @@ std::string embree_isa_report() {
 }
 
 struct DriverArgs {
-  std::string shared = "../shared", scenes, out = "out/bench.json", tb = "build/tb_hrpp";
+  std::string shared = "../shared", scenes, out = "out/bench.json", tb = "build/tb_hrpp",
+              hrpp = "build/hrpp";
   uint64_t samples = 262144, cosim_rays = 300000, big_tris = 10000000, big_rays = 1000000;
   int reps = 5;
   unsigned threads = 0;
@@ -484,7 +509,7 @@ json run_cosim(const DriverArgs& a, const std::string& stream, double* rss) {
                               "closest-exact", "--rays", std::to_string(a.cosim_rays)});
   std::smatch m;
   const std::regex parity(R"(parity: (\d+) rays, (\d+) cycles, (\d+) mismatches)");
-  const std::regex timing(R"(timing: lockstep run ([0-9.e+-]+) s)");
+  const std::regex timing(R"(timing: lockstep run [0-9.e+-]+ s \(CPU ([0-9.e+-]+) s\))");
   if (!std::regex_search(p.out, m, parity))
     throw std::runtime_error(a.tb + " printed no parity line:\n" + p.out);
   json j{{"rays", std::stoull(m[1])}, {"cycles", std::stoull(m[2])},
@@ -554,7 +579,9 @@ int driver_main(const DriverArgs& a) {
                                       "anyhit_vs_embree",      "predict_vs_embree",
                                       "traversal_vs_embree_mt", "anyhit_vs_embree_mt",
                                       "predict_scaling",       "cosim_rays_per_s",
-                                      "cosim_cycles_per_s"};
+                                      "cosim_cycles_per_s",    "traversal_vs_embree_mxcsr_default",
+                                      "anyhit_vs_embree_mxcsr_default",
+                                      "predict_vs_embree_mxcsr_default"};
   std::map<std::string, std::vector<double>> for_geomean;
   std::map<std::string, std::vector<double>> rss_geomean;
 
@@ -581,6 +608,8 @@ int driver_main(const DriverArgs& a) {
         ours = run_child("ours", cargs, &rs);
         rss["ours"] = std::max(rss["ours"], rs);
       }
+      const json emb0 = run_child("embree-mxcsr-default", cargs, &rs);
+      rss["embree_mxcsr_default"] = std::max(rss["embree_mxcsr_default"], rs);
       const json pred = run_child("predict", cargs, &rs);
       rss["predict"] = std::max(rss["predict"], rs);
       const json cos = run_cosim(a, stream, &rs);
@@ -589,6 +618,16 @@ int driver_main(const DriverArgs& a) {
       r["build_vs_embree"].push_back(emb["build_seconds"].get<double>() /
                                      ours["build_seconds"].get<double>());
       r["traversal_vs_embree"].push_back(rate(to["primary"]) / rate(te["primary"]));
+      // Against Embree without FTZ/DAZ (one thread).
+      {
+        const json& t0 = emb0["trace"];
+        r["traversal_vs_embree_mxcsr_default"].push_back(rate(to["primary"]) / rate(t0["primary"]));
+        if (to["shadow"]["rays"].get<uint64_t>() + to["ao"]["rays"].get<uint64_t>() > 0)
+          r["anyhit_vs_embree_mxcsr_default"].push_back(rate_of(to, {"shadow", "ao"}) /
+                                                        rate_of(t0, {"shadow", "ao"}));
+        r["predict_vs_embree_mxcsr_default"].push_back(
+            rate(pred["one_core"]) / rate_of(t0, {"primary", "shadow", "ao"}));
+      }
       if (to["shadow"]["rays"].get<uint64_t>() + to["ao"]["rays"].get<uint64_t>() > 0)
         r["anyhit_vs_embree"].push_back(rate_of(to, {"shadow", "ao"}) /
                                         rate_of(te, {"shadow", "ao"}));
@@ -615,7 +654,7 @@ int driver_main(const DriverArgs& a) {
       r["embree_build_s"].push_back(emb["build_seconds"].get<double>());
       // Same rays, same answers (hit counts; Embree's non-robust mode may differ by a few rays).
       for (const char* k : {"primary", "shadow", "ao"})
-        if (to[k]["hits"] != te[k]["hits"])
+        if (rep == 0 && to[k]["hits"] != te[k]["hits"])
           std::fprintf(stderr, "bench: %s: %s rays: ours hit %llu, Embree %llu\n", name.c_str(), k,
                        (unsigned long long)to[k]["hits"].get<uint64_t>(),
                        (unsigned long long)te[k]["hits"].get<uint64_t>());
@@ -668,8 +707,30 @@ int driver_main(const DriverArgs& a) {
   out["geomean"] = gm;
   std::printf("geometric mean over %zu scenes (ratios: ours / Embree, above 1 = ours faster):\n",
               scenes.size());
-  for (auto& [k, v] : gm.items())
-    if (v.is_number()) std::printf("  %-24s %.3f\n", k.c_str(), v.get<double>());
+  for (auto it = gm.begin(); it != gm.end(); ++it)
+    if (it->is_number()) std::printf("  %-34s %.3f\n", it.key().c_str(), it->get<double>());
+
+  // Memory does not grow with the number of rays: hrpp predict (generated workload, 8 cores on
+  // all threads) on the first scene at two image sizes, 16 times apart.
+  if (!a.hrpp.empty() && !scenes.empty()) {
+    json mem = json::array();
+    for (const char* res : {"256x192", "1024x768"}) {
+      std::fprintf(stderr, "bench: hrpp predict %s --res %s: peak memory\n", scenes[0].c_str(), res);
+      const Proc p = run_process({a.hrpp, "predict", scenes[0], "--res", res, "--cores", "8",
+                                  "--threads", std::to_string(threads)});
+      if (!WIFEXITED(p.status) || WEXITSTATUS(p.status) != 0)
+        throw std::runtime_error(a.hrpp + " predict failed:\n" + p.out);
+      std::smatch m;
+      const std::regex all(R"(\n  all +(\d+) )");
+      const uint64_t nrays = std::regex_search(p.out, m, all) ? std::stoull(m[1]) : 0;
+      mem.push_back({{"res", res}, {"rays", nrays}, {"peak_rss_mb", p.max_rss_mb},
+                     {"seconds", p.seconds}});
+      std::printf("hrpp predict %s --res %s --cores 8 --threads %u: %llu rays, peak RSS %.0f MB, "
+                  "%.1f s\n", fs::path(scenes[0]).stem().c_str(), res, threads,
+                  (unsigned long long)nrays, p.max_rss_mb, p.seconds);
+    }
+    out["memory_vs_rays"] = mem;
+  }
 
   if (a.big_tris > 0) {
     const std::vector<std::string> bargs{"--big-tris", std::to_string(a.big_tris), "--big-rays",
@@ -729,6 +790,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", d.threads, "threads of the all-core runs (default: all)");
   app.add_option("--out", d.out, "JSON report");
   app.add_option("--tb", d.tb, "the Verilator testbench binary");
+  app.add_option("--hrpp", d.hrpp, "the hrpp tool (memory check; empty: skip it)");
   app.add_option("--cosim-rays", d.cosim_rays, "rays of each co-simulation run")
       ->check(CLI::Range(uint64_t{1000}, uint64_t{1} << 32));
   app.add_option("--big-tris", d.big_tris, "triangles of the procedural scene (0: skip it)");
