@@ -263,6 +263,8 @@ json child_predict(const ChildArgs& a) {
     if (st.exact_mismatches) throw std::runtime_error("predictor: exact mismatches");
     return json{{"rays", st.rays},
                 {"seconds", s},
+                {"wall_seconds", since(t.wall)},
+                {"cpu_seconds", process_cpu_seconds() - t.cpu},
                 {"skipped_interior_fraction", st.skipped_interior_fraction()},
                 {"true_positive", st.true_positive}};
   };
@@ -530,6 +532,92 @@ double geomean(const std::vector<double>& v) {
   return v.empty() ? 0 : std::exp(s / v.size());
 }
 
+// The table of docs/results.md ("Performance"), from the report.
+std::string markdown(const json& out) {
+  std::string md;
+  char b[1024];
+  const unsigned th = out["machine"]["threads_used"].get<unsigned>();
+  auto cell = [](const json& sm, const char* key, const char* f = "%.2f") -> std::string {
+    if (!sm.contains(key) || sm[key].is_null()) return "-";
+    char c[96], lo[32], hi[32], med[32];
+    std::snprintf(med, sizeof med, f, sm[key]["median"].get<double>());
+    std::snprintf(lo, sizeof lo, f, sm[key]["min"].get<double>());
+    std::snprintf(hi, sizeof hi, f, sm[key]["max"].get<double>());
+    std::snprintf(c, sizeof c, "%s (%s-%s)", med, lo, hi);
+    return c;
+  };
+  std::snprintf(b, sizeof b,
+                "| scene | triangles | rays | build | primary | any-hit | predictor | primary, %u thr. "
+                "| any-hit, %u thr. | predictor scaling, %u thr. | co-sim rays/s | co-sim cycles/s "
+                "| peak RSS MB ours / Embree / predictor / co-sim |\n",
+                th, th, th);
+  md += b;
+  md += "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it) {
+    const json& sc = *it;
+    const json& sm = sc["summary"];
+    const json& rss = sc["peak_rss_mb"];
+    const uint64_t rays = sc["rays"]["primary"].get<uint64_t>() + sc["rays"]["shadow"].get<uint64_t>() +
+                          sc["rays"]["ao"].get<uint64_t>();
+    std::snprintf(b, sizeof b, "| %s | %llu | %llu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f / %.0f |\n",
+                  it.key().c_str(), (unsigned long long)sc["triangles"].get<uint64_t>(),
+                  (unsigned long long)rays, cell(sm, "build_vs_embree").c_str(),
+                  cell(sm, "traversal_vs_embree").c_str(), cell(sm, "anyhit_vs_embree").c_str(),
+                  cell(sm, "predict_vs_embree").c_str(), cell(sm, "traversal_vs_embree_mt").c_str(),
+                  cell(sm, "anyhit_vs_embree_mt").c_str(), cell(sm, "predict_scaling").c_str(),
+                  cell(sm, "cosim_rays_per_s", "%.0f").c_str(),
+                  cell(sm, "cosim_cycles_per_s", "%.0f").c_str(), rss.value("ours", 0.0),
+                  rss.value("embree", 0.0), rss.value("predict", 0.0), rss.value("cosim", 0.0));
+    md += b;
+  }
+  const json& g = out["geomean"];
+  auto gv = [&](const char* k, const char* f = "%.2f") -> std::string {
+    if (!g.contains(k)) return "-";
+    char c[64];
+    std::snprintf(c, sizeof c, f, g[k].get<double>());
+    return c;
+  };
+  std::snprintf(b, sizeof b, "| **geometric mean** | | | %s | %s | %s | %s | %s | %s | %s | %s | %s | |\n",
+                gv("build_vs_embree").c_str(), gv("traversal_vs_embree").c_str(),
+                gv("anyhit_vs_embree").c_str(), gv("predict_vs_embree").c_str(),
+                gv("traversal_vs_embree_mt").c_str(), gv("anyhit_vs_embree_mt").c_str(),
+                gv("predict_scaling").c_str(), gv("cosim_rays_per_s", "%.0f").c_str(),
+                gv("cosim_cycles_per_s", "%.0f").c_str());
+  md += b;
+  std::snprintf(b, sizeof b,
+                "\nAgainst Embree without FTZ/DAZ (geometric means): primary %s, any-hit %s, "
+                "predictor %s. Predictor CPU time per ray on %u threads against one: %s.\n",
+                gv("traversal_vs_embree_mxcsr_default").c_str(),
+                gv("anyhit_vs_embree_mxcsr_default").c_str(),
+                gv("predict_vs_embree_mxcsr_default").c_str(), th,
+                gv("predict_mt_cpu_efficiency").c_str());
+  md += b;
+  if (out.contains("memory_vs_rays")) {
+    md += "\nMemory against workload size (`hrpp predict`, 8 cores): ";
+    for (const json& m : out["memory_vs_rays"]) {
+      std::snprintf(b, sizeof b, "%s%s, %llu rays: %.0f MB", m == out["memory_vs_rays"][0] ? "" : "; ",
+                    m["res"].get<std::string>().c_str(), (unsigned long long)m["rays"].get<uint64_t>(),
+                    m["peak_rss_mb"].get<double>());
+      md += b;
+    }
+    md += ".\n";
+  }
+  if (out.contains("big_scene")) {
+    md += "\n| procedural scene | triangles | build s | primary rays/s (1 thread) | peak RSS MB |\n"
+          "|---|--:|--:|--:|--:|\n";
+    for (auto it = out["big_scene"].begin(); it != out["big_scene"].end(); ++it) {
+      const json& j = *it;
+      std::snprintf(b, sizeof b, "| %s | %llu | %.2f | %.0f | %.0f |\n", it.key().c_str(),
+                    (unsigned long long)j["triangles"].get<uint64_t>(),
+                    j["build_seconds"].get<double>(),
+                    j["primary"]["rays"].get<double>() / j["primary"]["seconds"].get<double>(),
+                    j["peak_rss_mb"].get<double>());
+      md += b;
+    }
+  }
+  return md;
+}
+
 int driver_main(const DriverArgs& a) {
   const unsigned threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::string> scenes;
@@ -578,7 +666,8 @@ int driver_main(const DriverArgs& a) {
   const std::vector<std::string> keys{"build_vs_embree",       "traversal_vs_embree",
                                       "anyhit_vs_embree",      "predict_vs_embree",
                                       "traversal_vs_embree_mt", "anyhit_vs_embree_mt",
-                                      "predict_scaling",       "cosim_rays_per_s",
+                                      "predict_scaling",       "predict_mt_cpu_efficiency",
+                                      "cosim_rays_per_s",
                                       "cosim_cycles_per_s",    "traversal_vs_embree_mxcsr_default",
                                       "anyhit_vs_embree_mxcsr_default",
                                       "predict_vs_embree_mxcsr_default"};
@@ -638,7 +727,12 @@ int driver_main(const DriverArgs& a) {
         if (to["shadow_mt"]["rays"].get<uint64_t>() + to["ao_mt"]["rays"].get<uint64_t>() > 0)
           r["anyhit_vs_embree_mt"].push_back(rate_of(to, {"shadow_mt", "ao_mt"}) /
                                              rate_of(te, {"shadow_mt", "ao_mt"}));
-        r["predict_scaling"].push_back(rate(pred["cores_mt"]) / rate(pred["cores_1_thread"]));
+        // Wall clock against wall clock, measured back to back in one process.
+        r["predict_scaling"].push_back(pred["cores_1_thread"]["wall_seconds"].get<double>() /
+                                       pred["cores_mt"]["wall_seconds"].get<double>());
+        // CPU time per ray on N threads against one: 1 means no overhead from the threads.
+        r["predict_mt_cpu_efficiency"].push_back(pred["cores_1_thread"]["cpu_seconds"].get<double>() /
+                                                 pred["cores_mt"]["cpu_seconds"].get<double>());
       }
       r["cosim_rays_per_s"].push_back(cos["rays"].get<double>() / cos["seconds"].get<double>());
       r["cosim_cycles_per_s"].push_back(cos["cycles"].get<double>() / cos["seconds"].get<double>());
@@ -760,7 +854,9 @@ int driver_main(const DriverArgs& a) {
     f << out.dump(2) << "\n";
   }
   fs::rename(tmp, a.out);
-  std::printf("wrote %s\n", a.out.c_str());
+  const std::string md_path = (fs::path(a.out).replace_extension(".md")).string();
+  std::ofstream(md_path) << markdown(out);
+  std::printf("wrote %s and %s\n", a.out.c_str(), md_path.c_str());
   return 0;
 }
 
