@@ -536,6 +536,12 @@ double geomean(const std::vector<double>& v) {
 std::string markdown(const json& out) {
   std::string md;
   char b[1024];
+  std::snprintf(b, sizeof b, "Machine: %s, %u hardware threads; Embree ISA %s (%s).\n\n",
+                out["machine"]["cpu"].get<std::string>().c_str(),
+                out["machine"]["hardware_threads"].get<unsigned>(),
+                out["machine"]["embree_isa"].get<std::string>().c_str(),
+                out["machine"]["embree_intersector1"].get<std::string>().c_str());
+  md += b;
   const unsigned th = out["machine"]["threads_used"].get<unsigned>();
   auto cell = [](const json& sm, const char* key, const char* f = "%.2f") -> std::string {
     if (!sm.contains(key) || sm[key].is_null()) return "-";
@@ -652,10 +658,15 @@ int driver_main(const DriverArgs& a) {
                {"threads_used", threads}};
   const std::string isa = embree_isa_report();
   machine["embree_verbose"] = isa;
+  std::smatch im;
+  const std::regex isa_re(R"(intersector1 += (\w+)::(\S+))");
+  machine["embree_isa"] = std::regex_search(isa, im, isa_re) ? im[1].str() : "unknown";
+  machine["embree_intersector1"] = std::regex_search(isa, im, isa_re) ? im[2].str() : "unknown";
   std::printf("machine: %s, %u hardware threads (all-core runs use %u)\n",
               machine["cpu"].get<std::string>().c_str(), std::thread::hardware_concurrency(),
               threads);
-  std::printf("Embree (device \"%s\", verbose=1 says):\n%s", kEmbreeBenchConfig, isa.c_str());
+  std::printf("Embree ISA: %s (device \"%s\", FTZ/DAZ on; verbose=2 says):\n%s",
+              machine["embree_isa"].get<std::string>().c_str(), kEmbreeBenchConfig, isa.c_str());
 
   json out{{"machine", machine},
            {"settings",
