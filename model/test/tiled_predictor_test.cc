@@ -2,6 +2,10 @@
 // (each owns its table) but never on the number of threads that run them, and one core is the
 // plain Predictor ray for ray.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
 
 #include "hrpp/tiled_predictor.h"
 #include "test_util.h"
@@ -103,6 +107,44 @@ TEST(TiledPredictor, RejectsBadOptions) {
   o.width = 10;
   o.threads = 0;
   EXPECT_THROW(TiledPredictor(f.bvh, f.cfg, o), std::invalid_argument);
+}
+
+// hrpp predict --cores/--threads, from a ray-stream file (the image width comes from its header).
+int tool(const std::string& args, std::string* out) {
+  FILE* p = popen((std::string(HRPP_TOOL) + " " + args + " 2>&1").c_str(), "r");
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out->append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream f(path);
+  nlohmann::json j = nlohmann::json::parse(f);
+  j.erase("seconds");
+  j.erase("threads");
+  j["workload"].erase("stream");
+  return j;
+}
+
+TEST(TiledPredictor, ToolGivesTheSameStatisticsForAnyThreadCount) {
+  const std::string dir = test::temp_dir("tiled_tool");
+  const std::string scene = std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb";
+  std::string out;
+  ASSERT_EQ(tool("trace " + scene + " --effects shadow,ao --res 192x144 --order morton --out " + dir +
+                     "/s.rays",
+                 &out),
+            0)
+      << out;
+  const std::string base = "predict " + scene + " --stream " + dir + "/s.rays --table 64x4 --cores 4";
+  ASSERT_EQ(tool(base + " --threads 1 --json " + dir + "/1.json", &out), 0) << out;
+  ASSERT_EQ(tool(base + " --threads 3 --json " + dir + "/3.json", &out), 0) << out;
+  const nlohmann::json one = read_json(dir + "/1.json"), three = read_json(dir + "/3.json");
+  EXPECT_EQ(one["cores"], 4);
+  EXPECT_GT(one["true_positive"].get<uint64_t>(), 0u);
+  EXPECT_EQ(one, three);
+  out.clear();
+  EXPECT_EQ(tool(base + " --threads 0", &out), 2) << out;
 }
 
 }  // namespace
