@@ -908,7 +908,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 30));
   app.add_option("--child", c.what, "(internal) run one measurement and print it as JSON");
   app.add_option("--stream", c.stream, "(internal)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // bad input: exit 2, as hrpp
+  }
   c.threads = d.threads;
   c.big_tris = d.big_tris;
   c.big_rays = d.big_rays;
