@@ -4,7 +4,7 @@
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
 # Other targets: setup, build, lint, check-embree, results, sim-long, synth, synth-sweep,
-# synth-check, sweep, report, clean.
+# synth-check, sweep, report, bench, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -24,7 +24,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean \
-  synth synth-sweep synth-check sweep report
+  synth synth-sweep synth-check sweep report bench
 
 all: build
 
@@ -167,6 +167,16 @@ report: sweep
 	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/grid.csv \
 	  $(OUT)/sweep/latency.csv $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots \
 	  --report $(OUT)/report.md --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
+
+# Benchmark (model/tools/bench.cc; not a test): our BVH build, traversal and predictor against
+# Embree on the same rays of every shared scene, the RTL co-simulation's throughput, peak memory,
+# and a 10-million-triangle procedural scene; out/bench.json and a table on stdout (docs/results.md,
+# "Performance"). About 15 minutes on 2 loaded cores. BENCH_ARGS passes options (--reps, --samples).
+BENCH_ARGS ?=
+bench: build
+	@mkdir -p $(OUT)
+	$(BUILD)/hrpp_bench --shared $(SHARED) --tb $(BUILD)/tb_hrpp --hrpp $(BUILD)/hrpp \
+	  --out $(OUT)/bench.json $(BENCH_ARGS)
 
 clean:
 	rm -rf $(BUILD) $(OUT)

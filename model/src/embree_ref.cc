@@ -12,6 +12,7 @@ struct EmbreeScene::Impl {
   RTCScene scene = nullptr;
   std::string config;
   bool robust = true;
+  bool high_quality = true;
   std::string error;
 };
 
@@ -37,10 +38,11 @@ void to_rtc(const Ray& r, RTCRay* out) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const std::vector<Triangle>& tris, const std::string& device_config,
-                         bool robust)
+                         bool robust, bool high_quality)
     : impl_(std::make_unique<Impl>()) {
   impl_->config = device_config;
   impl_->robust = robust;
+  impl_->high_quality = high_quality;
   impl_->device = rtcNewDevice(device_config.c_str());
   if (!impl_->device)
     throw std::runtime_error("Embree: cannot create device with config '" + device_config + "'");
@@ -48,7 +50,7 @@ EmbreeScene::EmbreeScene(const std::vector<Triangle>& tris, const std::string& d
   auto t0 = std::chrono::steady_clock::now();
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneFlags(impl_->scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  if (high_quality) rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * tris.size()));
@@ -109,7 +111,8 @@ std::string EmbreeScene::description() const {
   return "Embree " + std::to_string(ver / 10000) + "." + std::to_string(ver / 100 % 100) + "." +
          std::to_string(ver % 100) + " (" + impl_->config + ", " +
          (impl_->robust ? "RTC_SCENE_FLAG_ROBUST" : "default flags") +
-         ", RTC_BUILD_QUALITY_HIGH, rtcIntersect1/rtcOccluded1)";
+         (impl_->high_quality ? ", RTC_BUILD_QUALITY_HIGH" : ", default build quality (medium)") +
+         ", rtcIntersect1/rtcOccluded1)";
 }
 
 }  // namespace hrpp

@@ -1,21 +1,13 @@
 #include "hrpp/traverse.h"
 
+#include <emmintrin.h>
+
 #include <array>
+#include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 namespace hrpp {
-
-RayPre::RayPre(const Ray& r) : org(r.org), dir(r.dir) {
-  inv = Vec3(1.f / dir.x, 1.f / dir.y, 1.f / dir.z);  // +-0 gives +-inf
-  Vec3 a = glm::abs(dir);
-  kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-  kx = (kz + 1) % 3;
-  ky = (kx + 1) % 3;
-  if (dir[kz] < 0) std::swap(kx, ky);  // keep the winding
-  sx = dir[kx] / dir[kz];
-  sy = dir[ky] / dir[kz];
-  sz = 1.f / dir[kz];
-}
 
 bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
                    float* entry) {
@@ -33,8 +25,10 @@ bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, 
   return tmin <= tmax;
 }
 
-bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
-                        float* u, float* v) {
+namespace {
+// The body of intersect_triangle, inlined into the traversal loop.
+[[gnu::always_inline]] inline bool triangle_test(const RayPre& r, const Triangle& tri, float tmin,
+                                                 float tlimit, float* t, float* u, float* v) {
   const Vec3 A = tri.v0 - r.org, B = tri.v1 - r.org, C = tri.v2 - r.org;
   const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
@@ -60,14 +54,64 @@ bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float 
   *v = W * rcp;
   return true;
 }
+}  // namespace
+
+bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float tlimit, float* t,
+                        float* u, float* v) {
+  return triangle_test(r, tri, tmin, tlimit, t, u, v);
+}
 
 namespace {
 
 constexpr int kStackSize = 1024;
 
-template <bool kAnyHit>
-Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+// intersect_box for the traversal loop, on the three axes at once (SSE2, the x86-64 baseline).
+// The per-axis near/far choice is made once per ray (near plane = hi when inv < 0, else lo), and
+// every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
+// exactly `t0 > tmin ? t0 : tmin` (a NaN t0 leaves tmin) and minps(t1, tmax) is `t1 < tmax ? t1 :
+// tmax`. The fourth lane (the node's right_or_first / count bits) meets a NaN inverse direction,
+// so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
+// the order of the remaining max/min does not matter (up to the sign of a zero entry distance,
+// which compares equal). Hits, entry comparisons and counters are those of intersect_box.
+struct BoxRay {
+  __m128 org, inv, neg;
+  explicit BoxRay(const RayPre& r)
+      : org(_mm_setr_ps(r.org.x, r.org.y, r.org.z, 0.f)),
+        inv(_mm_setr_ps(r.inv.x, r.inv.y, r.inv.z, std::numeric_limits<float>::quiet_NaN())),
+        neg(_mm_cmplt_ps(inv, _mm_setzero_ps())) {}
+  bool hit(const BvhNode& n, float tmin, float tmax, float* entry) const {
+    static_assert(offsetof(BvhNode, lo) == 0 && offsetof(BvhNode, hi) == 16);
+    constexpr float kWiden = 1 + 2 * gamma(3);
+    const __m128 lo = _mm_loadu_ps(&n.lo.x), hi = _mm_loadu_ps(&n.hi.x);
+    const __m128 near = _mm_or_ps(_mm_and_ps(neg, hi), _mm_andnot_ps(neg, lo));
+    const __m128 far = _mm_or_ps(_mm_and_ps(neg, lo), _mm_andnot_ps(neg, hi));
+    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near, org), inv);
+    const __m128 t1 = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far, org), inv), _mm_set1_ps(kWiden));
+    __m128 a = _mm_max_ps(t0, _mm_set1_ps(tmin));
+    __m128 b = _mm_min_ps(t1, _mm_set1_ps(tmax));
+    a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
+    b = _mm_min_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1)));
+    a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+    b = _mm_min_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)));
+    *entry = _mm_cvtss_f32(a);
+    return _mm_comile_ss(a, b);
+  }
+};
+
+template <bool kAnyHit, bool kPath>
+Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req) {
   const RayPre r(ray);
+  const BoxRay br(r);
+  // Counted locally (in registers) and added to *counters on every return.
+  Counters local;
+  Counters* c = &local;
+  struct Flush {
+    Counters* from;
+    Counters* to;
+    ~Flush() { *to += *from; }
+  } flush{&local, counters};
+  const BvhNode* nodes = bvh.nodes.data();
+  const Triangle* tris = bvh.tris.data();
   Hit hit;
   float limit = next_float_up(ray.tfar);  // accept t <= tfar
   struct Entry {
@@ -79,18 +123,17 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
   uint32_t node = req.start_node;
   float entry;
   c->box_tests++;
-  if (!intersect_box(r, bvh.nodes[node].lo, bvh.nodes[node].hi, ray.tnear, limit, &entry))
-    return hit;
+  if (!br.hit(nodes[node], ray.tnear, limit, &entry)) return hit;
   while (true) {
-    const BvhNode& n = bvh.nodes[node];
-    if (req.path) req.path->push_back(node);
+    const BvhNode& n = nodes[node];
+    if constexpr (kPath) req.path->push_back(node);
     if (n.is_leaf()) {
       c->leaf_visits++;
       for (uint32_t i = n.right_or_first, e = n.right_or_first + n.count; i < e; ++i) {
         c->tri_tests++;
         if (bvh.tri_degenerate[i]) continue;
         float t, u, v;
-        if (intersect_triangle(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
+        if (triangle_test(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
           hit.t = limit = t;
           hit.u = u;
           hit.v = v;
@@ -104,8 +147,16 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
       c->box_tests += 2;
       const uint32_t l = node + 1, rr = n.right_or_first;
       float tl, tr;
-      const bool hl = intersect_box(r, bvh.nodes[l].lo, bvh.nodes[l].hi, ray.tnear, limit, &tl);
-      const bool hr = intersect_box(r, bvh.nodes[rr].lo, bvh.nodes[rr].hi, ray.tnear, limit, &tr);
+      const BvhNode &nl = nodes[l], &nr = nodes[rr];
+      // Whichever child is walked next needs its own right child (its left child is adjacent)
+      // or its triangles: start fetching them while the boxes are tested. Prefetches change no
+      // result.
+      __builtin_prefetch(nl.is_leaf() ? static_cast<const void*>(&tris[nl.right_or_first])
+                                      : static_cast<const void*>(&nodes[nl.right_or_first]));
+      __builtin_prefetch(nr.is_leaf() ? static_cast<const void*>(&tris[nr.right_or_first])
+                                      : static_cast<const void*>(&nodes[nr.right_or_first]));
+      const bool hl = br.hit(nl, ray.tnear, limit, &tl);
+      const bool hr = br.hit(nr, ray.tnear, limit, &tr);
       if (hl && hr) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (tr < tl) {
@@ -138,11 +189,11 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& re
 }  // namespace
 
 Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
-  return traverse<false>(bvh, ray, c, req);
+  return req.path ? traverse<false, true>(bvh, ray, c, req) : traverse<false, false>(bvh, ray, c, req);
 }
 
 Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
-  return traverse<true>(bvh, ray, c, req);
+  return req.path ? traverse<true, true>(bvh, ray, c, req) : traverse<true, false>(bvh, ray, c, req);
 }
 
 Hit brute_force_closest(const Bvh& bvh, const Ray& ray) {

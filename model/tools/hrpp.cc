@@ -15,6 +15,7 @@
 #include "hrpp/ray_stream.h"
 #include "hrpp/render.h"
 #include "hrpp/scene.h"
+#include "hrpp/tiled_predictor.h"
 #include "hrpp/workload.h"
 
 #include <array>
@@ -371,7 +372,8 @@ bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scen
   return true;
 }
 
-std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, const Predictor& pred) {
+std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, uint64_t table_bytes,
+                           uint64_t table_entries) {
   const HashConfig& h = cfg.hash;
   const TableConfig& t = cfg.table;
   char b[512];
@@ -386,8 +388,8 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, c
                 "entries used), go-up %u, mode %s",
                 a.hash.c_str(), hash.c_str(), h.key_bits(),
                 t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
-                t.nodes_per_entry, t.node_bits, (unsigned long long)pred.table().bytes(),
-                (unsigned long long)pred.table().entries_used(), cfg.go_up, a.mode.c_str());
+                t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
+                (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
   return b;
 }
 
@@ -402,6 +404,7 @@ struct PredictArgs {
   int pipeline_latency = -1;  // >= 0: update_delay from the RTL's cycle model
   bool measure_time = false;
   std::string spec_images;
+  uint32_t cores = 1, threads = 1, tile = 8;  // TiledPredictor (docs/predictor.md)
 };
 
 int cmd_predict(const PredictArgs& a) {
@@ -437,9 +440,28 @@ int cmd_predict(const PredictArgs& a) {
     workload = workload_json(scene, wo);
   }
 
-  Predictor pred(bvh, cfg);
+  TiledOptions to;
+  to.cores = a.cores;
+  to.threads = a.threads;
+  to.tile = a.tile;
+  if (stream && workload.contains("resolution") && workload["resolution"].is_array())
+    to.width = workload["resolution"][0].get<uint32_t>();
+  else if (!stream)
+    to.width = static_cast<uint32_t>(wo.width);
+  if (const std::string e = to.validate(); !e.empty()) {
+    std::fprintf(stderr, "hrpp predict: --cores/--threads: %s%s\n", e.c_str(),
+                 stream ? " (the stream's header records no resolution)" : "");
+    return 2;
+  }
+  TiledPredictor pred(bvh, cfg, to);
+  if (!a.spec_images.empty() && a.threads != 1) {
+    std::fprintf(stderr, "hrpp predict: --spec-images needs --threads 1\n");
+    return 2;
+  }
+  // The speculative image needs each ray's result: generated workloads, one thread.
   std::unique_ptr<SpecImage> spec_image;
-  if (!stream) spec_image = std::make_unique<SpecImage>(scene, wo.width, wo.height, wo.spp);
+  if (!stream && a.threads == 1)
+    spec_image = std::make_unique<SpecImage>(scene, wo.width, wo.height, wo.spp);
   const uint64_t expected = stream ? stream->header().ray_count
                                    : uint64_t(wo.width) * wo.height * wo.spp;
   const char* unit = stream ? "stream rays" : "camera samples";
@@ -447,15 +469,15 @@ int cmd_predict(const PredictArgs& a) {
   auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
   auto process = [&](const RayRecord& r) {
-    const RayResult res = pred.process(r);
-    if (spec_image) spec_image->add(r, res);
+    const std::optional<RayResult> res = pred.push(r);
+    if (spec_image && res) spec_image->add(r, *res);
     if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFFF)) return;
     auto now = std::chrono::steady_clock::now();
     if (now - last < std::chrono::seconds(2)) return;
     last = now;
     double secs = std::chrono::duration<double>(now - t0).count();
-    std::fprintf(stderr, "predict: %5.1f%% of %llu %s, %.2f M rays/s\n", 100.0 * done / expected,
-                 (unsigned long long)expected, unit, pred.total().rays / secs / 1e6);
+    std::fprintf(stderr, "predict: %5.1f%% of %llu %s, %.2f M %s/s\n", 100.0 * done / expected,
+                 (unsigned long long)expected, unit, done / secs / 1e6, unit);
   };
   if (stream) {
     RayRecord r;
@@ -463,6 +485,7 @@ int cmd_predict(const PredictArgs& a) {
   } else {
     generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { process(r); });
   }
+  pred.finish();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json j = pred.to_json();
   j["scene"] = scene.path;
@@ -471,6 +494,7 @@ int cmd_predict(const PredictArgs& a) {
   if (workload.contains("spp")) j["spp"] = workload["spp"];
   if (workload.contains("seed")) j["seed"] = workload["seed"];
   j["seconds"] = secs;
+  j["threads"] = a.threads;
   // Cost of accuracy (docs/cost_model.md): cost-model cycles, CPU time, speculative image error.
   const CostModel cost;
   j["config"]["update_delay"] = cfg.update_delay;
@@ -496,7 +520,11 @@ int cmd_predict(const PredictArgs& a) {
     std::printf("predict %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
     print_effects(scene, wo, a.w.effects);
   }
-  std::printf("  %s\n", predictor_line(a.p, cfg, pred).c_str());
+  std::printf("  %s\n",
+              predictor_line(a.p, cfg, pred.table_bytes(), pred.table_entries()).c_str());
+  if (a.cores > 1)
+    std::printf("  %u cores, each with its own table (%ux%u-pixel tiles, tile i on core i mod %u), "
+                "%u threads\n", a.cores, a.tile, a.tile, a.cores, a.threads);
   std::printf("  %-10s %10s %8s %9s %9s %10s %10s %10s %10s %8s\n", "kind", "rays", "skipped",
               "precision", "recall", "TP", "FP", "FN", "TN", "wrong");
   auto row = [](const char* name, const PredictStats& s) {
@@ -692,6 +720,18 @@ int main(int argc, char** argv) {
                  "write DIR/spec_compare.png: exact | predictor's answers | difference "
                  "(primary rays)")
       ->excludes(stream_opt);
+
+  pr->add_option("--cores", pa.cores,
+                 "predictor cores, each with its own table; image tile i goes to core i mod "
+                 "cores (the statistics depend on it, not on --threads)")
+      ->check(CLI::Range(1u, 4096u))
+      ->capture_default_str();
+  pr->add_option("--threads", pa.threads, "worker threads that run the cores")
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+  pr->add_option("--core-tile", pa.tile, "edge in pixels of the image tiles assigned to cores")
+      ->check(CLI::Range(1u, 65536u))
+      ->capture_default_str();
 
   // sweep: the Python driver (model/tools/sweep.py) in the project's venv.
   std::vector<std::string> sweep_args;

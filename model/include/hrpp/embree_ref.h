@@ -18,8 +18,10 @@ constexpr const char* kEmbreeReferenceConfig = "threads=1,isa=sse4.2";
 
 class EmbreeScene {
  public:
-  /// robust: RTC_SCENE_FLAG_ROBUST (watertight, no fast-path shortcuts). Throws on error.
-  EmbreeScene(const std::vector<Triangle>& tris, const std::string& device_config, bool robust);
+  /// robust: RTC_SCENE_FLAG_ROBUST (watertight, no fast-path shortcuts); high_quality:
+  /// RTC_BUILD_QUALITY_HIGH, else Embree's default (medium). Throws on error.
+  EmbreeScene(const std::vector<Triangle>& tris, const std::string& device_config, bool robust,
+              bool high_quality = true);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "hrpp/bvh.h"
@@ -51,7 +52,17 @@ struct RayPre {
   Vec3 org, dir, inv;
   int kx, ky, kz;
   float sx, sy, sz;
-  explicit RayPre(const Ray& r);
+  explicit RayPre(const Ray& r) : org(r.org), dir(r.dir) {
+    inv = Vec3(1.f / dir.x, 1.f / dir.y, 1.f / dir.z);  // +-0 gives +-inf
+    const Vec3 a = glm::abs(dir);
+    kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (dir[kz] < 0) std::swap(kx, ky);  // keep the winding
+    sx = dir[kx] / dir[kz];
+    sy = dir[ky] / dir[kz];
+    sz = 1.f / dir[kz];
+  }
 };
 
 /// Conservative slab test of the interval [tmin, tmax]; on a hit *entry is the entry distance.
