@@ -515,12 +515,24 @@ Scene load_scene_bytes(const unsigned char* data, size_t size, const std::string
   return s;
 }
 
+/// The scene must be traceable in float32: its diagonal and its camera finite.
+void check_extent(const Scene& s) {
+  const Camera& c = s.camera;
+  auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!std::isfinite(s.bounds.diagonal()) || !finite(c.eye) || !finite(c.target))
+    fail(s.path, "coordinates too large: the scene's bounds or its camera overflow float32 "
+                 "(bounds (" + std::to_string(s.bounds.lo.x) + ", " + std::to_string(s.bounds.lo.y) +
+                 ", " + std::to_string(s.bounds.lo.z) + ") to (" + std::to_string(s.bounds.hi.x) +
+                 ", " + std::to_string(s.bounds.hi.y) + ", " + std::to_string(s.bounds.hi.z) + "))");
+}
+
 }  // namespace
 
 Scene load_scene_from_memory(const unsigned char* data, size_t size, const std::string& name) {
   if (size > 0xFFFFFFFFu) fail(name, "larger than 4 GB");
   Scene s = load_scene_bytes(data, size, name, "", false);
   if (s.camera.source.empty()) s.camera = default_camera(s.bounds);
+  check_extent(s);
   return s;
 }
 
@@ -543,6 +555,7 @@ Scene load_scene(const std::string& path) {
     fs::path sidecar = fs::path(path).parent_path() / (s.name + ".camera.json");
     s.camera = fs::exists(sidecar) ? load_camera_sidecar(sidecar.string()) : default_camera(s.bounds);
   }
+  check_extent(s);
   return s;
 }
 
