@@ -83,15 +83,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const Hit a = closest_hit(bvh, r, &c);
     const Hit b = brute_force_closest(bvh, r);
     // The BVH runs the same triangle test as the brute force, so it can never report a closer
-    // hit; it may pass over a closer one only within float rounding: a box entry distance
-    // rounded up past a triangle's t (fuzz/README.md, "Findings").
+    // hit; it may pass over a closer one only within float rounding (a box entry distance
+    // rounded up past a triangle's t, fuzz/README.md "Findings"), and miss one only where the
+    // referee shows a graze (the criterion of the Embree cross-check).
     auto within = [&](double t_near, double t_far, uint32_t prim) {
       return t_far - t_near <= t_tolerance(r, tris[prim], t_near);
     };
     if (a.hit() && !b.hit()) fuzz::violated("closest_hit hits, brute force misses: " + describe(r));
-    if (!a.hit() && b.hit() && !within(b.t, r.tfar, b.prim))
+    if (!a.hit() && b.hit() && !referee_graze(r, tris[b.prim]))
       fuzz::violated("closest_hit misses, brute force hits at t " + std::to_string(b.t) +
-                     ", not within the tolerance of tfar: " + describe(r));
+                     ", not a graze: " + describe(r));
     if (a.hit()) {
       if (a.t < b.t) fuzz::violated("closest_hit t below brute force's: " + describe(r));
       if (a.t != b.t && !within(b.t, a.t, b.prim))
@@ -108,8 +109,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const Hit any = any_hit(bvh, r, &c);
     if (any.hit() && !b.hit()) fuzz::violated("any_hit hits, brute force misses: " + describe(r));
-    if (!any.hit() && b.hit() && !within(b.t, r.tfar, b.prim))
-      fuzz::violated("any_hit misses a hit well before tfar: " + describe(r));
+    if (!any.hit() && b.hit() && !referee_graze(r, tris[b.prim]))
+      fuzz::violated("any_hit misses brute force's hit at t " + std::to_string(b.t) +
+                     ", not a graze: " + describe(r));
 
     // The double-precision referee.
     if (a.hit()) {
