@@ -4,7 +4,7 @@
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
 # Other targets: setup, build, lint, check-embree, results, sim-long, synth, synth-sweep,
-# synth-check, sweep, report, bench, clean.
+# synth-check, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -19,12 +19,12 @@ VENV       ?= .venv
 # Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
   libembree-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev nlohmann-json3-dev \
-  libstb-dev verilator yosys
+  libstb-dev verilator yosys clang libclang-rt-14-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean \
-  synth synth-sweep synth-check sweep report bench
+  synth synth-sweep synth-check sweep report bench test-sanitize fuzz
 
 all: build
 
@@ -178,5 +178,29 @@ bench: build
 	$(BUILD)/hrpp_bench --shared $(SHARED) --tb $(BUILD)/tb_hrpp --hrpp $(BUILD)/hrpp \
 	  --out $(OUT)/bench.json $(BENCH_ARGS)
 
+# ---------------------------------------------------------------------------------------------
+# Reliability (docs/results.md, "Reliability"). test-sanitize: the C++ test suite built with
+# AddressSanitizer and UndefinedBehaviorSanitizer (gcc; any report fails the test) in
+# $(SAN_BUILD). Left out: the Verilator testbenches (HRPP_TB=OFF: instrumenting the verilated
+# models would take most of the time budget) and the fuzz smoke runs (their build is already
+# instrumented); the exhaustive H8 hash sweeps check every 257th of the 2^32 patterns.
+# fuzz: each libFuzzer target (fuzz/README.md) for FUZZ_SECONDS; corpora, crashes and
+# summary.json in $(OUT)/fuzz.
+# ---------------------------------------------------------------------------------------------
+SAN_BUILD    ?= build-sanitize
+SAN_FLAGS    := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_SECONDS ?= 60
+
+test-sanitize: setup
+	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DHRPP_SHARED_DIR=$(abspath $(SHARED)) -DHRPP_TB=OFF -DHRPP_FUZZ=OFF \
+	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
+	cmake --build $(SAN_BUILD) -j $(JOBS)
+	cd $(SAN_BUILD) && HRPP_H8_STRIDE=257 ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
+fuzz: build
+	python3 fuzz/run.py --bin-dir $(BUILD)/fuzz --seconds $(FUZZ_SECONDS) --out $(OUT)/fuzz
+
 clean:
-	rm -rf $(BUILD) $(OUT)
+	rm -rf $(BUILD) $(SAN_BUILD) $(OUT)

@@ -11,6 +11,15 @@
 namespace hrpp {
 namespace {
 
+/// SAH bin of a centroid offset `d` from the centroid box's lower corner, for `scale` = bins per
+/// unit. Clamped before the conversion to an integer: with a tiny extent (denormal centroids)
+/// scale is +inf, d * scale inf or NaN (0 * inf), and converting those is undefined behaviour
+/// (found by fuzz_traverse: fuzz/regressions/traverse/). NaN goes to bin 0.
+uint32_t bin_of(float d, float scale, uint32_t nbins) {
+  const float f = d * scale;
+  return f >= float(nbins - 1) ? nbins - 1 : f > 0 ? static_cast<uint32_t>(f) : 0;
+}
+
 struct PrimRef {
   Aabb box;
   Vec3 centroid;
@@ -88,8 +97,7 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
       for (auto& b : bins) b = Bin{};
       const float scale = nbins * (1 - 1e-6f) / cext[axis];
       for (uint32_t i = task.begin; i < task.end; ++i) {
-        uint32_t b = std::min<uint32_t>(
-            nbins - 1, static_cast<uint32_t>((refs[i].centroid[axis] - cbox.lo[axis]) * scale));
+        const uint32_t b = bin_of(refs[i].centroid[axis] - cbox.lo[axis], scale, nbins);
         bins[b].box.grow(refs[i].box);
         bins[b].count++;
       }
@@ -130,11 +138,8 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
       const float scale = nbins * (1 - 1e-6f) / cext[best_axis];
       auto it = std::partition(refs.begin() + task.begin, refs.begin() + task.end,
                                [&](const PrimRef& r) {
-                                 uint32_t b = std::min<uint32_t>(
-                                     nbins - 1,
-                                     static_cast<uint32_t>(
-                                         (r.centroid[best_axis] - cbox.lo[best_axis]) * scale));
-                                 return b <= best_bin;
+                                 return bin_of(r.centroid[best_axis] - cbox.lo[best_axis],
+                                               scale, nbins) <= best_bin;
                                });
       mid = static_cast<uint32_t>(it - refs.begin());
     } else {

@@ -51,6 +51,14 @@ double t_tolerance(const Ray& r, const Triangle& tri, double t) {
   return referee_delta(r, tri, t) / (glm::length(DVec3(r.dir)) * c);
 }
 
+bool referee_graze(const Ray& ray, const Triangle& tri) {
+  const RefereeHit r = referee_intersect(ray, tri);
+  const double delta = referee_delta(ray, tri, r.t);
+  if (std::fabs(r.edge_dist) * r.cos_theta <= delta) return true;
+  const double along = glm::length(DVec3(ray.dir)) * r.cos_theta;
+  return std::fabs(r.t - ray.tfar) * along <= delta || std::fabs(r.t - ray.tnear) * along <= delta;
+}
+
 CrossCheckCounts& CrossCheckCounts::operator+=(const CrossCheckCounts& o) {
   rays += o.rays;
   invalid_rays += o.invalid_rays;
@@ -176,12 +184,7 @@ class Comparer {
   /// is correct. Distances in the plane scale with cos(theta): at grazing incidence a small
   /// perturbation of the ray moves the hit point far.
   bool genuine_graze(const Ray& ray, uint32_t prim) const {
-    const Triangle& tri = scene_.triangles[prim];
-    const RefereeHit r = referee_intersect(ray, tri);
-    const double delta = referee_delta(ray, tri, r.t);
-    if (std::fabs(r.edge_dist) * r.cos_theta <= delta) return true;
-    const double along = glm::length(DVec3(ray.dir)) * r.cos_theta;
-    return std::fabs(r.t - ray.tfar) * along <= delta || std::fabs(r.t - ray.tnear) * along <= delta;
+    return referee_graze(ray, scene_.triangles[prim]);
   }
   /// Inside the triangle, or outside it by no more than the perturbation.
   bool near_or_inside(const Ray& ray, uint32_t prim) const {

@@ -1,6 +1,8 @@
 #include "hrpp/render.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -65,9 +67,37 @@ int text_width(const std::string& s) {
   return stb_easy_font_width(txt.data());
 }
 
+/// Renames PATH.tmp to PATH (files are written to a temporary name and renamed when complete,
+/// so a killed run never leaves a half-written file that looks complete).
+void commit_tmp(const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string e = std::strerror(errno);
+    std::remove(tmp.c_str());
+    throw RenderError(path + ": cannot rename " + tmp + " to it: " + e);
+  }
+}
+
 void write_png(const std::string& path, const Image& img) {
-  if (!stbi_write_png(path.c_str(), img.width, img.height, 3, img.rgb.data(), img.width * 3))
-    throw RenderError(path + ": cannot write the PNG file");
+  // Encoded in memory and written here, because stbi_write_png ignores write errors.
+  std::vector<unsigned char> png;
+  auto append = [](void* ctx, void* data, int size) {
+    auto* v = static_cast<std::vector<unsigned char>*>(ctx);
+    v->insert(v->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, img.width, img.height, 3, img.rgb.data(),
+                              img.width * 3))
+    throw RenderError(path + ": cannot encode the PNG image");
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw RenderError(tmp + ": cannot open for writing: " + std::strerror(errno));
+  const bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
+  const std::string e = std::strerror(errno);
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(tmp.c_str());
+    throw RenderError(tmp + ": write error: " + (ok ? std::string(std::strerror(errno)) : e));
+  }
+  commit_tmp(path);
 }
 
 float srgb_encode(float l) {
@@ -317,10 +347,15 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
                  {"by_kind", pj["by_kind"]}};
   const std::string jpath = (fs::path(dir) / "render.json").string();
   {
-    std::ofstream f(jpath);
+    std::ofstream f(jpath + ".tmp");
     f << out.summary.dump(2) << "\n";
-    if (!f) throw RenderError(jpath + ": cannot write");
+    f.close();
+    if (!f) {
+      std::remove((jpath + ".tmp").c_str());
+      throw RenderError(jpath + ": cannot write");
+    }
   }
+  commit_tmp(jpath);
   out.files.push_back(jpath);
   return out;
 }

@@ -4,6 +4,7 @@
 
 #include <tiny_gltf.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -149,8 +150,15 @@ class Loader {
     if (ni < 0 || ni >= static_cast<int>(m_.nodes.size()))
       fail(path_, "node index " + std::to_string(ni) + " out of range (" +
                       std::to_string(m_.nodes.size()) + " nodes)");
-    if (depth > 256 || on_path_.count(ni))
+    if (on_path_.count(ni))
       fail(path_, "node " + std::to_string(ni) + " is part of a cycle in the node hierarchy");
+    // glTF node hierarchies are trees: a node reached twice would be instanced twice, and
+    // chains of shared children would make the walk exponential (a hang on a small file).
+    if (!visited_.insert(ni).second)
+      fail(path_, "node " + std::to_string(ni) +
+                      " is reached more than once (glTF node hierarchies must be trees)");
+    if (depth > 256)
+      fail(path_, "node " + std::to_string(ni) + ": the node hierarchy is deeper than 256 levels");
     on_path_.insert(ni);
     const auto& n = m_.nodes[ni];
     if (!n.matrix.empty() && n.matrix.size() != 16)
@@ -358,6 +366,7 @@ class Loader {
   const tinygltf::Model& m_;
   Scene& s_;
   std::set<int> on_path_;
+  std::set<int> visited_;
   int n_cameras_seen_ = 0;
   int default_material_ = -1;
 };
@@ -447,23 +456,53 @@ Camera default_camera(const Aabb& b) {
   return c;
 }
 
-Scene load_scene(const std::string& path) {
-  if (!fs::exists(path)) fail(path, "no such file");
-  if (fs::is_directory(path)) fail(path, "is a directory, not a scene file");
-  std::ifstream probe(path, std::ios::binary);
-  if (!probe) fail(path, "cannot open file");
-  char magic[4] = {0, 0, 0, 0};
-  probe.read(magic, 4);
-  bool binary = std::string(magic, 4) == "glTF";
-  std::string ext = fs::path(path).extension().string();
-  if (ext == ".glb" && !binary) fail(path, "not a binary glTF file (bad magic)");
+namespace {
 
+/// Reads an external buffer file: only regular files (a hostile URI naming a FIFO or a device
+/// such as /dev/stdin or /dev/zero would block or never end).
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err,
+                       const std::string& filepath, void* allow) {
+  if (!allow) {
+    if (err) *err += "external file '" + filepath + "' not read (scene loaded from memory)\n";
+    return false;
+  }
+  std::error_code ec;
+  if (!fs::is_regular_file(filepath, ec)) {
+    if (err) *err += "'" + filepath + "' is not a regular file\n";
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, filepath, nullptr);
+}
+
+/// Whether an external file exists, without opening it (tinygltf's own check fopen()s the file,
+/// which blocks forever on a FIFO).
+bool file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return fs::exists(path, ec);
+}
+
+/// Parses glTF bytes (binary when they start with "glTF", else JSON); `path` names them in
+/// messages, `base_dir` resolves external buffer URIs.
+Scene load_scene_bytes(const unsigned char* data, size_t size, const std::string& path,
+                       const std::string& base_dir, bool read_files) {
+  const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
+  if (binary && size >= 8) {  // tinygltf would also take a glTF 1.0 binary (version 1)
+    const uint32_t version = data[4] | data[5] << 8 | data[6] << 16 | uint32_t{data[7]} << 24;
+    if (version != 2)
+      fail(path, "binary glTF version " + std::to_string(version) + " is not supported (only 2)");
+  }
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
+  static int allow_token;
+  loader.SetFsCallbacks({&file_exists, &tinygltf::ExpandFilePath, &read_regular_file,
+                         &tinygltf::WriteWholeFile, read_files ? &allow_token : nullptr});
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                                 static_cast<unsigned int>(size), base_dir)
+                   : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                reinterpret_cast<const char*>(data),
+                                                static_cast<unsigned int>(size), base_dir);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     fail(path, "invalid glTF: " + (err.empty() ? std::string("tinygltf could not parse it") : err));
@@ -473,11 +512,50 @@ Scene load_scene(const std::string& path) {
   s.path = path;
   s.name = fs::path(path).stem().string();
   Loader(path, model, s).run();
+  return s;
+}
 
+/// The scene must be traceable in float32: its diagonal and its camera finite.
+void check_extent(const Scene& s) {
+  const Camera& c = s.camera;
+  auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!std::isfinite(s.bounds.diagonal()) || !finite(c.eye) || !finite(c.target))
+    fail(s.path, "coordinates too large: the scene's bounds or its camera overflow float32 "
+                 "(bounds (" + std::to_string(s.bounds.lo.x) + ", " + std::to_string(s.bounds.lo.y) +
+                 ", " + std::to_string(s.bounds.lo.z) + ") to (" + std::to_string(s.bounds.hi.x) +
+                 ", " + std::to_string(s.bounds.hi.y) + ", " + std::to_string(s.bounds.hi.z) + "))");
+}
+
+}  // namespace
+
+Scene load_scene_from_memory(const unsigned char* data, size_t size, const std::string& name) {
+  if (size > 0xFFFFFFFFu) fail(name, "larger than 4 GB");
+  Scene s = load_scene_bytes(data, size, name, "", false);
+  if (s.camera.source.empty()) s.camera = default_camera(s.bounds);
+  check_extent(s);
+  return s;
+}
+
+Scene load_scene(const std::string& path) {
+  if (!fs::exists(path)) fail(path, "no such file");
+  if (fs::is_directory(path)) fail(path, "is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open file");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) fail(path, "read error");
+  if (bytes.size() > 0xFFFFFFFFu) fail(path, "larger than 4 GB");
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (fs::path(path).extension() == ".glb" && !binary)
+    fail(path, "not a binary glTF file (bad magic)");
+
+  Scene s = load_scene_bytes(bytes.data(), bytes.size(), path,
+                             fs::path(path).parent_path().string(), true);
   if (s.camera.source.empty()) {
     fs::path sidecar = fs::path(path).parent_path() / (s.name + ".camera.json");
     s.camera = fs::exists(sidecar) ? load_camera_sidecar(sidecar.string()) : default_camera(s.bounds);
   }
+  check_extent(s);
   return s;
 }
 

@@ -21,6 +21,7 @@
 #include <array>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <unistd.h>
@@ -46,13 +47,16 @@ bool write_json_file(const std::string& path, const nlohmann::json& j) {
       return false;
     }
     out << j.dump(2) << "\n";
+    out.close();  // the last buffer is written here: its errors count too
     if (!out) {
       std::fprintf(stderr, "hrpp: error writing %s\n", tmp.c_str());
+      std::remove(tmp.c_str());
       return false;
     }
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     std::fprintf(stderr, "hrpp: cannot rename %s to %s\n", tmp.c_str(), path.c_str());
+    std::remove(tmp.c_str());
     return false;
   }
   return true;
@@ -238,6 +242,11 @@ bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
   if (!a.res.empty() && !parse_wxh(a.res, &w, &h)) {
     std::fprintf(stderr, "hrpp %s: --res must be WIDTHxHEIGHT (e.g. 256x256), got '%s'\n", cmd,
                  a.res.c_str());
+    return false;
+  }
+  if (!std::isfinite(a.ao_distance)) {  // CLI11's NonNegativeNumber lets NaN through
+    std::fprintf(stderr, "hrpp %s: --ao-distance must be a finite number >= 0, got %g\n", cmd,
+                 a.ao_distance);
     return false;
   }
   return true;

@@ -37,6 +37,11 @@ double referee_delta(const Ray& r, const Triangle& tri, double t);
 /// the hit along the ray by delta / (|d| cos theta) (ill-conditioned at grazing incidence).
 double t_tolerance(const Ray& r, const Triangle& tri, double t);
 
+/// True when whether the ray hits the triangle changes within the perturbation of
+/// referee_delta: the ray passes within it of an edge, or the hit lies within it of tnear or tfar.
+/// Two float tracers may disagree on such a hit (a genuine graze).
+bool referee_graze(const Ray& ray, const Triangle& tri);
+
 struct CrossCheckCounts {
   uint64_t rays = 0;            // generated
   uint64_t invalid_rays = 0;    // rejected by validate_ray, never traced nor sent to Embree

@@ -60,7 +60,12 @@ struct Aabb {
     Vec3 e = extent();
     return e.x * e.y + e.y * e.z + e.z * e.x;
   }
-  float diagonal() const { return glm::length(extent()); }
+  /// Computed in double (squaring extents above 1.8e19 overflows float); +inf only when the
+  /// diagonal itself is beyond float's range.
+  float diagonal() const {
+    const Vec3 e = extent();
+    return static_cast<float>(std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z));
+  }
   bool contains(const Aabb& b) const {
     return b.lo.x >= lo.x && b.lo.y >= lo.y && b.lo.z >= lo.z && b.hi.x <= hi.x &&
            b.hi.y <= hi.y && b.hi.z <= hi.z;

@@ -84,6 +84,11 @@ struct Scene {
 /// Throws SceneError naming the file and the problem.
 Scene load_scene(const std::string& path);
 
+/// Loads glTF bytes held in memory (binary when they start with "glTF", else JSON; external
+/// buffer URIs are not resolved, and the camera is the file's or a computed default). `name`
+/// names the bytes in messages. Throws SceneError. Used by the scene-loader fuzz target.
+Scene load_scene_from_memory(const unsigned char* data, size_t size, const std::string& name);
+
 /// Reads a camera sidecar (format in ../shared/scenes/SOURCES.md). Throws SceneError.
 Camera load_camera_sidecar(const std::string& path);
 
