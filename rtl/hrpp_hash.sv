@@ -1,9 +1,10 @@
 `default_nettype none
 // HRPP hash unit: the key of a ray from the float32 bit patterns of its origin and direction,
 // exactly as docs/hash.md specifies (and model/src/hash.cc computes). Pipelined: key_o and
-// invalid_o belong to the inputs of HashLatency (2) cycles earlier.
-//   stage 1: canonicalize; shift amounts and trailing-zero counts of the significands
-//   stage 2: shifts (the sticky bit is "trailing zeros < shift"), magnitudes
+// invalid_o belong to the inputs of HashLatency (3) cycles earlier.
+//   stage 1 : canonicalize; shift amounts and trailing-zero counts of the significands
+//   stage 1b: shift direction, saturated shift amount
+//   stage 2 : shifts (the sticky bit is "trailing zeros < shift"), magnitudes
 //   output : two's-complement negation, origin/direction combination (combinational)
 // Rays with an infinite or NaN component are flagged invalid_o (never looked up or inserted).
 module hrpp_hash
@@ -69,6 +70,7 @@ module hrpp_hash
     logic [23:0]     mant;
     logic [4:0]      tz;     // trailing zeros of mant
     logic signed [10:0] sh;  // origin: e - 150 - k (a left shift if >= 0); direction: right shift
+    logic signed [10:0] rsh; // the right shift: origin 150 + k - e (= -sh); direction sh
   } s1_t;
 
   s1_t [5:0] s1_d, s1_q;
@@ -99,6 +101,7 @@ module hrpp_hash
           s1_d[i].field = c[31] ? MaxF'(1) << (OriginBits - 1) : MaxF'((1 << OriginBits) - 1);
         end
         s1_d[i].sh = 11'(signed'({3'b0, b[30:23]})) - 11'sd150 - 11'(cell_exp_i);
+        s1_d[i].rsh = 11'sd150 + 11'(cell_exp_i) - 11'(signed'({3'b0, b[30:23]}));
       end else begin
         if (c[30:23] >= 8'd127) begin  // |d| >= 1, infinities, NaN: saturate
           s1_d[i].fixed = 1'b1;
@@ -106,6 +109,7 @@ module hrpp_hash
         end
         // Right shift of the significand for floor(d * 2^(DirBits-1)); >= 9 since e <= 126.
         s1_d[i].sh = 11'sd150 - 11'(signed'({3'b0, b[30:23]})) - 11'(DirBits - 1);
+        s1_d[i].rsh = s1_d[i].sh;
       end
     end
   end
@@ -124,40 +128,68 @@ module hrpp_hash
   s2_t [5:0] s2_d, s2_q;
   logic      inv2_q;
 
+  // Stage 1b: the shift of each component (direction and saturated amount), registered so that
+  // stage 2 is only the shifter and the sticky compare.
+  typedef struct packed {
+    logic            fixed;
+    logic [MaxF-1:0] field;
+    logic            sign;
+    logic [23:0]     mant;
+    logic [4:0]      tz;
+    logic            left;  // origin with sh >= 0: left shift by lsh (zero if lsh >= 16)
+    logic            lok;   // sh < 16
+    logic [3:0]      lsh;
+    logic [5:0]      n;     // right shift, saturated at 24
+  } s1b_t;
+
+  s1b_t [5:0] s1b_d, s1b_q;
+  logic       inv1b_q;
+
   always_comb begin
     for (int i = 0; i < 6; i++) begin
-      logic [5:0] n;
+      s1b_d[i] = '0;
+      s1b_d[i].fixed = s1_q[i].fixed;
+      s1b_d[i].field = s1_q[i].field;
+      s1b_d[i].sign  = s1_q[i].sign;
+      s1b_d[i].mant  = s1_q[i].mant;
+      s1b_d[i].tz    = s1_q[i].tz;
+      s1b_d[i].left  = i < 3 && s1_q[i].sh >= 0;
+      s1b_d[i].lok   = s1_q[i].sh < 11'sd16;
+      s1b_d[i].lsh   = s1_q[i].sh[3:0];
+      s1b_d[i].n     = (s1_q[i].rsh >= 11'sd24) ? 6'd24 : 6'(s1_q[i].rsh);
+    end
+  end
+
+  always_comb begin
+    for (int i = 0; i < 6; i++) begin
       s2_d[i] = '0;
-      s2_d[i].fixed = s1_q[i].fixed;
-      s2_d[i].field = s1_q[i].field;
-      s2_d[i].neg = s1_q[i].sign;
-      if (i < 3) begin
-        if (s1_q[i].sh >= 0) begin  // |x| / 2^k is an integer: left shift
-          if (s1_q[i].sh < 11'sd16) s2_d[i].mag = 16'(s1_q[i].mant << s1_q[i].sh[3:0]);
-        end else begin               // right shift by n = -sh, fraction bits shifted out
-          n = (s1_q[i].sh <= -11'sd24) ? 6'd24 : 6'(-s1_q[i].sh);
-          s2_d[i].mag = 16'(s1_q[i].mant >> n);
-          s2_d[i].frac = {1'b0, s1_q[i].tz} < n;
-        end
-      end else begin
-        n = (s1_q[i].sh >= 11'sd24) ? 6'd24 : 6'(s1_q[i].sh);
-        s2_d[i].mag = 16'(s1_q[i].mant >> n);
-        s2_d[i].frac = {1'b0, s1_q[i].tz} < n;
+      s2_d[i].fixed = s1b_q[i].fixed;
+      s2_d[i].field = s1b_q[i].field;
+      s2_d[i].neg = s1b_q[i].sign;
+      if (s1b_q[i].left) begin  // |x| / 2^k is an integer: left shift
+        if (s1b_q[i].lok) s2_d[i].mag = 16'(s1b_q[i].mant << s1b_q[i].lsh);
+      end else begin            // right shift by n, fraction bits shifted out
+        s2_d[i].mag = 16'(s1b_q[i].mant >> s1b_q[i].n);
+        s2_d[i].frac = {1'b0, s1b_q[i].tz} < s1b_q[i].n;
       end
     end
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      s1_q   <= '0;
-      inv1_q <= 1'b0;
-      s2_q   <= '0;
-      inv2_q <= 1'b0;
+      s1_q    <= '0;
+      inv1_q  <= 1'b0;
+      s1b_q   <= '0;
+      inv1b_q <= 1'b0;
+      s2_q    <= '0;
+      inv2_q  <= 1'b0;
     end else begin
-      s1_q   <= s1_d;
-      inv1_q <= inv1_d;
-      s2_q   <= s2_d;
-      inv2_q <= inv1_q;
+      s1_q    <= s1_d;
+      inv1_q  <= inv1_d;
+      s1b_q   <= s1b_d;
+      inv1b_q <= inv1_q;
+      s2_q    <= s2_d;
+      inv2_q  <= inv1b_q;
     end
   end
 

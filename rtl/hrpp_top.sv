@@ -102,7 +102,7 @@ module hrpp_top
   end
 
   // ---------------------------------------------------------------------------------------------
-  // Hash (two pipeline stages; id and query type travel beside it), then B: key registers
+  // Hash (three pipeline stages; id and query type travel beside it), then B: key registers
   // ---------------------------------------------------------------------------------------------
   logic [KeyWidth-1:0] key;
   logic                key_invalid;
@@ -115,17 +115,19 @@ module hrpp_top
     .key_o(key), .invalid_o(key_invalid)
   );
 
-  logic [1:0]              h_valid_q, h_any_hit_q;
-  logic [1:0][IdWidth-1:0] h_id_q;
+  localparam int unsigned HashLatency = 3;  // hrpp_hash's pipeline stages
+  logic [HashLatency-1:0]              h_valid_q, h_any_hit_q;
+  logic [HashLatency-1:0][IdWidth-1:0] h_id_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       h_valid_q   <= '0;
       h_any_hit_q <= '0;
       h_id_q      <= '0;
     end else begin
-      h_valid_q   <= {h_valid_q[0], a_valid_q};
-      h_any_hit_q <= {h_any_hit_q[0], kind_is_any_hit(a_kind_q) || cfg_mode_i == ModeAnyHit};
-      h_id_q      <= {h_id_q[0], a_id_q};
+      h_valid_q   <= {h_valid_q[HashLatency-2:0], a_valid_q};
+      h_any_hit_q <= {h_any_hit_q[HashLatency-2:0],
+                      kind_is_any_hit(a_kind_q) || cfg_mode_i == ModeAnyHit};
+      h_id_q      <= {h_id_q[HashLatency-2:0], a_id_q};
     end
   end
 
@@ -152,10 +154,10 @@ module hrpp_top
       b_idx_q     <= '0;
       b_tag_q     <= '0;
     end else begin
-      b_valid_q   <= h_valid_q[1];
+      b_valid_q   <= h_valid_q[HashLatency-1];
       b_invalid_q <= key_invalid;
-      b_any_hit_q <= h_any_hit_q[1];
-      b_id_q      <= h_id_q[1];
+      b_any_hit_q <= h_any_hit_q[HashLatency-1];
+      b_id_q      <= h_id_q[HashLatency-1];
       b_idx_q     <= key_idx;
       b_tag_q     <= key_tag;
     end
@@ -252,8 +254,8 @@ module hrpp_top
   assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
 
   always_comb begin
-    in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(h_valid_q[0]) +
-                (PredCountW + 1)'(h_valid_q[1]) + (PredCountW + 1)'(b_valid_q);
+    in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(b_valid_q);
+    for (int i = 0; i < HashLatency; i++) in_flight += (PredCountW + 1)'(h_valid_q[i]);
     for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountW + 1)'(d_valid_q[i]);
   end
   assign ray_ready_o = init_done && (in_flight + (PredCountW + 1)'(pred_count)) <

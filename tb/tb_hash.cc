@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstdio>
 #include <memory>
+#include <deque>
 #include <optional>
 #include <random>
 #include <vector>
@@ -57,14 +58,16 @@ int main(int argc, char** argv) {
   const int cell_exps[] = {-149, -60, -20, -7, -3, 0, 3, 12, 40, 127};
   std::mt19937_64 rng(12345);
   uint64_t vectors = 0, mismatches = 0;
-  // The unit is pipelined: a vector applied before a clock edge reaches the output registers
-  // one edge later, so each edge's output is compared with the previous vector.
+  // The unit is pipelined (HashLatency stages): a vector applied before a clock edge reaches the
+  // output after HashLatency - 1 more edges, so each edge's output is compared with the vector
+  // applied that many edges earlier.
+  constexpr size_t kHashLatency = 3;
   dut->rst_ni = 0;
   dut->clk_i = 0;
   dut->eval();
   dut->rst_ni = 1;
   dut->eval();
-  std::optional<std::pair<std::array<uint32_t, 6>, int>> previous;
+  std::deque<std::pair<std::array<uint32_t, 6>, int>> previous;
   auto compare = [&](const std::array<uint32_t, 6>& b, int k) {
     bool invalid = false;
     for (uint32_t v : b) invalid |= ((v >> 23) & 0xFF) == 0xFF;
@@ -94,8 +97,11 @@ int main(int argc, char** argv) {
     dut->eval();
     dut->clk_i = 1;
     dut->eval();
-    if (previous) compare(previous->first, previous->second);
-    previous = {b, k};
+    if (previous.size() == kHashLatency - 1) {
+      compare(previous.front().first, previous.front().second);
+      previous.pop_front();
+    }
+    previous.emplace_back(b, k);
   };
   // Every special value in every component position, for every cell exponent.
   for (int k : cell_exps)

@@ -1,5 +1,5 @@
 // Test harness for the hash unit: eight parameter sets side by side on the same inputs, each
-// output HashLatency (2) cycles after its inputs
+// output HashLatency (3) cycles after its inputs
 // (tb_hash.cc compares each key with the C++ hash of docs/hash.md).
 module tb_hash_top
   import hrpp_pkg::*;

@@ -111,9 +111,9 @@ class CycleModel {
   uint64_t cycle_ = 0;
   bool clearing_ = true;
   uint32_t clear_idx_ = 0;
-  // Lookup path: A (input regs), H0..H1 (the hash's two stages), B (key regs), D0..D3 (beside
+  // Lookup path: A (input regs), H0..H2 (the hash's three stages), B (key regs), D0..D3 (beside
   // the table's four-cycle lookup).
-  static constexpr int kHashLatency = 2;
+  static constexpr int kHashLatency = 3;
   std::optional<DutIn> a_;
   std::array<std::optional<DutIn>, kHashLatency> h_;
   struct B {
