@@ -222,6 +222,8 @@ synth_ecp5 -top hrpp_top -json {pre}.ecp5.json.tmp
 tee -q -o {pre}.ecp5.stat.json stat -json
 
 design -load rtl
+# iCE40 has no distributed RAM: the key store's ram_style attribute (ECP5, xc7) would fail there.
+setattr -unset ram_style m:*
 synth_ice40 -top hrpp_top
 tee -q -o {pre}.ice40.stat.json stat -json
 
