@@ -200,7 +200,8 @@ module hrpp_hash
   always_comb begin
     for (int i = 0; i < 6; i++) begin
       if (s2_q[i].fixed) field[i] = s2_q[i].field;
-      else if (s2_q[i].neg) field[i] = MaxF'(~(s2_q[i].mag + 16'(s2_q[i].frac)) + 1'b1);
+      // -(mag + frac) = ~mag + 1 - frac: one incrementer instead of an adder and a negation.
+      else if (s2_q[i].neg) field[i] = MaxF'(16'(~s2_q[i].mag + 16'(!s2_q[i].frac)));
       else field[i] = MaxF'(s2_q[i].mag);
     end
   end
