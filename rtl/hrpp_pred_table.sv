@@ -6,8 +6,8 @@
 // per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
 //   lookup: L1 read address | L2 RAM data | L3 RAM data registered, collision select, tag
 //           compare | L4 way select, outputs registered: lk_valid_o four cycles after lk_valid_i.
-//   update: T0 read address | T1 RAM data registered | C1 forward, match | C2 select the way |
-//           C3 new row | W write to both copies.
+//   update: T0 read address | T1 RAM data | T2 RAM data registered | C1 forward, match |
+//           C2 select the way | C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (up_ready_o low);
 // every other hazard is forwarded, so one lookup and one update per cycle are sustained.
@@ -201,20 +201,23 @@ module hrpp_pred_table
   // Update pipeline
   // ---------------------------------------------------------------------------------------------
   // T0: the accepted request; its read address goes to the update RAM.
-  logic                   t0_valid_q, t1_valid_q, c1_valid_q, c2_valid_q, c3_valid_q;
-  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, c1_idx_q, c2_idx_q, c3_idx_q;
-  logic [TagBits-1:0]     t0_tag_q, t1_tag_q, c1_tag_q, c2_tag_q;
-  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, c1_node_q, c2_node_q, c3_node_q;
-  // The row written one cycle ago (for forwarding).
-  row_t                   h1_row_q;
-  // T1 -> C1: RAM data.
-  row_t                   c1_ram_q;
-  // The newest write C1's RAM read cannot see (selected in T1), and per way whether to use it
+  logic                   t0_valid_q, t1_valid_q, t2_valid_q, c1_valid_q, c2_valid_q, c3_valid_q;
+  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, t2_idx_q, c1_idx_q, c2_idx_q, c3_idx_q;
+  logic [TagBits-1:0]     t0_tag_q, t1_tag_q, t2_tag_q, c1_tag_q, c2_tag_q;
+  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, t2_node_q, c1_node_q, c2_node_q, c3_node_q;
+  // The rows written one and two cycles ago (for forwarding), and the set of the first.
+  logic                   h1_valid_q;
+  logic [IdxW-1:0]        h1_idx_q;
+  row_t                   h1_row_q, h2_row_q;
+  // T1 -> T2 -> C1: the RAM data, registered twice. The first register has no other load, so
+  // it sits beside the block RAM; the long route to C1's logic gets a cycle of its own.
+  row_t                   t2_ram_q, c1_ram_q;
+  // The newest write C1's RAM read cannot see (selected in T2), and per way whether to use it
   // (one copy per way: each drives a way's bits of C1's 2:1 mux).
   row_t                   c1_fwd_row_q;
   (* keep *) logic [NumWays-1:0] c1_use_fwd_q;
-  // T0 -> T1: which rows T1 forwards (set compares one cycle ahead; one copy per way).
-  (* keep *) logic [NumWays-1:0] t1_fwd_c3_q, t1_fwd_w_q, t1_fwd_h1_q;
+  // T1 -> T2: which rows T2 forwards (set compares one cycle ahead; one copy per way).
+  (* keep *) logic [NumWays-1:0] t2_fwd_c3_q, t2_fwd_w_q, t2_fwd_h1_q, t2_fwd_h2_q;
   // C1 -> C2: the current row and, per way, one-hot decisions (see C1).
   row_t                   c2_row_q;
   logic [NumWays-1:0]     c2_match_q, c2_first_inv_q, c2_oldest_q;
@@ -244,6 +247,11 @@ module hrpp_pred_table
       t1_idx_q    <= '0;
       t1_tag_q    <= '0;
       t1_node_q   <= '0;
+      t2_valid_q  <= 1'b0;
+      t2_idx_q    <= '0;
+      t2_tag_q    <= '0;
+      t2_node_q   <= '0;
+      t2_ram_q    <= '0;
       c1_valid_q  <= 1'b0;
       c1_idx_q    <= '0;
       c1_tag_q    <= '0;
@@ -251,10 +259,14 @@ module hrpp_pred_table
       c1_ram_q    <= '0;
       c1_fwd_row_q <= '0;
       c1_use_fwd_q <= '0;
-      t1_fwd_c3_q  <= '0;
-      t1_fwd_w_q   <= '0;
-      t1_fwd_h1_q  <= '0;
+      t2_fwd_c3_q  <= '0;
+      t2_fwd_w_q   <= '0;
+      t2_fwd_h1_q  <= '0;
+      t2_fwd_h2_q  <= '0;
+      h1_valid_q  <= 1'b0;
+      h1_idx_q    <= '0;
       h1_row_q    <= '0;
+      h2_row_q    <= '0;
     end else begin
       t0_valid_q <= up_valid_i && up_ready_o;
       t0_idx_q   <= up_idx_i;
@@ -264,23 +276,32 @@ module hrpp_pred_table
       t1_idx_q   <= t0_idx_q;
       t1_tag_q   <= t0_tag_q;
       t1_node_q  <= t0_node_q;
-      c1_valid_q <= t1_valid_q;
-      c1_idx_q   <= t1_idx_q;
-      c1_tag_q   <= t1_tag_q;
-      c1_node_q  <= t1_node_q;
-      c1_ram_q   <= row_t'(up_rdata);
-      // Next cycle, C1 reads in W what C3 holds now, in h1 what W holds now, in h2 what h1 holds
-      // now: the three writes its RAM read (presented two cycles before C1) cannot have seen.
-      // C1 needs the newest of: the row C3 computes now (in W when C1 runs), the row W writes
-      // now, the row written one cycle ago (h1); its RAM read, presented in T0, saw none of them.
-      // The set compares are made in T0 against the stages those rows are in one cycle earlier.
-      t1_fwd_c3_q <= {NumWays{c2_valid_q && c2_idx_q == t0_idx_q}};
-      t1_fwd_w_q  <= {NumWays{c3_valid_q && c3_idx_q == t0_idx_q}};
-      t1_fwd_h1_q <= {NumWays{w_valid_q && w_idx_q == t0_idx_q}};
-      c1_use_fwd_q <= t1_fwd_c3_q | t1_fwd_w_q | t1_fwd_h1_q;
+      t2_valid_q <= t1_valid_q;
+      t2_idx_q   <= t1_idx_q;
+      t2_tag_q   <= t1_tag_q;
+      t2_node_q  <= t1_node_q;
+      t2_ram_q   <= row_t'(up_rdata);
+      c1_valid_q <= t2_valid_q;
+      c1_idx_q   <= t2_idx_q;
+      c1_tag_q   <= t2_tag_q;
+      c1_node_q  <= t2_node_q;
+      c1_ram_q   <= t2_ram_q;
+      // C1 needs the newest of four writes its RAM read (presented in T0, three cycles before
+      // C1) cannot have seen: the row C3 computes now (written while C1 runs), the row W writes
+      // now, and the rows written one (h1) and two (h2) cycles ago. The set compares are made in
+      // T1 against the stages those rows are in one cycle earlier.
+      t2_fwd_c3_q <= {NumWays{c2_valid_q && c2_idx_q == t1_idx_q}};
+      t2_fwd_w_q  <= {NumWays{c3_valid_q && c3_idx_q == t1_idx_q}};
+      t2_fwd_h1_q <= {NumWays{w_valid_q && w_idx_q == t1_idx_q}};
+      t2_fwd_h2_q <= {NumWays{h1_valid_q && h1_idx_q == t1_idx_q}};
+      c1_use_fwd_q <= t2_fwd_c3_q | t2_fwd_w_q | t2_fwd_h1_q | t2_fwd_h2_q;
       for (int w = 0; w < NumWays; w++)
-        c1_fwd_row_q[w] <= t1_fwd_c3_q[w] ? c3_new_row[w] : t1_fwd_w_q[w] ? w_row_q[w] : h1_row_q[w];
+        c1_fwd_row_q[w] <= t2_fwd_c3_q[w] ? c3_new_row[w] : t2_fwd_w_q[w] ? w_row_q[w] :
+                           t2_fwd_h1_q[w] ? h1_row_q[w] : h2_row_q[w];
+      h1_valid_q <= w_valid_q;
+      h1_idx_q   <= w_idx_q;
       h1_row_q   <= w_row_q;
+      h2_row_q   <= h1_row_q;
     end
   end
 

@@ -126,12 +126,12 @@ class CycleModel {
   std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;
-  // Update path: P0 and F0, the update queue (U), then T0, T1, C1, C2, C3, W.
+  // Update path: P0 and F0, the update queue (U), then T0, T1, T2, C1, C2, C3, W.
   Msg p0_, f0_;
   static constexpr size_t kUpdateQueueDepth = 2;
   std::deque<Op> update_queue_;
-  static constexpr int kUpdateStages = 6;
-  std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [5] = W
+  static constexpr int kUpdateStages = 7;
+  std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [6] = W
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
 };
 
