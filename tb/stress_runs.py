@@ -46,8 +46,10 @@ def runs(shared, own):
                     ["--scene", balls, "--rays", "150000", "--config", cfg, "--mode", mode,
                      "--seed", "6", "--stall-gap", "2000", "--stall-max", "4000",
                      "--reset-every", str(4 * every[cfg])]))
+        # evict: not in the large configuration, whose 4096 sets this scene's rays do not all
+        # reach (2,724 with 95,445 keys), so its table cannot fill up.
         for kind, rays in (("set-burst", 40000 if cfg == "large" else 100000),
-                           ("one-key", 100000), ("evict", 100000)):
+                           ("one-key", 100000)) + ((("evict", 100000),) if cfg != "large" else ()):
             out.append(("stress", f"{kind}.{cfg}",
                         ["--scene", balls, "--rays", str(rays), "--config", cfg, "--mode", mode,
                          "--stress", kind, "--seed", "7", "--p-ray", "1", "--min-latency", "1",
