@@ -35,28 +35,28 @@ def runs(shared, own):
     for cfg, mode in modes.items():
         for seed in (1, 2):
             out.append(("reset", f"reset.{cfg}.s{seed}",
-                        ["--scene", scene, "--rays", "300000", "--config", cfg, "--mode", mode,
+                        ["--scene", scene, "--rays", "1000000", "--config", cfg, "--mode", mode,
                          "--go-up", "1", "--seed", str(seed), "--reset-every", str(every[cfg]),
                          "--reset-max-length", "16"]))
         out.append(("stall", f"stall.{cfg}",
-                    ["--scene", glass, "--rays", "150000", "--config", cfg, "--mode", mode,
+                    ["--scene", glass, "--rays", "400000", "--config", cfg, "--mode", mode,
                      "--seed", "5", "--stall-gap", "3000", "--stall-max", "5000",
                      "--max-latency", "60"]))
         out.append(("stall", f"stall+reset.{cfg}",
-                    ["--scene", balls, "--rays", "150000", "--config", cfg, "--mode", mode,
+                    ["--scene", balls, "--rays", "400000", "--config", cfg, "--mode", mode,
                      "--seed", "6", "--stall-gap", "2000", "--stall-max", "4000",
                      "--reset-every", str(4 * every[cfg])]))
         # evict: not in the large configuration, whose 4096 sets this scene's rays do not all
         # reach (2,724 with 95,445 keys), so its table cannot fill up.
-        for kind, rays in (("set-burst", 40000 if cfg == "large" else 100000),
-                           ("one-key", 100000)) + ((("evict", 100000),) if cfg != "large" else ()):
+        for kind, rays in (("set-burst", 100000 if cfg == "large" else 300000),
+                           ("one-key", 300000)) + ((("evict", 300000),) if cfg != "large" else ()):
             out.append(("stress", f"{kind}.{cfg}",
                         ["--scene", balls, "--rays", str(rays), "--config", cfg, "--mode", mode,
                          "--stress", kind, "--seed", "7", "--p-ray", "1", "--min-latency", "1",
                          "--max-latency", "4", "--p-ready", "0.95"]))
-        for seed in range(1, 7):
+        for seed in range(1, 9):
             out.append(("xprop", f"xprop.{cfg}.s{seed}",
-                        ["--scene", balls, "--rays", "30000", "--config", cfg, "--mode", mode,
+                        ["--scene", balls, "--rays", "100000", "--config", cfg, "--mode", mode,
                          "--seed", str(seed), "--reset-every", str(every[cfg]),
                          "+verilator+rand+reset+2", f"+verilator+seed+{seed}"]))
     return out
