@@ -22,8 +22,8 @@ void Engine::step_stalls(uint64_t cycle) {
   for (int p = 0; p < kNumStallPorts; ++p) {
     if (cycle >= stall_until_[p] &&
         std::uniform_int_distribution<uint64_t>(1, opt_.stall_gap)(stall_rng_) == 1) {
-      const uint64_t len =
-          std::uniform_int_distribution<uint64_t>(1, std::max<uint64_t>(1, opt_.stall_max))(stall_rng_);
+      const uint64_t len = std::uniform_int_distribution<uint64_t>(
+          1, std::max<uint64_t>(1, opt_.stall_max))(stall_rng_);
       stall_until_[p] = cycle + len;
       stall_[p].stalls++;
       stall_[p].longest = std::max(stall_[p].longest, len);

@@ -144,7 +144,8 @@ std::string check_stress_stream(StressKind kind, const StressStream& s, uint32_t
     case StressKind::kOneKey:
       if (s.distinct_keys != 1) return std::to_string(s.distinct_keys) + " keys, not one";
       if (s.rays.size() >= 100 && s.distinct_rays < 10)
-        return "only " + std::to_string(s.distinct_rays) + " distinct rays (copies below the precision)";
+        return "only " + std::to_string(s.distinct_rays) +
+               " distinct rays (copies below the precision)";
       return {};
     case StressKind::kEvict:
       if (s.distinct_keys < 4ull * sets * ways)

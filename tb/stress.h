@@ -44,6 +44,7 @@ StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashC
 /// "" if the stream does what its kind claims for a table of `sets` x `ways`, else why not:
 /// set-burst: at least 3 runs' worth of rays in one set with more distinct keys than ways;
 /// one-key: exactly one key; evict: at least 4 distinct keys per table entry.
-std::string check_stress_stream(StressKind kind, const StressStream& s, uint32_t sets, uint32_t ways);
+std::string check_stress_stream(StressKind kind, const StressStream& s, uint32_t sets,
+                                uint32_t ways);
 
 }  // namespace hrpp::tb

@@ -181,7 +181,9 @@ class ResetSchedule {
   uint64_t max_len() const { return max_len_; }
 
  private:
-  uint64_t gap() { return std::uniform_int_distribution<uint64_t>(every_ / 2, every_ * 3 / 2)(rng_); }
+  uint64_t gap() {
+    return std::uniform_int_distribution<uint64_t>(every_ / 2, every_ * 3 / 2)(rng_);
+  }
   uint64_t every_, max_len_;
   std::mt19937_64 rng_;
   uint64_t next_ = ~0ull, end_ = ~0ull;
@@ -514,14 +516,15 @@ int main_impl(int argc, char** argv) {
     // what it claims.
     parse_stress(stress, &stress_kind);
     StressStream ss = make_stress_stream(stress_kind, scene, cc.hash, nrays, seed);
-    std::printf("stress %s: %zu rays (%llu distinct), %llu distinct keys in %llu sets; set %u: %llu "
-                "rays, %llu keys; longest run of one set %llu rays\n",
+    std::printf("stress %s: %zu rays (%llu distinct), %llu distinct keys in %llu sets; "
+                "set %u: %llu rays, %llu keys; longest run of one set %llu rays\n",
                 stress.c_str(), ss.rays.size(), (unsigned long long)ss.distinct_rays,
                 (unsigned long long)ss.distinct_keys,
                 (unsigned long long)ss.distinct_sets, ss.target_set,
                 (unsigned long long)ss.target_set_rays, (unsigned long long)ss.target_set_keys,
                 (unsigned long long)ss.longest_set_run);
-    if (const std::string e = check_stress_stream(stress_kind, ss, spec.sets, spec.ways); !e.empty()) {
+    const std::string e = check_stress_stream(stress_kind, ss, spec.sets, spec.ways);
+    if (!e.empty()) {
       std::printf("FAIL: the %s stream is not what it claims: %s\n", stress.c_str(), e.c_str());
       return 1;
     }
@@ -594,9 +597,11 @@ int main_impl(int argc, char** argv) {
   if (!stress.empty()) {
     std::string e;
     const uint64_t entries = uint64_t{spec.sets} * spec.ways;
-    if (stress_kind == StressKind::kSetBurst && (r.table.interlock_cycles == 0 || r.table.evictions == 0))
+    if (stress_kind == StressKind::kSetBurst &&
+        (r.table.interlock_cycles == 0 || r.table.evictions == 0))
       e = "no same-set interlock or no eviction";
-    if (stress_kind == StressKind::kOneKey && (r.table.updates == 0 || r.table.evictions != 0 || r.table_used > 1))
+    if (stress_kind == StressKind::kOneKey &&
+        (r.table.updates == 0 || r.table.evictions != 0 || r.table_used > 1))
       e = "one key must give updates, no eviction and at most one valid entry";
     if (stress_kind == StressKind::kEvict &&
         (r.table.evictions < entries || (r.resets == 0 && r.table_used != entries)))

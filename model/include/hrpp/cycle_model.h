@@ -68,7 +68,7 @@ struct DutOut {
 struct CycleStats {
   uint64_t updates = 0;           // rows written by updates (W)
   uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
-  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited for the same-set interlock
+  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
   uint64_t resets = 0;            // reset() calls after construction (cycles in reset)
 };
 
