@@ -95,7 +95,8 @@ sim-long: build
 # Long hardware reliability runs of tb_hrpp (tb/stress_runs.py; docs/results.md, "Reliability"):
 # resets in the middle of the stream, long random stalls on every interface, the stress streams
 # (bursts of one set, one key, continuous eviction) and random initial state with eight seeds, in
-# every configuration; each run must PASS (about 3 minutes on 2 cores). Totals in $(OUT)/stress/summary.json.
+# every configuration; each run must PASS (about 3 minutes on 2 cores). Totals in
+# $(OUT)/stress/summary.json.
 stress: build
 	python3 tb/stress_runs.py --tb $(BUILD)/tb_hrpp --shared $(SHARED) --out $(OUT)/stress --jobs $(JOBS)
 
