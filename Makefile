@@ -3,7 +3,7 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, lint, check-embree, results, sim-long, synth, synth-sweep,
+# Other targets: setup, build, lint, check-embree, results, sim-long, stress, synth, synth-sweep,
 # synth-check, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
@@ -23,7 +23,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all setup setup-apt setup-venv build run test lint sim-long check-embree results clean \
+.PHONY: all setup setup-apt setup-venv build run test lint sim-long stress check-embree results clean \
   synth synth-sweep synth-check sweep report bench test-sanitize fuzz
 
 all: build
@@ -91,6 +91,14 @@ sim-long: build
 	    $(BUILD)/tb_hrpp --scene $$s --rays 1000000 --config $$c --mode $$m --go-up 1 --seed 11 \
 	      | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
 	  done; done; done
+
+# Long hardware reliability runs of tb_hrpp (tb/stress_runs.py; docs/results.md, "Reliability"):
+# resets in the middle of the stream, long random stalls on every interface, the stress streams
+# (bursts of one set, one key, continuous eviction) and random initial state with eight seeds, in
+# every configuration; each run must PASS (about 3 minutes on 2 cores). Totals in
+# $(OUT)/stress/summary.json.
+stress: build
+	python3 tb/stress_runs.py --tb $(BUILD)/tb_hrpp --shared $(SHARED) --out $(OUT)/stress --jobs $(JOBS)
 
 # RTL lint: Verilator -Wall and slang, for every configuration the testbench builds.
 lint: build

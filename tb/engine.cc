@@ -7,17 +7,97 @@
 namespace hrpp::tb {
 
 Engine::Engine(const Bvh& bvh, const std::vector<RayRecord>& rays, const EngineOptions& opt)
-    : bvh_(bvh), rays_(rays), opt_(opt), rng_(opt.seed) {
+    : bvh_(bvh),
+      rays_(rays),
+      opt_(opt),
+      rng_(opt.seed),
+      reports_(rays.size(), 0),
+      stall_rng_(opt.seed ^ 0x5741'4c4c'5354'414cull) {
   for (uint32_t i = 0; i < (1u << opt.id_bits); ++i) free_ids_.push_back(i);
   by_id_.resize(size_t{1} << opt.id_bits);
 }
 
+void Engine::step_stalls(uint64_t cycle) {
+  if (!opt_.stall_gap) return;
+  for (int p = 0; p < kNumStallPorts; ++p) {
+    if (cycle >= stall_until_[p] &&
+        std::uniform_int_distribution<uint64_t>(1, opt_.stall_gap)(stall_rng_) == 1) {
+      const uint64_t len = std::uniform_int_distribution<uint64_t>(
+          1, std::max<uint64_t>(1, opt_.stall_max))(stall_rng_);
+      stall_until_[p] = cycle + len;
+      stall_[p].stalls++;
+      stall_[p].longest = std::max(stall_[p].longest, len);
+    }
+    stalled_[p] = cycle < stall_until_[p];
+    stall_[p].cycles += stalled_[p];
+  }
+}
+
+uint64_t Engine::reset() {
+  std::vector<size_t> dropped;
+  uint64_t in_flight = 0;
+  if (offered_ray_) dropped.push_back(offered_ray_->second);  // offered, not taken: offer again
+  offered_ray_.reset();
+  for (auto& f : by_id_)
+    if (f) {
+      dropped.push_back(f->ray);
+      f.reset();
+      ++in_flight;
+    }
+  if (opt_.fault == 1) {
+    const size_t n = dropped.size();
+    for (size_t i = 0; i < n; ++i) dropped.push_back(dropped[i]);
+  }
+  dropped.insert(dropped.end(), redo_.begin(), redo_.end());
+  std::sort(dropped.begin(), dropped.end());
+  redo_.assign(dropped.begin(), dropped.end());
+  free_ids_.clear();
+  for (uint32_t i = 0; i < by_id_.size(); ++i) free_ids_.push_back(i);
+  for (Port* p : {&pw_, &upd_}) {
+    p->pending.clear();
+    p->offered.reset();
+  }
+  reoffered_ += in_flight;
+  return in_flight;
+}
+
+std::string Engine::check_exactly_once() const {
+  uint64_t lost = 0, twice = 0;
+  std::string first;
+  for (size_t i = 0; i < reports_.size(); ++i) {
+    if (reports_[i] == 1) continue;
+    (reports_[i] == 0 ? lost : twice)++;
+    if (first.empty())
+      first = "ray " + std::to_string(i) + " of the stream has " + std::to_string(reports_[i]) +
+              " final results";
+  }
+  if (first.empty()) return {};
+  return std::to_string(lost) + " rays lost, " + std::to_string(twice) +
+         " reported more than once (first: " + first + ")";
+}
+
 void Engine::drive(uint64_t cycle, DutIn* in) {
   *in = DutIn{};
+  step_stalls(cycle);
   const bool stalled = opt_.stall_every && cycle % opt_.stall_every < opt_.stall_length;
-  // Rays: once offered, a ray stays offered (same id and fields) until accepted.
-  if (!offered_ray_ && next_ray_ < rays_.size() && !free_ids_.empty() && chance(opt_.p_ray)) {
-    offered_ray_ = {free_ids_.front(), next_ray_++};
+  // Rays: once offered, a ray stays offered (same id and fields) until accepted. Rays dropped by
+  // a reset go first.
+  const bool can_offer =
+      !offered_ray_ && (!redo_.empty() || next_ray_ < rays_.size()) && !free_ids_.empty();
+  if (can_offer && stalled_[kStallRay]) stall_[kStallRay].blocked++;
+  if (opt_.fault == 2 && offered_ray_ && stalled_[kStallRay]) {
+    free_ids_.push_back(offered_ray_->first);
+    offered_ray_.reset();
+  }
+  if (can_offer && !stalled_[kStallRay] && chance(opt_.p_ray)) {
+    size_t ray;
+    if (!redo_.empty()) {
+      ray = redo_.front();
+      redo_.pop_front();
+    } else {
+      ray = next_ray_++;
+    }
+    offered_ray_ = {free_ids_.front(), ray};
     free_ids_.pop_front();
   }
   if (offered_ray_) {
@@ -30,11 +110,15 @@ void Engine::drive(uint64_t cycle, DutIn* in) {
       in->dir[i] = std::bit_cast<uint32_t>(r.ray.dir[i]);
     }
   }
-  in->pred_ready = !stalled && chance(opt_.p_pred_ready);
-  in->skip_ready = !stalled && chance(opt_.p_skip_ready);
+  in->pred_ready = !stalled && !stalled_[kStallPred] && chance(opt_.p_pred_ready);
+  in->skip_ready = !stalled && !stalled_[kStallSkip] && chance(opt_.p_skip_ready);
   // Outcomes: the earliest pending message whose latency has passed, held until accepted.
-  for (Port* p : {&pw_, &upd_})
+  for (auto [p, port] : {std::pair{&pw_, kStallPw}, std::pair{&upd_, kStallUpd}})
     if (!p->offered && !p->pending.empty() && p->pending.front().ready_cycle <= cycle) {
+      if (stalled_[port]) {
+        stall_[port].blocked++;
+        continue;
+      }
       p->offered = p->pending.front();
       p->pending.pop_front();
     }
@@ -63,6 +147,9 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     return f.any ? any_hit(bvh_, r, c, {.start_node = start})
                  : closest_hit(bvh_, r, c, {.start_node = start});
   };
+
+  if (out.pred_valid && stalled_[kStallPred]) stall_[kStallPred].blocked++;
+  if (out.skip_valid && stalled_[kStallSkip]) stall_[kStallSkip].blocked++;
 
   if (in.ray_valid && out.ray_ready) {
     const auto [id, ray] = *offered_ray_;
@@ -140,6 +227,10 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
   if (in.upd_valid && out.upd_ready) {
     const uint32_t id = upd_.offered->id;
     upd_.offered.reset();
+    if (!by_id_[id]) {
+      error_ = "final outcome of ray id " + std::to_string(id) + " that is not in flight";
+      return;
+    }
     finish(id, by_id_[id]->best, by_id_[id]->best_node != kNoNode, false);
   }
 }
@@ -167,6 +258,7 @@ void Engine::finish(uint32_t id, const Hit& answer, bool verified, bool skipped)
     s.exact_mismatches = 1;
   }
   stats_ += s;
+  ++reports_[f.ray];
   by_id_[id].reset();
   free_ids_.push_back(id);
   ++finished_;

@@ -4,7 +4,9 @@
 // the cycle model) showed it, so two runs that agree cycle by cycle make the same choices.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string>
 #include <deque>
 #include <optional>
 #include <random>
@@ -28,6 +30,29 @@ struct EngineOptions {
   int min_latency = 1, max_latency = 12;  // cycles from a prediction (decision) to its outcome
   uint64_t stall_every = 0;    // every so many cycles, stall all ready outputs ...
   uint64_t stall_length = 0;   // ... for this many cycles (0: never)
+  // Random stalls on every interface (0: none): on each of the five interfaces independently,
+  // a stall of 1..stall_max cycles starts with probability 1/stall_gap in a cycle without one.
+  // Inputs (rays, predicted-walk results, final outcomes): no new message is offered (one
+  // already offered stays valid until taken); outputs (predictions, decisions): ready is low.
+  uint64_t stall_gap = 0;
+  uint64_t stall_max = 0;
+  // Test only: a deliberately wrong engine, to show the exactly-once check fails.
+  //   1: a reset queues each dropped ray twice;  2: a ray stall withdraws the ray on offer and
+  //   forgets it (the id is returned, the ray lost).
+  int fault = 0;
+};
+
+/// The five interfaces, for the stall statistics.
+enum StallPort { kStallRay, kStallPw, kStallUpd, kStallPred, kStallSkip, kNumStallPorts };
+inline const char* stall_port_name(int p) {
+  static const char* const names[] = {"ray_i", "pw_i", "upd_i", "pred_o", "skip_o"};
+  return names[p];
+}
+struct StallStats {
+  uint64_t stalls = 0;          // stalls started
+  uint64_t cycles = 0;          // cycles stalled
+  uint64_t longest = 0;         // longest stall (cycles)
+  uint64_t blocked = 0;         // stalled cycles in which a handshake was otherwise possible
 };
 
 class Engine {
@@ -36,9 +61,23 @@ class Engine {
 
   /// The DUT's inputs for this cycle.
   void drive(uint64_t cycle, DutIn* in);
+  /// The DUT's reset is asserted (from this cycle on, until released): the hardware forgets
+  /// every ray in flight, so the engine drops their walks, pending messages and the ray on offer,
+  /// and re-offers those rays (in stream order, ahead of new ones) once the DUT is ready again.
+  /// Rays whose final result was already reported (final outcome accepted, or ActSkip decision
+  /// taken) are not re-offered. Returns the number of rays dropped.
+  uint64_t reset();
   /// The handshakes that happened in this cycle (inputs as driven, outputs as seen).
   void observe(uint64_t cycle, const DutIn& in, const DutOut& out);
-  bool done() const { return finished_ == rays_.size(); }
+  /// No ray left to offer and none in flight.
+  bool done() const {
+    return next_ray_ == rays_.size() && redo_.empty() && !offered_ray_ &&
+           free_ids_.size() == by_id_.size();
+  }
+  /// "" if every ray of the stream got exactly one final result; else the first that did not.
+  std::string check_exactly_once() const;
+  uint64_t reoffered() const { return reoffered_; }
+  const StallStats& stall_stats(int port) const { return stall_[port]; }
   const PredictStats& stats() const { return stats_; }
   uint64_t rays_finished() const { return finished_; }
   /// A protocol violation seen (an output the engine cannot make sense of), or empty.
@@ -66,6 +105,8 @@ class Engine {
     std::optional<Message> offered;
   };
   void finish(uint32_t id, const Hit& answer, bool verified, bool skipped);
+  /// Advances the random stall of each interface to this cycle.
+  void step_stalls(uint64_t cycle);
   bool chance(double p) { return std::uniform_real_distribution<double>(0, 1)(rng_) < p; }
   uint64_t latency() {
     return std::uniform_int_distribution<int>(opt_.min_latency, opt_.max_latency)(rng_);
@@ -76,7 +117,14 @@ class Engine {
   EngineOptions opt_;
   std::mt19937_64 rng_;
   size_t next_ray_ = 0;
+  std::deque<size_t> redo_;       // rays dropped by a reset, to be offered again
   uint64_t finished_ = 0;
+  uint64_t reoffered_ = 0;
+  std::vector<uint32_t> reports_;  // per ray of the stream: final results reported
+  std::mt19937_64 stall_rng_;
+  std::array<uint64_t, kNumStallPorts> stall_until_{};  // stalled while cycle < stall_until_
+  std::array<bool, kNumStallPorts> stalled_{};          // in the cycle being driven
+  std::array<StallStats, kNumStallPorts> stall_;
   std::deque<uint32_t> free_ids_;
   std::vector<std::optional<InFlight>> by_id_;
   std::optional<std::pair<uint32_t, size_t>> offered_ray_;  // id, ray

@@ -3,6 +3,7 @@
 //
 //   tb_hrpp --scene SCENE|--stream FILE [--rays N] [--config small|default|large|mutant]
 //           [--mode anyhit|closest-exact|closest-spec] [--seed S] [--trace FILE.vcd]
+//           [--reset-every N] [--stall-gap G --stall-max M] [--stress KIND] [+verilator+...]
 #include <verilated.h>
 #include <verilated_vcd_c.h>
 
@@ -12,6 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <random>
+#include <vector>
 #include <string>
 
 #include "Vhrpp_default.h"
@@ -19,6 +22,7 @@
 #include "Vhrpp_mutant.h"
 #include "Vhrpp_small.h"
 #include "engine.h"
+#include "stress.h"
 #include "hrpp/cycle_model.h"
 #include "hrpp/ray_stream.h"
 #include "hrpp/scene.h"
@@ -141,15 +145,75 @@ struct Run {
   uint64_t cycles = 0, mismatches = 0;
   PredictStats stats;
   bool ok = true;
+  uint64_t resets = 0, reset_cycles = 0;
+  uint64_t dropped = 0;           // rays in flight when a reset hit (re-offered)
+  uint64_t resets_with_rays = 0;  // resets that hit at least one ray in flight
+  std::string exactly_once;       // Engine::check_exactly_once()
+  std::array<StallStats, kNumStallPorts> stalls{};
+  CycleStats table;               // the cycle model's table statistics
+  uint64_t table_used = 0;        // valid entries at the end
 };
 
 constexpr uint64_t kMaxCyclesPerRay = 200;
 
+// Resets in the middle of the stream: the first after `every` cycles on average (uniform in
+// [every/2, 3*every/2]), each 1..max_len cycles long, the next `every` cycles (again uniform)
+// after the previous one ends. Seeded, so the DUT run and the cycle-model run reset at the same
+// cycles.
+class ResetSchedule {
+ public:
+  ResetSchedule(uint64_t every, uint64_t max_len, uint64_t seed)
+      : every_(every), max_len_(std::max<uint64_t>(1, max_len)), rng_(seed ^ 0x5245'5345'54ull) {
+    if (every_) next_ = gap();
+  }
+  /// Whether rst_ni is low in this cycle; *starts: a reset begins in this cycle.
+  bool step(uint64_t cycle, bool* starts) {
+    *starts = false;
+    if (!every_) return false;
+    if (cycle == next_) {
+      *starts = true;
+      end_ = cycle + std::uniform_int_distribution<uint64_t>(1, max_len_)(rng_);
+    }
+    if (cycle >= next_ && cycle < end_) return true;
+    if (cycle == end_) next_ = end_ + gap();
+    return false;
+  }
+  uint64_t max_len() const { return max_len_; }
+
+ private:
+  uint64_t gap() {
+    return std::uniform_int_distribution<uint64_t>(every_ / 2, every_ * 3 / 2)(rng_);
+  }
+  uint64_t every_, max_len_;
+  std::mt19937_64 rng_;
+  uint64_t next_ = ~0ull, end_ = ~0ull;
+};
+
+struct RunOptions {
+  uint64_t reset_every = 0, reset_max_len = 8;
+  std::vector<std::string> plusargs;  // +verilator+... for the VerilatedContext
+};
+
+// The cycle limit of a run: a budget per ray, per ray dropped by a reset, per reset, per stall.
+uint64_t cycle_limit(const CycleConfig& cc, size_t rays, const Run& run, const EngineOptions& eo,
+                     uint64_t reset_max_len) {
+  return cc.table.sets + kMaxCyclesPerRay * (rays + 10 + run.dropped) +
+         run.resets * (cc.table.sets + reset_max_len) + 8 * eo.stall_max;
+}
+
 // DUT and cycle model in lockstep.
 template <typename M>
 Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-            const EngineOptions& eo, const std::string& trace_path) {
+            const EngineOptions& eo, const RunOptions& ro, const std::string& trace_path) {
   auto ctx = std::make_unique<VerilatedContext>();
+  // +verilator+rand+reset+2 +verilator+seed+N: random values in every variable without a reset
+  // (they must be given before the model is constructed).
+  std::vector<const char*> args{"tb_hrpp"};
+  for (const std::string& a : ro.plusargs) args.push_back(a.c_str());
+  ctx->commandArgs(int(args.size()), args.data());
+  if (!ro.plusargs.empty())
+    std::printf("verilator: rand-reset %d, seed %d (uninitialised state %s)\n", ctx->randReset(),
+                ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
   ctx->traceEverOn(!trace_path.empty());
   auto dut = std::make_unique<M>(ctx.get());
   std::unique_ptr<VerilatedVcdC> vcd;
@@ -160,6 +224,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   }
   CycleModel model(cc);
   Engine eng(bvh, rays, eo);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
   Run run;
   uint64_t time = 0;
   dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
@@ -174,14 +239,29 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   dut->clk_i = 0;
   dut->rst_ni = 1;
   dut->eval();
-  const uint64_t limit = cc.table.sets + kMaxCyclesPerRay * (rays.size() + 10);
   for (uint64_t cycle = 0; !eng.done(); ++cycle) {
-    if (cycle > limit) {
+    if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
       std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
                   (unsigned long long)eng.rays_finished(), rays.size(), (unsigned long long)cycle);
       run.ok = false;
       break;
     }
+    // Reset: rst_ni goes low (asynchronously, with the clock low) at the start of the cycle and
+    // rises at the start of the cycle after the last one; the cycle model is reset in every
+    // cycle of it, the engine once as it begins.
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) {
+      const uint64_t d = eng.reset();
+      run.resets++;
+      run.dropped += d;
+      run.resets_with_rays += d > 0;
+    }
+    if (in_reset) {
+      run.reset_cycles++;
+      model.reset();
+    }
+    dut->rst_ni = !in_reset;
     DutIn in;
     eng.drive(cycle, &in);
     apply(dut.get(), in);
@@ -206,7 +286,12 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     dut->clk_i = 1;
     dut->eval();
     if (vcd) vcd->dump(time++);
-    model.tick(in);
+    if (!in_reset) model.tick(in);
+    if (!model.error().empty()) {
+      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
+      run.ok = false;
+      break;
+    }
     run.cycles = cycle + 1;
     if (ctx->gotFinish()) {
       std::printf("FAIL: the simulation finished early (an assertion?) at cycle %llu\n",
@@ -218,24 +303,39 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   dut->final();
   if (vcd) vcd->close();
   run.stats = eng.stats();
+  run.exactly_once = eng.check_exactly_once();
+  for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = eng.stall_stats(p);
+  run.table = model.stats();
+  run.table_used = model.table().entries_used();
   return run;
 }
 
 // The cycle model alone in the same closed loop.
 Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-              const EngineOptions& eo) {
+              const EngineOptions& eo, const RunOptions& ro) {
   CycleModel model(cc);
   Engine eng(bvh, rays, eo);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
   Run run;
-  for (uint64_t cycle = 0; !eng.done() && cycle <= cc.table.sets + kMaxCyclesPerRay * (rays.size() + 10); ++cycle) {
+  for (uint64_t cycle = 0;
+       !eng.done() && cycle <= cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len); ++cycle) {
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) {
+      const uint64_t d = eng.reset();
+      run.resets++;
+      run.dropped += d;
+    }
+    if (in_reset) model.reset();
     DutIn in;
     eng.drive(cycle, &in);
     eng.observe(cycle, in, model.outputs());
-    model.tick(in);
+    if (!in_reset) model.tick(in);
     run.cycles = cycle + 1;
   }
-  run.ok = eng.done() && eng.error().empty();
+  run.ok = eng.done() && eng.error().empty() && model.error().empty();
   run.stats = eng.stats();
+  run.exactly_once = eng.check_exactly_once();
   return run;
 }
 
@@ -292,7 +392,47 @@ int main_impl(int argc, char** argv) {
   bool skip_missing = false;
   app.add_flag("--skip-missing", skip_missing,
                "exit 77 (skipped) when the scene file does not exist (for ctest)");
-  CLI11_PARSE(app, argc, argv);
+  RunOptions ro;
+  app.add_option("--reset-every", ro.reset_every,
+                 "assert rst_ni mid-stream about every N cycles (uniform in [N/2, 3N/2]; 0: never)")
+      ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 40));
+  app.add_option("--reset-max-length", ro.reset_max_len, "each reset lasts 1..L cycles")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--stall-gap", eo.stall_gap,
+                 "random stalls on every interface: one starts with probability 1/G per cycle");
+  app.add_option("--stall-max", eo.stall_max, "... and lasts 1..M cycles");
+  app.add_option("--engine-fault", eo.fault,
+                 "test only: 1 = a reset re-offers each dropped ray twice, 2 = a ray stall loses "
+                 "the ray on offer (the exactly-once check must fail)")
+      ->check(CLI::Range(0, 2));
+  std::string stress;
+  app.add_option("--stress", stress,
+                 "synthetic rays of the scene instead of its camera rays: set-burst (bursts of one "
+                 "table set), one-key (every ray one key), evict (many keys: continuous eviction)")
+      ->check(CLI::IsMember({"set-burst", "one-key", "evict"}));
+  // +verilator+... arguments go to the VerilatedContext, the rest to the options above.
+  std::vector<char*> cli_args;
+  for (int i = 0; i < argc; ++i) {
+    if (i > 0 && argv[i][0] == '+') ro.plusargs.push_back(argv[i]);
+    else cli_args.push_back(argv[i]);
+  }
+  try {
+    app.parse(int(cli_args.size()), cli_args.data());
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (ro.reset_every && ro.reset_every < 16) {
+    std::fprintf(stderr, "tb_hrpp: --reset-every must be 0 or at least 16\n");
+    return 2;
+  }
+  if (eo.stall_gap && !eo.stall_max) {
+    std::fprintf(stderr, "tb_hrpp: --stall-gap needs --stall-max\n");
+    return 2;
+  }
+  if (!stress.empty() && scene_path.empty()) {
+    std::fprintf(stderr, "tb_hrpp: --stress needs --scene\n");
+    return 2;
+  }
   if (eo.min_latency > eo.max_latency) {
     std::fprintf(stderr, "tb_hrpp: --min-latency %d exceeds --max-latency %d\n", eo.min_latency,
                  eo.max_latency);
@@ -349,7 +489,8 @@ int main_impl(int argc, char** argv) {
   } else {
     WorkloadOptions wo;
     resolution_for(scene.camera, std::max<uint64_t>(1, nrays / 2), 1, &wo.width, &wo.height);
-    generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { take(r); });
+    if (stress.empty())
+      generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { take(r); });
   }
 
   CycleConfig cc;
@@ -369,6 +510,26 @@ int main_impl(int argc, char** argv) {
     std::fprintf(stderr, "tb_hrpp: configuration %s: %s\n", spec.name, e.c_str());
     return 2;
   }
+  StressKind stress_kind{};
+  if (!stress.empty()) {
+    // Synthetic rays of the scene, keyed with the RTL's hash configuration; the stream must do
+    // what it claims.
+    parse_stress(stress, &stress_kind);
+    StressStream ss = make_stress_stream(stress_kind, scene, cc.hash, nrays, seed);
+    std::printf("stress %s: %zu rays (%llu distinct), %llu distinct keys in %llu sets; "
+                "set %u: %llu rays, %llu keys; longest run of one set %llu rays\n",
+                stress.c_str(), ss.rays.size(), (unsigned long long)ss.distinct_rays,
+                (unsigned long long)ss.distinct_keys,
+                (unsigned long long)ss.distinct_sets, ss.target_set,
+                (unsigned long long)ss.target_set_rays, (unsigned long long)ss.target_set_keys,
+                (unsigned long long)ss.longest_set_run);
+    const std::string e = check_stress_stream(stress_kind, ss, spec.sets, spec.ways);
+    if (!e.empty()) {
+      std::printf("FAIL: the %s stream is not what it claims: %s\n", stress.c_str(), e.c_str());
+      return 1;
+    }
+    rays = std::move(ss.rays);
+  }
   std::printf("tb_hrpp: config %s (%s hash, %u sets x %u ways x %u nodes, %d-bit tags, %d-bit ids), "
               "mode %s, %zu rays of %s%s, seed %llu\n",
               spec.name, hash_variant_name(cc.hash.variant), spec.sets, spec.ways, spec.k,
@@ -380,10 +541,10 @@ int main_impl(int argc, char** argv) {
   Run r;
   const auto t_sim = std::chrono::steady_clock::now();
   const std::clock_t cpu_sim = std::clock();
-  if (config == "small") r = run_dut<Vhrpp_small>(cc, bvh, rays, eo, trace);
-  else if (config == "large") r = run_dut<Vhrpp_large>(cc, bvh, rays, eo, trace);
-  else if (config == "mutant") r = run_dut<Vhrpp_mutant>(cc, bvh, rays, eo, trace);
-  else r = run_dut<Vhrpp_default>(cc, bvh, rays, eo, trace);
+  if (config == "small") r = run_dut<Vhrpp_small>(cc, bvh, rays, eo, ro, trace);
+  else if (config == "large") r = run_dut<Vhrpp_large>(cc, bvh, rays, eo, ro, trace);
+  else if (config == "mutant") r = run_dut<Vhrpp_mutant>(cc, bvh, rays, eo, ro, trace);
+  else r = run_dut<Vhrpp_default>(cc, bvh, rays, eo, ro, trace);
   const uint64_t finished = r.stats.rays;
   std::printf("parity: %llu rays, %llu cycles, %llu mismatches\n", (unsigned long long)finished,
               (unsigned long long)r.cycles, (unsigned long long)r.mismatches);
@@ -396,9 +557,64 @@ int main_impl(int argc, char** argv) {
               "with parity checking\n",
               sim_s, cpu_s, finished / std::max(cpu_s, 1e-9), r.cycles / std::max(cpu_s, 1e-9));
   if (r.mismatches || !r.ok) return 1;
+  if (ro.reset_every)
+    std::printf("resets: %llu (%llu cycles in reset), %llu hit rays in flight: %llu rays dropped "
+                "and offered again\n",
+                (unsigned long long)r.resets, (unsigned long long)r.reset_cycles,
+                (unsigned long long)r.resets_with_rays, (unsigned long long)r.dropped);
+  if (eo.stall_gap) {
+    std::printf("stalls (count, cycles, longest, cycles a handshake was held back):");
+    for (int p = 0; p < kNumStallPorts; ++p)
+      std::printf("%s %s %llu, %llu, %llu, %llu", p ? ";" : "", stall_port_name(p),
+                  (unsigned long long)r.stalls[p].stalls, (unsigned long long)r.stalls[p].cycles,
+                  (unsigned long long)r.stalls[p].longest, (unsigned long long)r.stalls[p].blocked);
+    std::printf("\n");
+  }
+  std::printf("table: %llu updates, %llu evictions, %llu cycles of same-set interlock, %llu of %u "
+              "entries valid at the end\n",
+              (unsigned long long)r.table.updates, (unsigned long long)r.table.evictions,
+              (unsigned long long)r.table.interlock_cycles, (unsigned long long)r.table_used,
+              spec.sets * spec.ways);
+  // Every ray of the stream got exactly one final result, resets or not.
+  if (!r.exactly_once.empty()) {
+    std::printf("FAIL: not every ray got exactly one final result: %s\n", r.exactly_once.c_str());
+    return 1;
+  }
+  std::printf("exactly once: each of the %zu rays got one final result\n", rays.size());
+  // The stress the options ask for really happened.
+  if (ro.reset_every && (r.resets == 0 || r.dropped == 0)) {
+    std::printf("FAIL: --reset-every %llu: %llu resets, %llu rays in flight hit\n",
+                (unsigned long long)ro.reset_every, (unsigned long long)r.resets,
+                (unsigned long long)r.dropped);
+    return 1;
+  }
+  for (int p = 0; eo.stall_gap && p < kNumStallPorts; ++p)
+    if (r.stalls[p].blocked == 0) {
+      std::printf("FAIL: the random stalls never held back a handshake on %s\n",
+                  stall_port_name(p));
+      return 1;
+    }
+  if (!stress.empty()) {
+    std::string e;
+    const uint64_t entries = uint64_t{spec.sets} * spec.ways;
+    if (stress_kind == StressKind::kSetBurst &&
+        (r.table.interlock_cycles == 0 || r.table.evictions == 0))
+      e = "no same-set interlock or no eviction";
+    if (stress_kind == StressKind::kOneKey &&
+        (r.table.updates == 0 || r.table.evictions != 0 || r.table_used > 1))
+      e = "one key must give updates, no eviction and at most one valid entry";
+    if (stress_kind == StressKind::kEvict &&
+        (r.table.evictions < entries || (r.resets == 0 && r.table_used != entries)))
+      e = "fewer evictions than table entries, or the table not full at the end";
+    if (!e.empty()) {
+      std::printf("FAIL: the %s run did not stress the table as claimed: %s\n", stress.c_str(),
+                  e.c_str());
+      return 1;
+    }
+  }
 
   // The same closed loop with the cycle model alone must give the same statistics.
-  const Run m = run_model(cc, bvh, rays, eo);
+  const Run m = run_model(cc, bvh, rays, eo, ro);
   // The untimed golden model on the same rays in the same order (no pipeline latency).
   PredictorConfig pc;
   pc.hash = cc.hash;
@@ -415,7 +631,8 @@ int main_impl(int argc, char** argv) {
               "interior tests against the untimed model\n",
               double(finished) / std::max<uint64_t>(1, r.cycles),
               100 * (untimed.total().skipped_interior_fraction() - r.stats.skipped_interior_fraction()));
-  if (!m.ok || !same_stats(r.stats, m.stats) || m.cycles != r.cycles) {
+  if (!m.ok || !same_stats(r.stats, m.stats) || m.cycles != r.cycles || m.resets != r.resets ||
+      m.dropped != r.dropped || !m.exactly_once.empty()) {
     std::printf("FAIL: the cycle model alone gives different statistics or cycle count (%llu cycles)\n",
                 (unsigned long long)m.cycles);
     return 1;

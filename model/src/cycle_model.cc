@@ -17,9 +17,14 @@ std::string CycleConfig::validate() const {
   return {};
 }
 
-CycleModel::CycleModel(const CycleConfig& cfg) : cfg_(cfg), table_(cfg.table) { reset(); }
+CycleModel::CycleModel(const CycleConfig& cfg)
+    : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits) {
+  reset();
+  stats_ = CycleStats{};
+}
 
 void CycleModel::reset() {
+  ++stats_.resets;
   table_.clear();
   cycle_ = 0;
   clearing_ = true;
@@ -30,7 +35,7 @@ void CycleModel::reset() {
   for (auto& d : d_) d.reset();
   pred_fifo_.clear();
   update_queue_.clear();
-  key_store_.assign(size_t{1} << cfg_.id_bits, KeyEntry{});
+  key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
   p0_ = Msg{};
   f0_ = Msg{};
   for (auto& u : up_) u.reset();
@@ -95,6 +100,14 @@ void CycleModel::tick(const DutIn& in) {
   // the lookup sees the write (the RTL forwards a colliding write).
   if (up_[kUpdateStages - 1]) {
     const Op& w = *up_[kUpdateStages - 1];
+    bool hit = false, full = true;
+    for (uint32_t i = 0; i < cfg_.table.ways; ++i) {
+      const Way& way = table_.way(w.idx, i);
+      hit |= way.valid && way.tag == w.tag;
+      full &= way.valid;
+    }
+    stats_.updates++;
+    stats_.evictions += !hit && full;
     table_.update(w.idx, w.tag, 0, w.node);
   }
   std::optional<Pred> looked_up;
@@ -122,6 +135,8 @@ void CycleModel::tick(const DutIn& in) {
     if (!(up_[0] && up_[0]->idx == idx) && !(up_[1] && up_[1]->idx == idx)) {
       issued = update_queue_.front();
       update_queue_.pop_front();
+    } else {
+      stats_.interlock_cycles++;
     }
   }
 
@@ -129,12 +144,22 @@ void CycleModel::tick(const DutIn& in) {
   if (dec.update && dec.up_ready) update_queue_.push_back(*dec.update);
   if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
   if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
+  auto check_key = [&](bool valid, uint32_t id, const char* what) {
+    if (valid && !key_store_written_[id] && error_.empty())
+      error_ = std::string(what) + " for ray id " + std::to_string(id) +
+               " whose key-store entry was not written since reset (stale contents)";
+  };
+  if (o.pw_ready) check_key(in.pw_valid, in.pw_id, "predicted-walk result accepted");
+  if (o.upd_ready) check_key(in.upd_valid, in.upd_id, "final outcome accepted");
   if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
   if (o.upd_ready)
     f0_ = Msg{in.upd_valid, in.upd_id, in.upd_hit, in.upd_node, key_store_[in.upd_id]};
 
   // Key store write (B), after U0's read above.
-  if (b_) key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
+  if (b_) {
+    key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
+    key_store_written_[b_->id] = true;
+  }
 
   // Pipelines advance.
   for (int i = kUpdateStages - 1; i > 0; --i) up_[i] = up_[i - 1];

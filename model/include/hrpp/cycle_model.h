@@ -64,10 +64,26 @@ struct DutOut {
   Action skip_action = Action::kFull;
 };
 
+/// What the table saw (cumulative over resets; for the testbench's stress checks).
+struct CycleStats {
+  uint64_t updates = 0;           // rows written by updates (W)
+  uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
+  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
+  uint64_t resets = 0;            // reset() calls after construction (cycles in reset)
+};
+
 class CycleModel {
  public:
   explicit CycleModel(const CycleConfig& cfg);
+  /// rst_ni low for one cycle (call once per clock cycle of the reset): every register and FIFO
+  /// is cleared and the table clear starts again (the table's contents are lost). The key store
+  /// (distributed RAM without reset in the RTL) keeps its contents, as in the RTL; reading an
+  /// entry not written since the reset is a protocol error (error()).
   void reset();
+  /// A protocol violation seen: a predicted-walk result or final outcome accepted for a ray id
+  /// whose key-store entry was not written since the last reset (it would read stale contents).
+  const std::string& error() const { return error_; }
+  const CycleStats& stats() const { return stats_; }
   DutOut outputs() const;
   /// One rising clock edge with these inputs.
   void tick(const DutIn& in);
@@ -125,7 +141,10 @@ class CycleModel {
   static constexpr int kLookupLatency = 4;
   std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
-  std::vector<KeyEntry> key_store_;
+  std::vector<KeyEntry> key_store_;     // no reset, as in the RTL
+  std::vector<bool> key_store_written_;  // since the last reset
+  std::string error_;
+  CycleStats stats_;
   // Update path: P0 and F0, the update queue (U), then T0, T1, T2, C1, C2, C3, W.
   Msg p0_, f0_;
   static constexpr size_t kUpdateQueueDepth = 2;
