@@ -69,8 +69,8 @@ constexpr int kStackSize = 1024;
 // The per-axis near/far choice is made once per ray (near plane = hi when inv < 0, else lo), and
 // every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
 // exactly `t0 > tmin ? t0 : tmin` (a NaN t0 leaves tmin) and minps(t1, tmax) is `t1 < tmax ? t1 :
-// tmax`. The fourth lane (the node's right_or_first / count bits) meets a NaN inverse direction,
-// so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
+// tmax`. The fourth lane (the node's right_or_first / count bits, cleared to +0) meets a NaN
+// inverse direction, so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
 // the order of the remaining max/min does not matter (up to the sign of a zero entry distance,
 // which compares equal). Hits, entry comparisons and counters are those of intersect_box.
 struct BoxRay {
@@ -82,7 +82,11 @@ struct BoxRay {
   bool hit(const BvhNode& n, float tmin, float tmax, float* entry) const {
     static_assert(offsetof(BvhNode, lo) == 0 && offsetof(BvhNode, hi) == 16);
     constexpr float kWiden = 1 + 2 * gamma(3);
-    const __m128 lo = _mm_loadu_ps(&n.lo.x), hi = _mm_loadu_ps(&n.hi.x);
+    // The fourth lane holds right_or_first / count: integers that read as denormal floats, and
+    // arithmetic on denormal operands is slow (microcode assists). Cleared to +0.
+    const __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 lo = _mm_and_ps(_mm_loadu_ps(&n.lo.x), xyz);
+    const __m128 hi = _mm_and_ps(_mm_loadu_ps(&n.hi.x), xyz);
     const __m128 near = _mm_or_ps(_mm_and_ps(neg, hi), _mm_andnot_ps(neg, lo));
     const __m128 far = _mm_or_ps(_mm_and_ps(neg, lo), _mm_andnot_ps(neg, hi));
     const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near, org), inv);
