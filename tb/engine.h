@@ -4,6 +4,7 @@
 // the cycle model) showed it, so two runs that agree cycle by cycle make the same choices.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -51,7 +52,8 @@ class Engine {
     bool predicted = false;
     Hit baseline, best;
     uint32_t best_node = kNoNode;
-    std::vector<uint32_t> nodes;
+    std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // the predicted nodes walked
+    uint32_t num_nodes = 0;
     Counters base, hrpp, pred;
   };
   struct Message {

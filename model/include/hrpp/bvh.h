@@ -80,7 +80,8 @@ struct Bvh {
 /// Builds the BVH over the triangles (binned SAH, Wald 2007). Deterministic.
 Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt = {});
 
-/// Fills bvh.pairs and bvh.pair_of from bvh.nodes (build_bvh calls it). Leaves them empty when a
+/// Fills bvh.pairs and bvh.pair_of from bvh.nodes (build_bvh calls it; call it again after
+/// editing bvh.nodes). Leaves them empty when a
 /// leaf holds more than 65535 triangles; the traversal then reads bvh.nodes instead (same results).
 void build_pairs(Bvh& bvh);
 
