@@ -158,7 +158,7 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     f.ray = ray;
     f.any = is_any_hit(rays_[ray].kind) || opt_.mode == PredictMode::kAnyHit;
     f.baseline = walk(f, rays_[ray].ray, 0, &f.base);
-    by_id_[id] = f;
+    by_id_[id] = std::move(f);
   }
 
   if (out.pred_valid && in.pred_ready) {
@@ -169,13 +169,17 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     InFlight& f = *by_id_[out.pred_id];
     const Ray& r = rays_[f.ray].ray;
     f.predicted = out.pred_count > 0;
+    if (out.pred_count > uint32_t(kMaxNodesPerEntry)) {
+      error_ = "prediction of " + std::to_string(out.pred_count) + " nodes";
+      return;
+    }
     for (uint32_t i = 0; i < out.pred_count; ++i) {
       const uint32_t node = out.pred_nodes[i];
       if (node >= bvh_.nodes.size()) {
         error_ = "predicted node " + std::to_string(node) + " outside the BVH";
         return;
       }
-      f.nodes.push_back(node);
+      f.nodes[f.num_nodes++] = node;
       const Hit h = walk(f, r, node, &f.pred);
       if (h.hit() && (!f.best.hit() || h.t < f.best.t)) {
         f.best = h;
@@ -205,9 +209,9 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
         shrunk.tfar = f.best.t;
         const Hit h = walk(f, shrunk, 0, &f.hrpp);
         answer = h.hit() ? h : f.best;
-        for (uint32_t n : f.nodes)
-          if (in_subtree(bvh_, n, answer.leaf)) {
-            verified = n;
+        for (uint32_t i = 0; i < f.num_nodes; ++i)
+          if (in_subtree(bvh_, f.nodes[i], answer.leaf)) {
+            verified = f.nodes[i];
             break;
           }
       } else {

@@ -90,7 +90,8 @@ class Engine {
     bool predicted = false;
     Hit baseline, best;
     uint32_t best_node = kNoNode;
-    std::vector<uint32_t> nodes;
+    std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // the predicted nodes walked
+    uint32_t num_nodes = 0;
     Counters base, hrpp, pred;
   };
   struct Message {

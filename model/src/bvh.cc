@@ -42,7 +42,44 @@ struct Bin {
 
 size_t Bvh::memory_bytes() const {
   return nodes.size() * sizeof(BvhNode) + tris.size() * sizeof(Triangle) +
-         prim_ids.size() * 4 + tri_degenerate.size() + parent.size() * 4 + depth.size() * 2;
+         prim_ids.size() * 4 + tri_degenerate.size() + parent.size() * 4 + depth.size() * 2 +
+         pairs.size() * sizeof(BvhPair) + pair_of.size() * 4;
+}
+
+void build_pairs(Bvh& bvh) {
+  const size_t nn = bvh.nodes.size();
+  bvh.pairs.clear();
+  bvh.pair_of.assign(nn, kNoNode);
+  uint32_t count = 0;
+  for (size_t i = 0; i < nn; ++i) {
+    const BvhNode& n = bvh.nodes[i];
+    if (n.is_leaf()) {
+      if (n.count > 0xFFFFu) {  // does not fit the 16-bit count: no traversal layout
+        bvh.pair_of.clear();
+        return;
+      }
+    } else {
+      bvh.pair_of[i] = count++;
+    }
+  }
+  bvh.pairs.resize(count);
+  for (size_t i = 0; i < nn; ++i) {
+    const BvhNode& n = bvh.nodes[i];
+    if (n.is_leaf()) continue;
+    BvhPair& p = bvh.pairs[bvh.pair_of[i]];
+    const uint32_t child[2] = {static_cast<uint32_t>(i + 1), n.right_or_first};
+    p.right = n.right_or_first;
+    p.leaf_counts = 0;
+    for (int c = 0; c < 2; ++c) {
+      const BvhNode& ch = bvh.nodes[child[c]];
+      for (int a = 0; a < 3; ++a) {
+        p.box[a][c] = ch.lo[a];
+        p.box[a][2 + c] = ch.hi[a];
+      }
+      p.data[c] = ch.is_leaf() ? ch.right_or_first : bvh.pair_of[child[c]];
+      p.leaf_counts |= ch.count << (16 * c);
+    }
+  }
 }
 
 Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt) {
@@ -167,6 +204,8 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
     bvh.tris[i] = triangles[refs[i].id];
     bvh.tri_degenerate[i] = bvh.tris[i].degenerate();
   }
+
+  build_pairs(bvh);
 
   // Statistics.
   BvhStats& st = bvh.stats;

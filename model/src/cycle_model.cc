@@ -40,6 +40,7 @@ void CycleModel::reset() {
   f0_ = Msg{};
   for (auto& u : up_) u.reset();
   skip_fifo_.clear();
+  cached_ = false;
 }
 
 int CycleModel::in_flight() const {
@@ -71,6 +72,15 @@ CycleModel::Decision CycleModel::decide() const {
 }
 
 DutOut CycleModel::outputs() const {
+  if (!cached_) {  // a function of the state: computed once per cycle
+    cached_dec_ = decide();
+    cached_out_ = outputs(cached_dec_);
+    cached_ = true;
+  }
+  return cached_out_;
+}
+
+DutOut CycleModel::outputs(const Decision& d) const {
   DutOut o;
   o.ray_ready = !clearing_ && in_flight() + int(pred_fifo_.size()) < cfg_.pred_fifo_depth;
   if (!pred_fifo_.empty()) {
@@ -81,7 +91,6 @@ DutOut CycleModel::outputs() const {
     o.pred_count = p.count;
     o.pred_nodes = p.nodes;
   }
-  const Decision d = decide();
   o.pw_ready = !clearing_ && (!p0_.valid || d.p_advance);
   o.upd_ready = !clearing_ && (!f0_.valid || d.f_advance);
   if (!skip_fifo_.empty()) {
@@ -94,7 +103,8 @@ DutOut CycleModel::outputs() const {
 
 void CycleModel::tick(const DutIn& in) {
   const DutOut o = outputs();
-  const Decision dec = decide();
+  const Decision dec = cached_dec_;
+  cached_ = false;  // the state changes below
 
   // The write presented in this cycle (W), then the lookup read presented in this cycle (B):
   // the lookup sees the write (the RTL forwards a colliding write).

@@ -116,8 +116,9 @@ Predictor::Predictor(const Bvh& bvh, const PredictorConfig& cfg)
 
 RayResult Predictor::process(const RayRecord& rec) {
   RayResult res;
-  PredictStats s;
-  s.rays = 1;
+  // Statistics go straight into the ray kind's record (total() sums the kinds when asked).
+  PredictStats& s = by_kind_[static_cast<int>(rec.kind)];
+  s.rays += 1;
   const uint64_t ray_no = issued_++;
   // Writes of rays issued update_delay or more rays ago have landed.
   while (!pending_.empty() && pending_.front().due <= ray_no) {
@@ -133,9 +134,7 @@ RayResult Predictor::process(const RayRecord& rec) {
   const Ray& ray = rec.ray;
   if (validate_ray(ray) != RayError::kNone) {  // never hashed
     res.invalid = true;
-    s.invalid_rays = 1;
-    total_ += s;
-    by_kind_[static_cast<int>(rec.kind)] += s;
+    s.invalid_rays += 1;
     return res;
   }
   const bool any = is_any_hit(rec.kind) || cfg_.mode == PredictMode::kAnyHit;
@@ -148,8 +147,8 @@ RayResult Predictor::process(const RayRecord& rec) {
   if (timed) t0 = Clock::now();
   res.baseline = walk(ray, 0, &res.base_counters);
   uint64_t base_ns = timed ? ns_since(t0) : 0;
-  s.baseline = res.base_counters;
-  s.baseline_hits = res.baseline.hit();
+  s.baseline += res.base_counters;
+  s.baseline_hits += res.baseline.hit();
 
   // Lookup.
   if (timed) t0 = Clock::now();
@@ -173,10 +172,11 @@ RayResult Predictor::process(const RayRecord& rec) {
 
   Hit answer;
   uint32_t verified_node = kNoNode;
+  uint64_t hrpp_ns = 0;
   if (best.hit() && (any || cfg_.mode == PredictMode::kClosestSpec)) {
     answer = best;  // no walk from the root
     verified_node = best_node;
-    s.skipped_walks = 1;
+    s.skipped_walks += 1;
   } else if (best.hit()) {
     // Closest-hit exact: the predicted hit bounds the interval of the full walk.
     Ray shrunk = ray;
@@ -192,7 +192,7 @@ RayResult Predictor::process(const RayRecord& rec) {
   } else {
     answer = res.baseline;  // the full walk is the baseline walk
     res.hrpp_counters += res.base_counters;
-    s.hrpp_ns = base_ns;  // HRPP runs the same walk; it is not run twice
+    hrpp_ns = base_ns;  // HRPP runs the same walk; it is not run twice
   }
   res.answer = answer;
   res.verified = verified_node != kNoNode;
@@ -204,7 +204,7 @@ RayResult Predictor::process(const RayRecord& rec) {
     res.update_node = bvh_.ancestor(answer.leaf, cfg_.go_up);
   }
   if (res.update_node != kNoNode) {
-    s.table_updates = 1;
+    s.table_updates += 1;
     if (cfg_.update_delay == 0)
       table_.update(res.key.index, res.key.tag, res.key.key, res.update_node);
     else
@@ -212,32 +212,36 @@ RayResult Predictor::process(const RayRecord& rec) {
                           res.key.key, res.update_node});
   }
   if (timed) {
-    s.hrpp_ns += ns_since(t0);
-    s.baseline_ns = base_ns;
+    s.hrpp_ns += hrpp_ns + ns_since(t0);
+    s.baseline_ns += base_ns;
   }
 
   // Statistics.
-  s.hrpp = res.hrpp_counters;
-  s.predicted = pc;
-  if (res.predicted && !res.verified) s.wasted = pc;
+  s.hrpp += res.hrpp_counters;
+  s.predicted += pc;
+  if (res.predicted && !res.verified) s.wasted += pc;
   if (res.predicted) {
-    (res.verified ? s.true_positive : s.false_positive) = 1;
+    (res.verified ? s.true_positive : s.false_positive) += 1;
   } else {
-    (answer.hit() ? s.false_negative : s.true_negative) = 1;
+    (answer.hit() ? s.false_negative : s.true_negative) += 1;
   }
   if (!any) {
     const bool same = same_answer(bvh_, ray, answer, res.baseline);
-    if (!same) (cfg_.mode == PredictMode::kClosestSpec ? s.wrong_results : s.exact_mismatches) = 1;
+    if (!same) (cfg_.mode == PredictMode::kClosestSpec ? s.wrong_results : s.exact_mismatches) += 1;
   } else if (answer.hit() != res.baseline.hit()) {
-    s.exact_mismatches = 1;
+    s.exact_mismatches += 1;
   }
-  total_ += s;
-  by_kind_[static_cast<int>(rec.kind)] += s;
   return res;
 }
 
+const PredictStats& Predictor::total() const {
+  total_ = PredictStats{};
+  for (const PredictStats& k : by_kind_) total_ += k;
+  return total_;
+}
+
 nlohmann::json Predictor::to_json() const {
-  nlohmann::json j = total_.to_json();
+  nlohmann::json j = total().to_json();
   const HashConfig& h = cfg_.hash;
   const TableConfig& t = cfg_.table;
   j["config"] = {

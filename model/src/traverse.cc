@@ -69,8 +69,8 @@ constexpr int kStackSize = 1024;
 // The per-axis near/far choice is made once per ray (near plane = hi when inv < 0, else lo), and
 // every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
 // exactly `t0 > tmin ? t0 : tmin` (a NaN t0 leaves tmin) and minps(t1, tmax) is `t1 < tmax ? t1 :
-// tmax`. The fourth lane (the node's right_or_first / count bits) meets a NaN inverse direction,
-// so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
+// tmax`. The fourth lane (the node's right_or_first / count bits, cleared to +0) meets a NaN
+// inverse direction, so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
 // the order of the remaining max/min does not matter (up to the sign of a zero entry distance,
 // which compares equal). Hits, entry comparisons and counters are those of intersect_box.
 struct BoxRay {
@@ -82,7 +82,11 @@ struct BoxRay {
   bool hit(const BvhNode& n, float tmin, float tmax, float* entry) const {
     static_assert(offsetof(BvhNode, lo) == 0 && offsetof(BvhNode, hi) == 16);
     constexpr float kWiden = 1 + 2 * gamma(3);
-    const __m128 lo = _mm_loadu_ps(&n.lo.x), hi = _mm_loadu_ps(&n.hi.x);
+    // The fourth lane holds right_or_first / count: integers that read as denormal floats, and
+    // arithmetic on denormal operands is slow (microcode assists). Cleared to +0.
+    const __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 lo = _mm_and_ps(_mm_loadu_ps(&n.lo.x), xyz);
+    const __m128 hi = _mm_and_ps(_mm_loadu_ps(&n.hi.x), xyz);
     const __m128 near = _mm_or_ps(_mm_and_ps(neg, hi), _mm_andnot_ps(neg, lo));
     const __m128 far = _mm_or_ps(_mm_and_ps(neg, lo), _mm_andnot_ps(neg, hi));
     const __m128 t0 = _mm_mul_ps(_mm_sub_ps(near, org), inv);
@@ -186,13 +190,151 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
   }
 }
 
+// The traversal over bvh.pairs (the same walk as `traverse`, node for node): an interior node's
+// two child boxes come from one cache line and are tested together, lane 0 the left child and
+// lane 1 the right, with exactly intersect_box's operations in its order (per axis: the near
+// plane is hi when the inverse direction is negative, t0 = (near - org) * inv, t1 = (far - org) *
+// inv * (1 + 2 gamma(3)), tmin = maxps(t0, tmin) = `t0 > tmin ? t0 : tmin`, tmax = minps(t1,
+// tmax) = `t1 < tmax ? t1 : tmax`; hit when tmin <= tmax), so hits, entry distances and
+// counters are bit for bit those of intersect_box.
+struct PairRay {
+  __m128 org[3], inv[3];
+  int near_off[3], far_off[3];  // float offsets of the near / far planes in BvhPair::box
+  explicit PairRay(const RayPre& r) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = _mm_set1_ps(r.org[a]);
+      inv[a] = _mm_set1_ps(r.inv[a]);
+      const bool neg = r.inv[a] < 0;
+      near_off[a] = 4 * a + (neg ? 2 : 0);
+      far_off[a] = 4 * a + (neg ? 0 : 2);
+    }
+  }
+  static __m128 load2(const float* p) {  // p[0], p[1] in lanes 0 and 1
+    return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p)));
+  }
+  // Bit c of the result: child c's box is hit; entry[c] its entry distance.
+  int hit(const BvhPair& p, __m128 tmin, __m128 tmax, float entry[4]) const {
+    constexpr float kWiden = 1 + 2 * gamma(3);
+    const float* b = &p.box[0][0];
+    for (int a = 0; a < 3; ++a) {
+      const __m128 t0 = _mm_mul_ps(_mm_sub_ps(load2(b + near_off[a]), org[a]), inv[a]);
+      const __m128 t1 = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(load2(b + far_off[a]), org[a]), inv[a]),
+                                   _mm_set1_ps(kWiden));
+      tmin = _mm_max_ps(t0, tmin);
+      tmax = _mm_min_ps(t1, tmax);
+    }
+    _mm_storeu_ps(entry, tmin);
+    return _mm_movemask_ps(_mm_cmple_ps(tmin, tmax)) & 3;
+  }
+};
+
+template <bool kAnyHit, bool kPath>
+Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req) {
+  const RayPre r(ray);
+  Counters local;
+  Counters* c = &local;
+  struct Flush {
+    Counters* from;
+    Counters* to;
+    ~Flush() { *to += *from; }
+  } flush{&local, counters};
+  const BvhPair* pairs = bvh.pairs.data();
+  const Triangle* tris = bvh.tris.data();
+  const uint8_t* degenerate = bvh.tri_degenerate.data();
+  Hit hit;
+  float limit = next_float_up(ray.tfar);  // accept t <= tfar
+  // The current node: its id, and its pair (interior, count 0) or first triangle and count (leaf).
+  uint32_t node = req.start_node, data, count;
+  {
+    const BvhNode& s = bvh.nodes[node];
+    c->box_tests++;
+    float entry;
+    if (!BoxRay(r).hit(s, ray.tnear, limit, &entry)) return hit;
+    data = s.is_leaf() ? s.right_or_first : bvh.pair_of[node];
+    count = s.count;
+  }
+  const PairRay pr(r);
+  const __m128 tnear = _mm_set1_ps(ray.tnear);
+  struct Entry {
+    uint32_t node, data, count;
+    float t;
+  };
+  std::array<Entry, kStackSize> stack;
+  int sp = 0;
+  while (true) {
+    if constexpr (kPath) req.path->push_back(node);
+    if (count) {
+      c->leaf_visits++;
+      for (uint32_t i = data, e = data + count; i < e; ++i) {
+        c->tri_tests++;
+        if (degenerate[i]) continue;
+        float t, u, v;
+        if (triangle_test(r, tris[i], ray.tnear, limit, &t, &u, &v)) {
+          hit.t = limit = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = bvh.prim_ids[i];
+          hit.leaf = node;
+          if constexpr (kAnyHit) return hit;
+        }
+      }
+    } else {
+      c->interior_tests++;
+      c->box_tests += 2;
+      const BvhPair& p = pairs[data];
+      const uint32_t cl = p.leaf_counts & 0xFFFFu, cr = p.leaf_counts >> 16;
+      // Start fetching both children (their pairs or triangles) while their boxes are tested.
+      // Prefetches change no result.
+      __builtin_prefetch(cl ? static_cast<const void*>(&tris[p.data[0]]) : &pairs[p.data[0]]);
+      __builtin_prefetch(cr ? static_cast<const void*>(&tris[p.data[1]]) : &pairs[p.data[1]]);
+      alignas(16) float t[4];
+      const int m = pr.hit(p, tnear, _mm_set1_ps(limit), t);
+      if (m == 3) {
+        if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
+        if (t[1] < t[0]) {
+          stack[sp++] = {node + 1, p.data[0], cl, t[0]};
+          node = p.right, data = p.data[1], count = cr;
+        } else {
+          stack[sp++] = {p.right, p.data[1], cr, t[1]};
+          node = node + 1, data = p.data[0], count = cl;
+        }
+        continue;
+      }
+      if (m == 1) {
+        node = node + 1, data = p.data[0], count = cl;
+        continue;
+      }
+      if (m == 2) {
+        node = p.right, data = p.data[1], count = cr;
+        continue;
+      }
+    }
+    // Pop the next node whose box entry is not beyond the closest hit so far.
+    while (sp > 0) {
+      const Entry& e = stack[--sp];
+      if (e.t < limit) {
+        node = e.node, data = e.data, count = e.count;
+        goto next;
+      }
+    }
+    return hit;
+  next:;
+  }
+}
+
 }  // namespace
 
 Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+  if (!bvh.pair_of.empty())
+    return req.path ? traverse_pairs<false, true>(bvh, ray, c, req)
+                    : traverse_pairs<false, false>(bvh, ray, c, req);
   return req.path ? traverse<false, true>(bvh, ray, c, req) : traverse<false, false>(bvh, ray, c, req);
 }
 
 Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
+  if (!bvh.pair_of.empty())
+    return req.path ? traverse_pairs<true, true>(bvh, ray, c, req)
+                    : traverse_pairs<true, false>(bvh, ray, c, req);
   return req.path ? traverse<true, true>(bvh, ray, c, req) : traverse<true, false>(bvh, ray, c, req);
 }
 

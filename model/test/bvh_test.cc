@@ -1,6 +1,8 @@
 // BVH invariants and traversal against brute force.
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include "hrpp/bvh.h"
 #include "hrpp/rng.h"
 #include "hrpp/traverse.h"
@@ -108,6 +110,47 @@ TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
         EXPECT_TRUE(bvh.nodes[a.leaf].is_leaf());
       }
       EXPECT_GT(hits, 300) << "too few hits for the test to mean anything";
+    }
+  }
+}
+
+// The traversal reads the pair layout (bvh.pairs); without it, it reads bvh.nodes. Both must be
+// the same walk: hits (t, prim, barycentrics, leaf), visited nodes in order and every counter,
+// from the root and from every 13th node, for closest and any hit, at several leaf sizes.
+TEST(Traversal, PairLayoutIsTheNodeWalk) {
+  auto same_hit = [](const Hit& a, const Hit& b) {
+    return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
+           std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
+           std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v) && a.prim == b.prim &&
+           a.leaf == b.leaf;
+  };
+  for (uint32_t leaf : {1u, 4u, 8u}) {
+    auto tris = test::random_soup(3000, 0.08f, 21 + leaf);
+    const Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
+    ASSERT_FALSE(bvh.pair_of.empty());
+    Bvh nodes_only = bvh;
+    nodes_only.pairs.clear();
+    nodes_only.pair_of.clear();
+    for (uint64_t i = 0; i < 2000; ++i) {
+      const Ray r = random_ray(500 + leaf, i);
+      for (uint32_t start = 0; start < bvh.nodes.size(); start += (i % 50 == 0 ? 13 : 1u << 30)) {
+        for (bool any : {false, true}) {
+          std::vector<uint32_t> pa, pb;
+          Counters ca, cb;
+          const Hit a = any ? any_hit(bvh, r, &ca, {.start_node = start, .path = &pa})
+                            : closest_hit(bvh, r, &ca, {.start_node = start, .path = &pa});
+          const Hit b = any ? any_hit(nodes_only, r, &cb, {.start_node = start, .path = &pb})
+                            : closest_hit(nodes_only, r, &cb, {.start_node = start, .path = &pb});
+          ASSERT_TRUE(same_hit(a, b)) << "leaf " << leaf << " ray " << i << " start " << start;
+          ASSERT_EQ(ca, cb) << "leaf " << leaf << " ray " << i << " start " << start;
+          ASSERT_EQ(pa, pb) << "leaf " << leaf << " ray " << i << " start " << start;
+          Counters cc;  // without a path: the same counters
+          const Hit h = any ? any_hit(bvh, r, &cc, {.start_node = start})
+                            : closest_hit(bvh, r, &cc, {.start_node = start});
+          ASSERT_TRUE(same_hit(a, h));
+          ASSERT_EQ(ca, cc);
+        }
+      }
     }
   }
 }

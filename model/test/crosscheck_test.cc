@@ -55,6 +55,7 @@ TEST(CrossCheck, DetectsAWrongTraversal) {
   Bvh bvh = build_bvh(s.triangles);
   for (auto& n : bvh.nodes)
     if (n.is_leaf()) n.hi = n.lo + 0.5f * (n.hi - n.lo);
+  build_pairs(bvh);  // the traversal reads the boxes from the pair layout
   CrossCheckOptions opt;
   opt.rays = 20000;
   CrossCheckResult r = cross_check(s, bvh, opt);

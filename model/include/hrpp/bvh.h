@@ -30,6 +30,18 @@ static_assert(sizeof(BvhNode) == 32);
 
 constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 
+/// The traversal's copy of an interior node (docs/bvh.md, "Traversal layout"): the boxes of its
+/// two children side by side in one cache line, so that one fetch gives both boxes and both are
+/// tested at once. Derived from `nodes` by build_bvh (node ids, boxes and counters are those of
+/// the binary BVH; this is only where the traversal reads them from).
+struct alignas(64) BvhPair {
+  float box[3][4];       // axis a: lo of the left child, lo of the right, hi of the left, hi of the right
+  uint32_t right;        // the right child's node id (the left child is this node's id + 1)
+  uint32_t leaf_counts;  // child c (0 left, 1 right): its triangle count in bits 16c..16c+15; 0: interior
+  uint32_t data[2];      // child c: interior: the index of its own BvhPair; leaf: its first triangle
+};
+static_assert(sizeof(BvhPair) == 64);
+
 struct BvhBuildOptions {
   uint32_t max_leaf_size = 4;  // leaves never hold more triangles than this
   uint32_t bins = 16;          // SAH bins per axis
@@ -52,6 +64,8 @@ struct Bvh {
   std::vector<uint8_t> tri_degenerate;  // never hit (zero area)
   std::vector<uint32_t> parent;     // kNoNode for the root
   std::vector<uint16_t> depth;      // root = 0
+  std::vector<BvhPair> pairs;       // traversal layout: one per interior node, depth-first order
+  std::vector<uint32_t> pair_of;    // node id -> index in pairs (interior nodes; else kNoNode)
   BvhBuildOptions options;
   BvhStats stats;
 
@@ -65,6 +79,11 @@ struct Bvh {
 
 /// Builds the BVH over the triangles (binned SAH, Wald 2007). Deterministic.
 Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt = {});
+
+/// Fills bvh.pairs and bvh.pair_of from bvh.nodes (build_bvh calls it; call it again after
+/// editing bvh.nodes). Leaves them empty when a
+/// leaf holds more than 65535 triangles; the traversal then reads bvh.nodes instead (same results).
+void build_pairs(Bvh& bvh);
 
 /// Checks the invariants (every triangle in exactly one leaf, child boxes inside parent boxes,
 /// depth-first numbering, parent links, counts). Returns an empty string when all hold, else a

@@ -120,7 +120,12 @@ class CycleModel {
     std::optional<Op> update;  // the request on the table's update port
   };
   Decision decide() const;
+  DutOut outputs(const Decision& d) const;
   int in_flight() const;
+  // outputs() and the decision it was computed from, valid until the state changes.
+  mutable bool cached_ = false;
+  mutable Decision cached_dec_;
+  mutable DutOut cached_out_;
 
   CycleConfig cfg_;
   PredTable table_;

@@ -80,7 +80,8 @@ class Predictor {
   /// Runs one ray through lookup, walks and update, and accumulates statistics.
   RayResult process(const RayRecord& r);
 
-  const PredictStats& total() const { return total_; }
+  /// The sum over the ray kinds (computed when asked).
+  const PredictStats& total() const;
   const PredictStats& by_kind(RayKind k) const { return by_kind_[static_cast<int>(k)]; }
   const PredTable& table() const { return table_; }
   const PredictorConfig& config() const { return cfg_; }
@@ -100,7 +101,7 @@ class Predictor {
   };
   std::deque<PendingUpdate> pending_;  // update_delay > 0: writes not yet in the table
   uint64_t issued_ = 0;                // rays processed (valid or not)
-  PredictStats total_;
+  mutable PredictStats total_;  // total()'s result
   std::array<PredictStats, kNumRayKinds> by_kind_{};
 };
 
