@@ -156,6 +156,14 @@ struct Run {
 
 constexpr uint64_t kMaxCyclesPerRay = 200;
 
+// A reset begins: the engine drops the rays in flight (it offers them again); counted in `run`.
+void begin_reset(Engine& eng, Run& run) {
+  const uint64_t d = eng.reset();
+  run.resets++;
+  run.dropped += d;
+  run.resets_with_rays += d > 0;
+}
+
 // Resets in the middle of the stream: the first after `every` cycles on average (uniform in
 // [every/2, 3*every/2]), each 1..max_len cycles long, the next `every` cycles (again uniform)
 // after the previous one ends. Seeded, so the DUT run and the cycle-model run reset at the same
@@ -251,12 +259,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     // cycle of it, the engine once as it begins.
     bool reset_starts = false;
     const bool in_reset = resets.step(cycle, &reset_starts);
-    if (reset_starts) {
-      const uint64_t d = eng.reset();
-      run.resets++;
-      run.dropped += d;
-      run.resets_with_rays += d > 0;
-    }
+    if (reset_starts) begin_reset(eng, run);
     if (in_reset) {
       run.reset_cycles++;
       model.reset();
@@ -321,11 +324,7 @@ Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord
        !eng.done() && cycle <= cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len); ++cycle) {
     bool reset_starts = false;
     const bool in_reset = resets.step(cycle, &reset_starts);
-    if (reset_starts) {
-      const uint64_t d = eng.reset();
-      run.resets++;
-      run.dropped += d;
-    }
+    if (reset_starts) begin_reset(eng, run);
     if (in_reset) model.reset();
     DutIn in;
     eng.drive(cycle, &in);

@@ -65,6 +65,29 @@ namespace {
 
 constexpr int kStackSize = 1024;
 
+// The triangles first .. first + count - 1 of leaf `node`, for both walks: every test counted, a
+// hit nearer than `limit` kept (and `limit` shrunk to it). True when an any-hit walk may stop.
+template <bool kAnyHit>
+[[gnu::always_inline]] inline bool test_leaf(const Bvh& bvh, const RayPre& r, float tnear,
+                                             uint32_t node, uint32_t first, uint32_t count,
+                                             float& limit, Hit& hit, Counters* c) {
+  c->leaf_visits++;
+  for (uint32_t i = first, e = first + count; i < e; ++i) {
+    c->tri_tests++;
+    if (bvh.tri_degenerate[i]) continue;
+    float t, u, v;
+    if (triangle_test(r, bvh.tris[i], tnear, limit, &t, &u, &v)) {
+      hit.t = limit = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = bvh.prim_ids[i];
+      hit.leaf = node;
+      if constexpr (kAnyHit) return true;
+    }
+  }
+  return false;
+}
+
 // intersect_box for the traversal loop, on the three axes at once (SSE2, the x86-64 baseline).
 // The per-axis near/far choice is made once per ray (near plane = hi when inv < 0, else lo), and
 // every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
@@ -132,20 +155,8 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
     const BvhNode& n = nodes[node];
     if constexpr (kPath) req.path->push_back(node);
     if (n.is_leaf()) {
-      c->leaf_visits++;
-      for (uint32_t i = n.right_or_first, e = n.right_or_first + n.count; i < e; ++i) {
-        c->tri_tests++;
-        if (bvh.tri_degenerate[i]) continue;
-        float t, u, v;
-        if (triangle_test(r, bvh.tris[i], ray.tnear, limit, &t, &u, &v)) {
-          hit.t = limit = t;
-          hit.u = u;
-          hit.v = v;
-          hit.prim = bvh.prim_ids[i];
-          hit.leaf = node;
-          if constexpr (kAnyHit) return hit;
-        }
-      }
+      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, n.right_or_first, n.count, limit, hit, c))
+        return hit;
     } else {
       c->interior_tests++;
       c->box_tests += 2;
@@ -240,7 +251,6 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   } flush{&local, counters};
   const BvhPair* pairs = bvh.pairs.data();
   const Triangle* tris = bvh.tris.data();
-  const uint8_t* degenerate = bvh.tri_degenerate.data();
   Hit hit;
   float limit = next_float_up(ray.tfar);  // accept t <= tfar
   // The current node: its id, and its pair (interior, count 0) or first triangle and count (leaf).
@@ -264,20 +274,7 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   while (true) {
     if constexpr (kPath) req.path->push_back(node);
     if (count) {
-      c->leaf_visits++;
-      for (uint32_t i = data, e = data + count; i < e; ++i) {
-        c->tri_tests++;
-        if (degenerate[i]) continue;
-        float t, u, v;
-        if (triangle_test(r, tris[i], ray.tnear, limit, &t, &u, &v)) {
-          hit.t = limit = t;
-          hit.u = u;
-          hit.v = v;
-          hit.prim = bvh.prim_ids[i];
-          hit.leaf = node;
-          if constexpr (kAnyHit) return hit;
-        }
-      }
+      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, data, count, limit, hit, c)) return hit;
     } else {
       c->interior_tests++;
       c->box_tests += 2;
