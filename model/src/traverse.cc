@@ -319,7 +319,138 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   }
 }
 
+// closest_hit_pair on the pair layout: traverse_pairs<false, false> for the full walk (limit
+// lb), with the bounded walk (limit lv) carried along: a stack entry and the current node carry
+// whether the bounded walk visits them too. Returns false if lv rose above lb (the subsequence
+// argument no longer holds): the caller then runs the bounded walk alone.
+bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit& hb, Counters& cb,
+                        Hit& hv, Counters& cv) {
+  const RayPre r(ray);
+  const BvhPair* pairs = bvh.pairs.data();
+  const Triangle* tris = bvh.tris.data();
+  float lb = next_float_up(ray.tfar), lv = next_float_up(bounded_tfar);
+  uint32_t node = 0, data, count;
+  bool v;  // the bounded walk visits the current node
+  {
+    const BvhNode& s = bvh.nodes[node];
+    cb.box_tests++;
+    cv.box_tests++;
+    float entry;
+    if (!BoxRay(r).hit(s, ray.tnear, lb, &entry)) return true;  // then not with lv <= lb either
+    v = BoxRay(r).hit(s, ray.tnear, lv, &entry);
+    data = s.is_leaf() ? s.right_or_first : bvh.pair_of[node];
+    count = s.count;
+  }
+  const PairRay pr(r);
+  const __m128 tnear = _mm_set1_ps(ray.tnear);
+  struct Entry {
+    uint32_t node, data, count;
+    float t;
+    bool v;
+  };
+  std::array<Entry, kStackSize> stack;
+  int sp = 0;
+  while (true) {
+    if (count) {
+      // test_leaf for both walks: the same triangles, each limit on its own.
+      cb.leaf_visits++;
+      cv.leaf_visits += v;
+      for (uint32_t i = data, e = data + count; i < e; ++i) {
+        cb.tri_tests++;
+        cv.tri_tests += v;
+        if (bvh.tri_degenerate[i]) continue;
+        float t, u, w;
+        // triangle_test depends on its limit only through `t < limit`, and lv <= lb.
+        if (triangle_test(r, tris[i], ray.tnear, lb, &t, &u, &w)) {
+          hb.t = lb = t;
+          hb.u = u;
+          hb.v = w;
+          hb.prim = bvh.prim_ids[i];
+          hb.leaf = node;
+          if (v && t < lv) {
+            hv.t = lv = t;
+            hv.u = u;
+            hv.v = w;
+            hv.prim = bvh.prim_ids[i];
+            hv.leaf = node;
+          }
+          if (lb < lv) return false;
+        }
+      }
+    } else {
+      cb.interior_tests++;
+      cb.box_tests += 2;
+      cv.interior_tests += v;
+      cv.box_tests += 2 * v;
+      const BvhPair& p = pairs[data];
+      const uint32_t cl = p.leaf_counts & 0xFFFFu, cr = p.leaf_counts >> 16;
+      __builtin_prefetch(cl ? static_cast<const void*>(&tris[p.data[0]]) : &pairs[p.data[0]]);
+      __builtin_prefetch(cr ? static_cast<const void*>(&tris[p.data[1]]) : &pairs[p.data[1]]);
+      alignas(16) float t[4];
+      const int m = pr.hit(p, tnear, _mm_set1_ps(lb), t);
+      // The entry distances do not depend on the limit; a child passes the bounded walk's test
+      // if it passes the full walk's and its entry is within lv (per lane, the same operations
+      // as pr.hit with tmax lv).
+      const int mv = v ? pr.hit(p, tnear, _mm_set1_ps(lv), t) & m : 0;
+      if (m == 3) {
+        if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
+        if (t[1] < t[0]) {
+          stack[sp++] = {node + 1, p.data[0], cl, t[0], (mv & 1) != 0};
+          node = p.right, data = p.data[1], count = cr, v = (mv & 2) != 0;
+        } else {
+          stack[sp++] = {p.right, p.data[1], cr, t[1], (mv & 2) != 0};
+          node = node + 1, data = p.data[0], count = cl, v = (mv & 1) != 0;
+        }
+        continue;
+      }
+      if (m == 1) {
+        node = node + 1, data = p.data[0], count = cl, v = (mv & 1) != 0;
+        continue;
+      }
+      if (m == 2) {
+        node = p.right, data = p.data[1], count = cr, v = (mv & 2) != 0;
+        continue;
+      }
+    }
+    while (sp > 0) {
+      const Entry& e = stack[--sp];
+      if (e.t < lb) {
+        node = e.node, data = e.data, count = e.count, v = e.v && e.t < lv;
+        goto next;
+      }
+    }
+    return true;
+  next:;
+  }
+}
+
 }  // namespace
+
+void closest_hit_pair(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit* base,
+                      Counters* base_c, Hit* bounded, Counters* bounded_c) {
+  if (!(bounded_tfar <= ray.tfar))
+    throw std::invalid_argument("closest_hit_pair: bounded_tfar above the ray's tfar");
+  Ray shrunk = ray;
+  shrunk.tfar = bounded_tfar;
+  if (bvh.pair_of.empty()) {  // the node layout: two walks
+    *base = closest_hit(bvh, ray, base_c);
+    *bounded = closest_hit(bvh, shrunk, bounded_c);
+    return;
+  }
+  Hit hb, hv;
+  Counters cb, cv;
+  if (traverse_pairs_two(bvh, ray, bounded_tfar, hb, cb, hv, cv)) {
+    *bounded = hv;
+    *bounded_c += cv;
+  } else {
+    *bounded = closest_hit(bvh, shrunk, bounded_c);
+    // The full walk: from the start again (cb is of an unfinished walk).
+    cb = {};
+    hb = closest_hit(bvh, ray, &cb);
+  }
+  *base = hb;
+  *base_c += cb;
+}
 
 Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
   if (!bvh.pair_of.empty())

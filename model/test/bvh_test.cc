@@ -1,7 +1,9 @@
 // BVH invariants and traversal against brute force.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
+#include <cmath>
 
 #include "hrpp/bvh.h"
 #include "hrpp/rng.h"
@@ -153,6 +155,63 @@ TEST(Traversal, PairLayoutIsTheNodeWalk) {
       }
     }
   }
+}
+
+// closest_hit_pair is two closest_hit walks, the second with a shorter tfar: hits bit for bit
+// and every counter, for bounds at, just above and just below the closest hit, inside the hit
+// interval, at a hit found in a subtree (the predictor's case) and at the ray's tfar.
+TEST(Traversal, ClosestHitPairIsTwoWalks) {
+  auto same_hit = [](const Hit& a, const Hit& b) {
+    return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
+           std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
+           std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v) && a.prim == b.prim &&
+           a.leaf == b.leaf;
+  };
+  int bounded_hits = 0, bounded_misses = 0;
+  for (uint32_t leaf : {1u, 4u, 8u}) {
+    auto tris = test::random_soup(3000, 0.08f, 41 + leaf);
+    const Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
+    Bvh nodes_only = bvh;  // the node layout takes the two-walk path
+    nodes_only.pairs.clear();
+    nodes_only.pair_of.clear();
+    for (uint64_t i = 0; i < 3000; ++i) {
+      const Ray r = random_ray(900 + leaf, i);
+      Counters c0;
+      const Hit full = closest_hit(bvh, r, &c0);
+      std::vector<float> bounds{r.tfar};
+      if (full.hit()) {
+        bounds.push_back(full.t);
+        bounds.push_back(std::nextafter(full.t, kInf));
+        bounds.push_back(std::nextafter(full.t, 0.f));
+        bounds.push_back(r.tnear + (full.t - r.tnear) * 0.5f);
+        bounds.push_back(full.t + (r.tfar - full.t) * 0.25f);
+      }
+      const uint32_t sub = static_cast<uint32_t>((i * 7919) % bvh.nodes.size());
+      Counters cs;
+      const Hit in_sub = closest_hit(bvh, r, &cs, {.start_node = sub});
+      if (in_sub.hit()) bounds.push_back(in_sub.t);
+      for (float b : bounds) {
+        if (!(b <= r.tfar) || !(b >= r.tnear)) continue;
+        Ray shrunk = r;
+        shrunk.tfar = b;
+        Counters ca, cb;
+        const Hit a = closest_hit(bvh, r, &ca);
+        const Hit s = closest_hit(bvh, shrunk, &cb);
+        for (const Bvh* layout : std::array<const Bvh*, 2>{&bvh, &nodes_only}) {
+          Hit pa, ps;
+          Counters cpa, cps;
+          closest_hit_pair(*layout, r, b, &pa, &cpa, &ps, &cps);
+          ASSERT_TRUE(same_hit(a, pa)) << "leaf " << leaf << " ray " << i << " bound " << b;
+          ASSERT_EQ(ca, cpa) << "leaf " << leaf << " ray " << i << " bound " << b;
+          ASSERT_TRUE(same_hit(s, ps)) << "leaf " << leaf << " ray " << i << " bound " << b;
+          ASSERT_EQ(cb, cps) << "leaf " << leaf << " ray " << i << " bound " << b;
+        }
+        (s.hit() ? bounded_hits : bounded_misses)++;
+      }
+    }
+  }
+  EXPECT_GT(bounded_hits, 1000);
+  EXPECT_GT(bounded_misses, 1000);
 }
 
 TEST(Traversal, AnyHitAgreesWithBruteForce) {

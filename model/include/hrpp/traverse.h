@@ -85,6 +85,16 @@ Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceR
 /// First hit found in [ray.tnear, ray.tfar] (shadow / occlusion queries).
 Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequest& req = {});
 
+/// Two closest-hit walks from the root in one pass: *base is closest_hit(bvh, ray, base_c) and
+/// *bounded is closest_hit(bvh, ray with tfar = bounded_tfar, bounded_c), hits and counters bit
+/// for bit (requires bounded_tfar <= ray.tfar). The bounded walk visits, in the same order, a
+/// subsequence of the nodes the full walk visits as long as its limit stays at or below the full
+/// walk's; in the rare case where it does not (a hit nearer than a culled box's entry distance,
+/// by rounding), the bounded walk is run again on its own. Used by the predictor's closest-exact
+/// mode (the walk shortened by a predicted hit beside the baseline walk).
+void closest_hit_pair(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit* base,
+                      Counters* base_c, Hit* bounded, Counters* bounded_c);
+
 /// Reference: tests every triangle (for tests and fuzzing).
 Hit brute_force_closest(const Bvh& bvh, const Ray& ray);
 
