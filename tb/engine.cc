@@ -157,8 +157,7 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     InFlight f;
     f.ray = ray;
     f.any = is_any_hit(rays_[ray].kind) || opt_.mode == PredictMode::kAnyHit;
-    f.baseline = walk(f, rays_[ray].ray, 0, &f.base);
-    by_id_[id] = std::move(f);
+    by_id_[id] = std::move(f);  // the baseline walk is made with the skip decision
   }
 
   if (out.pred_valid && in.pred_ready) {
@@ -199,15 +198,27 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     }
     InFlight& f = *by_id_[id];
     const Ray& r = rays_[f.ray].ray;
+    // The baseline walk (the statistics' reference and the exactness check) is made here, once
+    // the decision is known, so that a shortened closest-hit walk rides along with it
+    // (closest_hit_pair: both walks' hits and counters, exactly; docs/predictor.md).
+    const bool pair = out.skip_action == Action::kShrink && !f.any && f.best.hit();
+    Hit shrunk_hit;
+    if (pair)
+      closest_hit_pair(bvh_, r, f.best.t, &f.baseline, &f.base, &shrunk_hit, &f.hrpp);
+    else
+      f.baseline = walk(f, r, 0, &f.base);
     if (out.skip_action == Action::kSkip) {
       finish(id, f.best, true, true);
     } else {
       Hit answer;
       uint32_t verified = kNoNode;
       if (out.skip_action == Action::kShrink) {
-        Ray shrunk = r;
-        shrunk.tfar = f.best.t;
-        const Hit h = walk(f, shrunk, 0, &f.hrpp);
+        Hit h = shrunk_hit;
+        if (!pair) {
+          Ray shrunk = r;
+          shrunk.tfar = f.best.t;
+          h = walk(f, shrunk, 0, &f.hrpp);
+        }
         answer = h.hit() ? h : f.best;
         for (uint32_t i = 0; i < f.num_nodes; ++i)
           if (in_subtree(bvh_, f.nodes[i], answer.leaf)) {
