@@ -116,16 +116,18 @@ TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
   }
 }
 
+// Two hits are the same bit for bit (t, barycentrics, primitive, leaf).
+bool same_hit(const Hit& a, const Hit& b) {
+  return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
+         std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
+         std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v) && a.prim == b.prim &&
+         a.leaf == b.leaf;
+}
+
 // The traversal reads the pair layout (bvh.pairs); without it, it reads bvh.nodes. Both must be
 // the same walk: hits (t, prim, barycentrics, leaf), visited nodes in order and every counter,
 // from the root and from every 13th node, for closest and any hit, at several leaf sizes.
 TEST(Traversal, PairLayoutIsTheNodeWalk) {
-  auto same_hit = [](const Hit& a, const Hit& b) {
-    return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
-           std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
-           std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v) && a.prim == b.prim &&
-           a.leaf == b.leaf;
-  };
   for (uint32_t leaf : {1u, 4u, 8u}) {
     auto tris = test::random_soup(3000, 0.08f, 21 + leaf);
     const Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
@@ -161,12 +163,6 @@ TEST(Traversal, PairLayoutIsTheNodeWalk) {
 // and every counter, for bounds at, just above and just below the closest hit, inside the hit
 // interval, at a hit found in a subtree (the predictor's case) and at the ray's tfar.
 TEST(Traversal, ClosestHitPairIsTwoWalks) {
-  auto same_hit = [](const Hit& a, const Hit& b) {
-    return std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
-           std::bit_cast<uint32_t>(a.u) == std::bit_cast<uint32_t>(b.u) &&
-           std::bit_cast<uint32_t>(a.v) == std::bit_cast<uint32_t>(b.v) && a.prim == b.prim &&
-           a.leaf == b.leaf;
-  };
   int bounded_hits = 0, bounded_misses = 0;
   for (uint32_t leaf : {1u, 4u, 8u}) {
     auto tris = test::random_soup(3000, 0.08f, 41 + leaf);
