@@ -388,10 +388,10 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
       __builtin_prefetch(cr ? static_cast<const void*>(&tris[p.data[1]]) : &pairs[p.data[1]]);
       alignas(16) float t[4];
       const int m = pr.hit(p, tnear, _mm_set1_ps(lb), t);
-      // The entry distances do not depend on the limit; a child passes the bounded walk's test
-      // if it passes the full walk's and its entry is within lv (per lane, the same operations
-      // as pr.hit with tmax lv).
-      const int mv = v ? pr.hit(p, tnear, _mm_set1_ps(lv), t) & m : 0;
+      // The entry distances t[] do not depend on the limit, and pr.hit's test is entry <= min(exit,
+      // limit): with lv <= lb a child passes the bounded walk's test exactly when it passes the
+      // full walk's and its entry is within lv.
+      const int mv = v ? m & (int(t[0] <= lv) | int(t[1] <= lv) << 1) : 0;
       if (m == 3) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (t[1] < t[0]) {

@@ -449,11 +449,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
     L.append("| config | speed grade 6 | speed grade 8 |")
     L.append("|---|---|---|")
     for r in results:
-        cells = []
-        for g in (6, 8):
-            d, c = r["pnr"][g].get("seeds", {}), r["ceiling"]["pnr"][g].get("seeds", {})
-            cells.append(", ".join(f"seed {sd}: {d.get(sd)} / {c.get(sd)}" for sd in d))
-        L.append(f"| {r['config']} | {cells[0]} | {cells[1]} |")
+        L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} |")
     L.append("")
     L.append("| config | iCE40 LUT4 / FF / RAM40_4K | xc7 LUT / FF / RAMB36+RAMB18 / LUTRAM | "
              "generic cells (coarse) | memory bits (all RAMs) | logic transistors (cmos) | "
@@ -551,9 +547,7 @@ def update_results_doc(results: list[dict], sweep: list[dict]) -> None:
             f"| Fmax speed grade 8 / ceiling | {d['fmax_mhz_speed8']:.1f} / "
             f"{d['fmax_ceiling_mhz_speed8']:.1f} MHz ({d['fmax_ratio_speed8']:.0%}) |",
             "| Fmax per placer seed, design / ceiling (MHz) | " + "; ".join(
-                f"sg{g}: " + ", ".join(f"seed {sd} {v} / {d['ceiling']['pnr'][g]['seeds'].get(sd)}"
-                                       for sd, v in d["pnr"][g]["seeds"].items())
-                for g in (6, 8)) + " |",
+                f"sg{g}: {seed_cells(d, g)}" for g in (6, 8)) + " |",
             f"| target (>= {TARGET_RATIO:.0%} of the ceiling at both grades) | "
             f"{'met' if d['fmax_target_met'] else 'NOT met'} |",
             f"| critical path (speed grade 6) | `{d['critical_path']['from']}` -> "
