@@ -76,14 +76,28 @@ struct EngineRay {
   }
 };
 
+// The small pieces are inline: the untimed model runs them for every ray (make bench).
+
+/// A walk of the golden traversal from `start`: any hit or closest hit.
+inline Hit engine_walk(const Bvh& bvh, const Ray& ray, bool any, uint32_t start, Counters* c) {
+  return any ? any_hit(bvh, ray, c, {.start_node = start})
+             : closest_hit(bvh, ray, c, {.start_node = start});
+}
+
 /// Walks the subtree of one predicted node with the golden traversal (closest or any hit) and
 /// takes its result (EngineRay::take_predicted, whose answer it returns).
-bool walk_predicted_node(const Bvh& bvh, const Ray& ray, uint32_t node, EngineRay* er);
+inline bool walk_predicted_node(const Bvh& bvh, const Ray& ray, uint32_t node, EngineRay* er) {
+  return er->take_predicted(node, engine_walk(bvh, ray, er->any, node, &er->pred));
+}
 
 /// Walks the predicted nodes in order (most recently used first) until an any-hit query finds
 /// a hit; sets `predicted` (count > 0).
-void walk_predicted(const Bvh& bvh, const Ray& ray, const uint32_t* nodes, uint32_t count,
-                    EngineRay* er);
+inline void walk_predicted(const Bvh& bvh, const Ray& ray, const uint32_t* nodes,
+                           uint32_t count, EngineRay* er) {
+  er->predicted = count > 0;
+  for (uint32_t i = 0; i < count; ++i)
+    if (!walk_predicted_node(bvh, ray, nodes[i], er)) break;
+}
 
 /// The untimed model's decision: with a predicted hit, skip (any-hit queries, closest-spec) or
 /// shrink (closest-exact); without one, the full walk.
@@ -105,7 +119,34 @@ void walk_from_root(const Bvh& bvh, const Ray& ray, Action action, EngineRay* er
 /// `verified_node`, `hrpp`. kSkip: the predicted hit, accepted; kShrink: the shrunk walk's hit,
 /// else the predicted one, verified when it lies in a predicted subtree (in_subtree); kFull: the
 /// baseline's answer.
-void finish(const Bvh& bvh, Action action, EngineRay* er);
+inline void finish(const Bvh& bvh, Action action, EngineRay* er) {
+  er->action = action;
+  er->hrpp = er->pred;
+  er->verified = false;
+  er->verified_node = kNoNode;
+  switch (action) {
+    case Action::kSkip:  // the predicted hit is accepted
+      er->answer = er->best;
+      er->verified = true;
+      er->verified_node = er->best_node;
+      break;
+    case Action::kShrink:
+      er->hrpp += er->shrunk_work;
+      er->answer = er->shrunk.hit() ? er->shrunk : er->best;
+      // Verified when the closest hit lies in one of the predicted subtrees.
+      for (uint32_t i = 0; i < er->num_nodes; ++i)
+        if (in_subtree(bvh, er->nodes[i], er->answer.leaf)) {
+          er->verified = true;
+          er->verified_node = er->nodes[i];
+          break;
+        }
+      break;
+    case Action::kFull:  // the full walk is the baseline walk
+      er->hrpp += er->base;
+      er->answer = er->baseline;
+      break;
+  }
+}
 
 /// The node the outcome writes to the table: the verified node (its recency refreshed), else the
 /// answer's hit leaf's go_up-th ancestor; kNoNode when the ray hit nothing.
@@ -118,7 +159,26 @@ inline uint32_t update_node(const Bvh& bvh, const EngineRay& er, uint32_t go_up)
 /// walks, skipped walks, baseline hits, TP/FP/FN/TN, and answers that differ from the baseline
 /// (wrong_results in closest-spec, else exact_mismatches). Table updates and timings are the
 /// caller's (it owns the table and the clock).
-void classify(const Bvh& bvh, const Ray& ray, const EngineRay& er, PredictMode mode,
-              PredictStats* s);
+inline void classify(const Bvh& bvh, const Ray& ray, const EngineRay& er, PredictMode mode,
+                     PredictStats* s) {
+  s->rays += 1;
+  s->baseline += er.base;
+  s->baseline_hits += er.baseline.hit();
+  s->hrpp += er.hrpp;
+  s->predicted += er.pred;
+  if (er.predicted && !er.verified) s->wasted += er.pred;
+  s->skipped_walks += er.action == Action::kSkip;
+  if (er.predicted) {
+    (er.verified ? s->true_positive : s->false_positive) += 1;
+  } else {
+    (er.answer.hit() ? s->false_negative : s->true_negative) += 1;
+  }
+  if (!er.any) {
+    if (!same_answer(bvh, ray, er.answer, er.baseline))
+      (mode == PredictMode::kClosestSpec ? s->wrong_results : s->exact_mismatches) += 1;
+  } else if (er.answer.hit() != er.baseline.hit()) {
+    s->exact_mismatches += 1;
+  }
+}
 
 }  // namespace hrpp
