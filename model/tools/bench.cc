@@ -228,17 +228,12 @@ PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
   c.hash.origin_bits = 5;
   c.hash.dir_bits = 3;
   c.hash.combine = CombineMode::kConcat;
-  c.hash.origin_cell_exp = cell_exp_for(scene.bounds, c.hash.origin_bits);
   c.table.sets = 128;
   c.table.ways = 8;
   c.table.nodes_per_entry = 2;
-  c.hash.index_bits = 7;
-  c.table.node_bits = node_bits_for(bvh.nodes.size());
-  c.table.key_bits = c.hash.key_bits();
-  c.table.tag_bits = 8;
   c.mode = PredictMode::kClosestExact;
-  for (const std::string& e : {c.hash.validate(), c.table.validate()})
-    if (!e.empty()) throw std::runtime_error("predictor configuration: " + e);
+  if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = 8}); !e.empty())
+    throw std::runtime_error("predictor configuration: " + e);
   return c;
 }
 
