@@ -45,6 +45,7 @@
 #include <sstream>
 #include <thread>
 
+#include "hrpp/atomic_file.h"
 #include "hrpp/bvh.h"
 #include "hrpp/embree_ref.h"
 #include "hrpp/predictor.h"
@@ -867,18 +868,14 @@ int driver_main(const DriverArgs& a) {
     }
     out["big_scene"] = big;
   }
-  const std::string tmp = a.out + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) {
-      std::fprintf(stderr, "hrpp_bench: cannot write %s\n", tmp.c_str());
-      return 2;
-    }
-    f << out.dump(2) << "\n";
-  }
-  fs::rename(tmp, a.out);
   const std::string md_path = (fs::path(a.out).replace_extension(".md")).string();
-  std::ofstream(md_path) << markdown(out);
+  try {
+    hrpp::write_file_atomic(a.out, out.dump(2) + "\n");
+    hrpp::write_file_atomic(md_path, markdown(out));
+  } catch (const hrpp::AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp_bench: %s\n", e.what());
+    return 2;
+  }
   std::printf("wrote %s and %s\n", a.out.c_str(), md_path.c_str());
   return 0;
 }

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "hrpp/atomic_file.h"
 #include "hrpp/bvh.h"
 #include "hrpp/cost_model.h"
 #include "hrpp/crosscheck.h"
@@ -38,25 +39,10 @@ void print_vec(const char* label, const Vec3& v) {
 }
 
 bool write_json_file(const std::string& path, const nlohmann::json& j) {
-  // Written to a temporary name and renamed, so a killed run never leaves a partial file.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) {
-      std::fprintf(stderr, "hrpp: cannot write %s\n", tmp.c_str());
-      return false;
-    }
-    out << j.dump(2) << "\n";
-    out.close();  // the last buffer is written here: its errors count too
-    if (!out) {
-      std::fprintf(stderr, "hrpp: error writing %s\n", tmp.c_str());
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::fprintf(stderr, "hrpp: cannot rename %s to %s\n", tmp.c_str(), path.c_str());
-    std::remove(tmp.c_str());
+  try {
+    write_file_atomic(path, j.dump(2) + "\n");
+  } catch (const AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
     return false;
   }
   return true;
