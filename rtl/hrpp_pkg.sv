@@ -17,8 +17,8 @@ package hrpp_pkg;
     CombineConcat = 1'b1   // "concat"
   } combine_e;
 
-  // Pipeline latencies in cycles (docs/microarchitecture.md, "Pipeline"; each module
-  // checks at elaboration that its pipeline has the stages declared here).
+  // Pipeline latencies in cycles (docs/microarchitecture.md, "Declared latencies"; each
+  // module checks at elaboration that its pipeline has the stages declared here).
   localparam int unsigned HashLatency = 3;          // hrpp_hash: inputs to key_o
   localparam int unsigned LookupLatency = 4;        // hrpp_pred_table: lk_valid_i to lk_valid_o
   localparam int unsigned UpdateStages = 7;         // hrpp_pred_table: T0 .. C3, W

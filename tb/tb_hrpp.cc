@@ -94,7 +94,8 @@ std::string compare(const DutOut& exp, const DutOut& act, uint32_t k) {
   };
   if (exp.ray_ready != act.ray_ready) return diff("ray_ready_o", exp.ray_ready, act.ray_ready, 0);
   if (exp.pw_ready != act.pw_ready) return diff("pw_ready_o", exp.pw_ready, act.pw_ready, 0);
-  if (exp.outcome_ready != act.outcome_ready) return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
+  if (exp.outcome_ready != act.outcome_ready)
+    return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
   if (exp.pred_valid != act.pred_valid)
     return diff("pred_valid_o", exp.pred_valid, act.pred_valid, exp.pred_id);
   if (exp.pred_valid) {

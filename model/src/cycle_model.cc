@@ -163,7 +163,8 @@ void CycleModel::tick(const DutIn& in) {
   if (o.outcome_ready) check_key(in.outcome_valid, in.outcome_id, "final outcome accepted");
   if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
   if (o.outcome_ready)
-    f0_ = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node, key_store_[in.outcome_id]};
+    f0_ = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
+              key_store_[in.outcome_id]};
 
   // Key store write (B), after U0's read above.
   if (b_) {

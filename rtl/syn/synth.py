@@ -80,8 +80,10 @@ def clog2(n: int) -> int:
 # ------------------------------------------------------------------------------------------------
 # Variant and Combine are kept as their encodings (describe(), the sweep); read_slang_cmd() names
 # them (hrpp_top takes the enumerations).
-ENUM_PARAMS = {"Variant": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.VARIANTS.values()},
-               "Combine": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.COMBINES.values()}}
+ENUM_PARAMS = {
+    "Variant": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.VARIANTS.values()},
+    "Combine": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.COMBINES.values()},
+}
 
 
 def read_configs() -> dict[str, dict[str, int]]:
