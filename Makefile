@@ -69,8 +69,8 @@ build: setup $(BUILD)/build.ninja
 # default configuration, improved hash) with its per-kind figures, pictures in out/render/, and
 # the RTL against the cycle model on the scene's rays.
 # ---------------------------------------------------------------------------------------------
-PREDICT_DEFAULT := --hash improved --origin-bits 5 --dir-bits 3 --combine concat --table 128x8 \
-                   --nodes-per-entry 2 --tag-bits 8 --mode closest-exact
+# The RTL configurations and latencies: rtl/config/hrpp_configs.json.
+PREDICT_DEFAULT := --preset rtl-default --mode closest-exact
 
 run: build
 	@mkdir -p $(OUT)
@@ -158,8 +158,9 @@ SWEEP_SPP       ?= 1
 SWEEP_SCHEDULER ?=
 SWEEP_RUN = $(BUILD)/hrpp sweep $(SWEEP_SCENES) --res $(SWEEP_RES) --spp $(SWEEP_SPP) \
   $(if $(SWEEP_SCHEDULER),--scheduler $(SWEEP_SCHEDULER),--workers $(JOBS))
-SWEEP_RTL_DEFAULT := --param hash=improved --param origin_bits=5 --param dir_bits=3 \
-  --param combine=concat --param table=128x8 --param nodes_per_entry=2 --param tag_bits=8
+# The RTL default configuration's hash and table (rtl/config/hrpp_configs.json), as sweep
+# parameters; recursively expanded, so the file is read only when a sweep runs.
+SWEEP_RTL_DEFAULT = $(shell python3 rtl/config/hrpp_config.py --sweep-params default)
 
 sweep: build
 	@test -n "$(SWEEP_SCENES)" || { echo "sweep: no scenes in $(SHARED)/scenes (set SWEEP_SCENES)"; exit 2; }

@@ -3,8 +3,8 @@
 module hrpp_fifo #(
   parameter int unsigned Depth = 8,   /// entries, a power of two
   parameter int unsigned Width = 8,   /// bits per entry
-  localparam int unsigned PtrW = $clog2(Depth),
-  localparam int unsigned CountW = $clog2(Depth + 1)
+  localparam int unsigned PtrWidth = $clog2(Depth),
+  localparam int unsigned CountWidth = $clog2(Depth + 1)
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -14,12 +14,12 @@ module hrpp_fifo #(
   output logic [Width-1:0]  data_o,   /// the head
   output logic              empty_o,
   output logic              full_o,
-  output logic [CountW-1:0] count_o
+  output logic [CountWidth-1:0] count_o
 );
 
   logic [Width-1:0]  mem_q[Depth];
-  logic [PtrW-1:0]   rd_q, wr_q;
-  logic [CountW-1:0] count_q;
+  logic [PtrWidth-1:0]   rd_q, wr_q;
+  logic [CountWidth-1:0] count_q;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -29,7 +29,7 @@ module hrpp_fifo #(
     end else begin
       if (push_i) wr_q <= wr_q + 1'b1;
       if (pop_i) rd_q <= rd_q + 1'b1;
-      count_q <= count_q + CountW'(push_i) - CountW'(pop_i);
+      count_q <= count_q + CountWidth'(push_i) - CountWidth'(pop_i);
     end
   end
 
@@ -39,11 +39,20 @@ module hrpp_fifo #(
 
   assign data_o  = mem_q[rd_q];
   assign empty_o = count_q == '0;
-  assign full_o  = count_q == CountW'(Depth);
+  assign full_o  = count_q == CountWidth'(Depth);
   assign count_o = count_q;
 
+  // ---------------------------------------------------------------------------------------------
+  // Assertions
+  // ---------------------------------------------------------------------------------------------
+  // The pointers wrap at Depth: it must be a power of two.
+  if (Depth < 2 || (Depth & (Depth - 1)) != 0) begin : gen_depth_check
+    $error("hrpp_fifo: Depth %0d is not a power of two >= 2", Depth);
+  end
+
 `ifndef SYNTHESIS
-  NoOverflow_A: assert property (@(posedge clk_i) disable iff (!rst_ni) push_i |-> !full_o || pop_i);
+  NoOverflow_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      push_i |-> !full_o || pop_i);
   NoUnderflow_A: assert property (@(posedge clk_i) disable iff (!rst_ni) pop_i |-> !empty_o);
 `endif
 

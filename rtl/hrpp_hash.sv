@@ -1,7 +1,7 @@
 `default_nettype none
 // HRPP hash unit: the key of a ray from the float32 bit patterns of its origin and direction,
 // exactly as docs/hash.md specifies (and model/src/hash.cc computes). Pipelined: key_o and
-// invalid_o belong to the inputs of HashLatency (3) cycles earlier.
+// invalid_o belong to the inputs of HashLatency (hrpp_pkg: 3) cycles earlier.
 //   stage 1 : canonicalize; shift amounts and trailing-zero counts of the significands
 //   stage 1b: shift direction, saturated shift amount
 //   stage 2 : shifts (the sticky bit is "trailing zeros < shift"), magnitudes
@@ -16,12 +16,12 @@ module hrpp_hash
   parameter int unsigned OriginBits = 5,   /// improved: bits per origin axis, 1..16
   parameter int unsigned DirBits = 3,      /// improved: bits per direction component, 1..16
   parameter combine_e Combine = CombineXor,  /// origin and direction fields: XOR or concatenated
-  localparam int unsigned FaithW = 1 + ExpBits + Precision,
-  localparam int unsigned FieldO = Variant == HashFaithful ? 1 + ExpBits + Precision : OriginBits,
-  localparam int unsigned FieldD = Variant == HashFaithful ? 1 + ExpBits + Precision : DirBits,
-  localparam int unsigned KeyWidth = Combine == CombineXor ?
-      (FieldO > FieldD ? 3 * FieldO : 3 * FieldD) : 3 * FieldO + 3 * FieldD,
-  localparam int unsigned MaxF = FaithW > 16 ? FaithW : 16  // widest field
+  localparam int unsigned FaithWidth = 1 + ExpBits + Precision,
+  localparam int unsigned OriginFieldWidth = field_width(Variant, Precision, ExpBits, OriginBits),
+  localparam int unsigned DirFieldWidth = field_width(Variant, Precision, ExpBits, DirBits),
+  localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
+                                               Combine),
+  localparam int unsigned MaxFieldWidth = FaithWidth > 16 ? FaithWidth : 16  // widest field
 ) (
   input  logic                  clk_i,
   input  logic                  rst_ni,
@@ -40,13 +40,13 @@ module hrpp_hash
   endfunction
 
   // Faithful field: sign | top ExpBits exponent bits | top Precision mantissa bits.
-  function automatic logic [FaithW-1:0] faithful_field(logic [31:0] c);
+  function automatic logic [FaithWidth-1:0] faithful_field(logic [31:0] c);
     logic [7:0] e_top;  // the top ExpBits exponent bits, right-aligned
-    logic [FaithW-1:0] f;
+    logic [FaithWidth-1:0] f;
     e_top = c[30:23] >> (8 - ExpBits);
-    f = FaithW'(c[31]) << (ExpBits + Precision);
-    if (ExpBits > 0) f |= FaithW'(e_top) << Precision;
-    f |= FaithW'(c[22:0] >> (23 - Precision));
+    f = FaithWidth'(c[31]) << (ExpBits + Precision);
+    if (ExpBits > 0) f |= FaithWidth'(e_top) << Precision;
+    f |= FaithWidth'(c[22:0] >> (23 - Precision));
     return f;
   endfunction
 
@@ -65,7 +65,7 @@ module hrpp_hash
   // Per component (0..2 origin x, y, z; 3..5 direction x, y, z):
   typedef struct packed {
     logic            fixed;  // the field is known: `field` (faithful; zero; special; saturated)
-    logic [MaxF-1:0] field;
+    logic [MaxFieldWidth-1:0] field;
     logic            sign;
     logic [23:0]     mant;
     logic [4:0]      tz;     // trailing zeros of mant
@@ -92,20 +92,22 @@ module hrpp_hash
       s1_d[i].tz = trailing_zeros({1'b1, b[22:0]});
       if (Variant == HashFaithful) begin
         s1_d[i].fixed = 1'b1;
-        s1_d[i].field = MaxF'(faithful_field(c));
+        s1_d[i].field = MaxFieldWidth'(faithful_field(c));
       end else if (c[30:23] == 8'd0) begin
         s1_d[i].fixed = 1'b1;  // field 0
       end else if (i < 3) begin
         if (c[30:23] == 8'hFF) begin  // +inf and NaN: all ones; -inf: 1 then zeros
           s1_d[i].fixed = 1'b1;
-          s1_d[i].field = c[31] ? MaxF'(1) << (OriginBits - 1) : MaxF'((1 << OriginBits) - 1);
+          s1_d[i].field = c[31] ? MaxFieldWidth'(1) << (OriginBits - 1)
+                                : MaxFieldWidth'((1 << OriginBits) - 1);
         end
         s1_d[i].sh = 11'(signed'({3'b0, b[30:23]})) - 11'sd150 - 11'(cell_exp_i);
         s1_d[i].rsh = 11'sd150 + 11'(cell_exp_i) - 11'(signed'({3'b0, b[30:23]}));
       end else begin
         if (c[30:23] >= 8'd127) begin  // |d| >= 1, infinities, NaN: saturate
           s1_d[i].fixed = 1'b1;
-          s1_d[i].field = c[31] ? MaxF'(1) << (DirBits - 1) : MaxF'((1 << (DirBits - 1)) - 1);
+          s1_d[i].field = c[31] ? MaxFieldWidth'(1) << (DirBits - 1)
+                                : MaxFieldWidth'((1 << (DirBits - 1)) - 1);
         end
         // Right shift of the significand for floor(d * 2^(DirBits-1)); >= 9 since e <= 126.
         s1_d[i].sh = 11'sd150 - 11'(signed'({3'b0, b[30:23]})) - 11'(DirBits - 1);
@@ -119,7 +121,7 @@ module hrpp_hash
   // ---------------------------------------------------------------------------------------------
   typedef struct packed {
     logic            fixed;
-    logic [MaxF-1:0] field;
+    logic [MaxFieldWidth-1:0] field;
     logic            neg;   // negate (mag + frac)
     logic [15:0]     mag;   // the low field bits of |x| shifted (truncated)
     logic            frac;  // bits were shifted out (floor of a negative value subtracts one)
@@ -132,7 +134,7 @@ module hrpp_hash
   // stage 2 is only the shifter and the sticky compare.
   typedef struct packed {
     logic            fixed;
-    logic [MaxF-1:0] field;
+    logic [MaxFieldWidth-1:0] field;
     logic            sign;
     logic [23:0]     mant;
     logic [4:0]      tz;
@@ -196,22 +198,22 @@ module hrpp_hash
   // ---------------------------------------------------------------------------------------------
   // Output: fields, combination (origin x|y|z, direction z|y|x)
   // ---------------------------------------------------------------------------------------------
-  logic [5:0][MaxF-1:0] field;
+  logic [5:0][MaxFieldWidth-1:0] field;
   always_comb begin
     for (int i = 0; i < 6; i++) begin
       if (s2_q[i].fixed) field[i] = s2_q[i].field;
       // -(mag + frac) = ~mag + 1 - frac: one incrementer instead of an adder and a negation.
-      else if (s2_q[i].neg) field[i] = MaxF'(16'(~s2_q[i].mag + 16'(!s2_q[i].frac)));
-      else field[i] = MaxF'(s2_q[i].mag);
+      else if (s2_q[i].neg) field[i] = MaxFieldWidth'(16'(~s2_q[i].mag + 16'(!s2_q[i].frac)));
+      else field[i] = MaxFieldWidth'(s2_q[i].mag);
     end
   end
 
-  logic [3*FieldO-1:0] o_fields;
-  logic [3*FieldD-1:0] d_fields;
+  logic [3*OriginFieldWidth-1:0] o_fields;
+  logic [3*DirFieldWidth-1:0] d_fields;
   always_comb begin
     for (int i = 0; i < 3; i++) begin
-      o_fields[(2-i)*FieldO +: FieldO] = FieldO'(field[i]);
-      d_fields[i*FieldD +: FieldD] = FieldD'(field[3+i]);
+      o_fields[(2-i)*OriginFieldWidth +: OriginFieldWidth] = OriginFieldWidth'(field[i]);
+      d_fields[i*DirFieldWidth +: DirFieldWidth] = DirFieldWidth'(field[3+i]);
     end
   end
 
@@ -225,12 +227,26 @@ module hrpp_hash
   // ---------------------------------------------------------------------------------------------
   // Assertions
   // ---------------------------------------------------------------------------------------------
-  initial begin : gen_param_checks
-    assert (Precision >= 1 && Precision <= 23) else $fatal(1, "Precision must be 1..23");
-    assert (ExpBits <= 8) else $fatal(1, "ExpBits must be 0..8");
-    assert (OriginBits >= 1 && OriginBits <= 16) else $fatal(1, "OriginBits must be 1..16");
-    assert (DirBits >= 1 && DirBits <= 16) else $fatal(1, "DirBits must be 1..16");
-    assert (KeyWidth <= 64) else $fatal(1, "keys are at most 64 bits");
+  // The pipeline has the stages hrpp_pkg declares (s1, s1b, s2; hrpp_top delays the ray's id
+  // and query type by HashLatency beside it).
+  localparam int unsigned Stages = 3;
+  if (Stages != HashLatency) begin : gen_latency_check
+    $error("hrpp_hash has %0d stages; hrpp_pkg::HashLatency declares %0d", Stages, HashLatency);
+  end
+  if (Precision < 1 || Precision > 23) begin : gen_precision_check
+    $error("Precision must be 1..23");
+  end
+  if (ExpBits > 8) begin : gen_exp_bits_check
+    $error("ExpBits must be 0..8");
+  end
+  if (OriginBits < 1 || OriginBits > 16) begin : gen_origin_bits_check
+    $error("OriginBits must be 1..16");
+  end
+  if (DirBits < 1 || DirBits > 16) begin : gen_dir_bits_check
+    $error("DirBits must be 1..16");
+  end
+  if (KeyWidth > 64) begin : gen_key_width_check
+    $error("keys are at most 64 bits");
   end
 
 endmodule

@@ -9,70 +9,81 @@
 //   update: T0 read address | T1 RAM data | T2 RAM data registered | C1 forward, match |
 //           C2 select the way | C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
-// equals that of an update accepted in either of the two previous cycles waits (up_ready_o low);
-// every other hazard is forwarded, so one lookup and one update per cycle are sustained.
+// equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
+// low); every other hazard is forwarded, so one lookup and one update per cycle are sustained.
 // After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
 module hrpp_pred_table
   import hrpp_pkg::*;
 #(
-  parameter int unsigned NumSets = 256,       /// sets, a power of two
-  parameter int unsigned NumWays = 4,         /// ways, 2..16
-  parameter int unsigned NodesPerEntry = 2,   /// node ids per way (K), 1..8
-  parameter int unsigned NodeIdWidth = 17,    /// bits of a node id
-  parameter int unsigned TagBits = 12,        /// stored tag bits
-  parameter bit InjectFault = 1'b0,           /// test only: a one-bit fault in the node update
-  localparam int unsigned IdxW = $clog2(NumSets),
-  localparam int unsigned CountW = $clog2(NodesPerEntry + 1),
-  localparam int unsigned AgeW = $clog2(NumWays)
+  parameter int unsigned NumSets = DefaultNumSets,              /// sets, a power of two
+  parameter int unsigned NumWays = DefaultNumWays,              /// ways, 2..16
+  parameter int unsigned NodesPerEntry = DefaultNodesPerEntry,  /// node ids per way (K), 1..8
+  parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,      /// bits of a node id
+  parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits
+  parameter bit InjectFault = 1'b0,  /// test only: a one-bit fault in the node update
+  localparam int unsigned IdxWidth = $clog2(NumSets),
+  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
+  localparam int unsigned AgeWidth = $clog2(NumWays)
 ) (
-  input  logic                                       clk_i,
-  input  logic                                       rst_ni,
-  output logic                                       init_done_o,  /// the reset clear is over
+  input  logic                                      clk_i,
+  input  logic                                      rst_ni,
+  output logic                                      init_done_o,  /// the reset clear is over
   // Lookup (never stalls)
-  input  logic                                       lk_valid_i,
-  input  logic [IdxW-1:0]                            lk_idx_i,
-  input  logic [TagBits-1:0]                         lk_tag_i,
-  output logic                                       lk_valid_o,
-  output logic [CountW-1:0]                          lk_count_o,  /// 0: no prediction
-  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0]  lk_nodes_o,  /// MRU first
-  // Update: node_i becomes the most recently used node of the tag's entry
-  input  logic                                       up_valid_i,
-  output logic                                       up_ready_o,
-  input  logic [IdxW-1:0]                            up_idx_i,
-  input  logic [TagBits-1:0]                         up_tag_i,
-  input  logic [NodeIdWidth-1:0]                     up_node_i
+  input  logic                                      lk_valid_i,
+  input  logic [IdxWidth-1:0]                       lk_idx_i,
+  input  logic [TagWidth-1:0]                       lk_tag_i,
+  output logic                                      lk_valid_o,
+  output logic [CountWidth-1:0]                     lk_count_o,  /// 0: no prediction
+  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes_o,  /// MRU first
+  // Write requests (updates): node_i becomes the most recently used node of the tag's entry
+  input  logic                                      tbl_wr_valid_i,
+  output logic                                      tbl_wr_ready_o,
+  input  logic [IdxWidth-1:0]                       tbl_wr_idx_i,
+  input  logic [TagWidth-1:0]                       tbl_wr_tag_i,
+  input  logic [NodeIdWidth-1:0]                    tbl_wr_node_i
 );
 
   typedef struct packed {
     logic                                      valid;
-    logic [TagBits-1:0]                        tag;
-    logic [CountW-1:0]                         count;
+    logic [TagWidth-1:0]                       tag;
+    logic [CountWidth-1:0]                     count;
     logic [NodesPerEntry-1:0][NodeIdWidth-1:0] nodes;  // [0] = most recently used
-    logic [AgeW-1:0]                           age;    // 0 = most recently used way
+    logic [AgeWidth-1:0]                       age;    // 0 = most recently used way
   } way_t;
   typedef way_t [NumWays-1:0] row_t;
-  localparam int unsigned RowW = $bits(row_t);
+  localparam int unsigned RowWidth = $bits(row_t);
+
+  // A table write request as it travels down the update pipeline.
+  typedef struct packed {
+    logic                   valid;
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+  } upd_req_t;
 
   // The row every set holds after reset: all ways invalid, way i has age i.
   function automatic row_t init_row();
     row_t r;
     r = '0;
-    for (int w = 0; w < NumWays; w++) r[w].age = AgeW'(w);
+    for (int w = 0; w < NumWays; w++) r[w].age = AgeWidth'(w);
     return r;
   endfunction
 
   // ---------------------------------------------------------------------------------------------
   // Reset clear sequence and the write port
   // ---------------------------------------------------------------------------------------------
-  logic            clearing_q;
-  logic [IdxW-1:0] clear_idx_q;
-  logic            we;
-  logic [IdxW-1:0] waddr;
-  row_t            wdata;
-  // W stage
-  logic            w_valid_q;
-  logic [IdxW-1:0] w_idx_q;
-  row_t            w_row_q;
+  logic                clearing_q;
+  logic [IdxWidth-1:0] clear_idx_q;
+  logic                we;
+  logic [IdxWidth-1:0] waddr;
+  row_t                wdata;
+  // W: the update pipeline's last stage
+  typedef struct packed {
+    logic                valid;
+    logic [IdxWidth-1:0] idx;
+    row_t                row;
+  } w_t;
+  w_t w_q;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -80,28 +91,28 @@ module hrpp_pred_table
       clear_idx_q <= '0;
     end else if (clearing_q) begin
       clear_idx_q <= clear_idx_q + 1'b1;
-      if (clear_idx_q == IdxW'(NumSets - 1)) clearing_q <= 1'b0;
+      if (clear_idx_q == IdxWidth'(NumSets - 1)) clearing_q <= 1'b0;
     end
   end
   assign init_done_o = !clearing_q;
 
-  assign we    = clearing_q || w_valid_q;
-  assign waddr = clearing_q ? clear_idx_q : w_idx_q;
-  assign wdata = clearing_q ? init_row() : w_row_q;
+  assign we    = clearing_q || w_q.valid;
+  assign waddr = clearing_q ? clear_idx_q : w_q.idx;
+  assign wdata = clearing_q ? init_row() : w_q.row;
 
   // ---------------------------------------------------------------------------------------------
   // Memories
   // ---------------------------------------------------------------------------------------------
-  logic [RowW-1:0] lk_rdata, up_rdata;
-  logic [IdxW-1:0] up_raddr;
-  logic            up_re;
+  logic [RowWidth-1:0] lk_rdata, uram_rdata;
+  logic [IdxWidth-1:0] uram_raddr;
+  logic                uram_re;
 
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowW)) u_lookup_ram (
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowWidth)) u_lookup_ram (
     .clk_i, .re_i(lk_valid_i), .raddr_i(lk_idx_i), .rdata_o(lk_rdata),
     .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
   );
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowW)) u_update_ram (
-    .clk_i, .re_i(up_re), .raddr_i(up_raddr), .rdata_o(up_rdata),
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowWidth)) u_update_ram (
+    .clk_i, .re_i(uram_re), .raddr_i(uram_raddr), .rdata_o(uram_rdata),
     .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
   );
 
@@ -111,17 +122,17 @@ module hrpp_pred_table
   // Every block-RAM output goes straight into a register (its clock-to-output delay is most of
   // a cycle); the collision select, the tag compare and the way select follow in later stages.
   // L2: the RAM data; the row written in the cycle of the read, and whether it collided.
-  logic               l2_valid_q, l2_collide_q;
-  logic [TagBits-1:0] l2_tag_q;
+  logic                l2_valid_q, l2_collide_q;
+  logic [TagWidth-1:0] l2_tag_q;
   row_t               l2_wrow_q;
   // L3: the RAM data registered, beside the collision flag and row.
-  logic               l3_valid_q, l3_collide_q;
-  logic [TagBits-1:0] l3_tag_q;
+  logic                l3_valid_q, l3_collide_q;
+  logic [TagWidth-1:0] l3_tag_q;
   row_t               l3_ram_q, l3_wrow_q;
   // L4: per way, whether it matches, and its count and nodes.
-  logic                                      l4_valid_q;
-  logic [NumWays-1:0]                        l4_match_q;
-  logic [NumWays-1:0][CountW-1:0]            l4_count_q;
+  logic                                                   l4_valid_q;
+  logic [NumWays-1:0]                                     l4_match_q;
+  logic [NumWays-1:0][CountWidth-1:0]                     l4_count_q;
   logic [NumWays-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] l4_nodes_q;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -174,13 +185,13 @@ module hrpp_pred_table
   end
 
   // L4: the matching way (at most one matches) -> registered outputs (zero without a match).
-  logic [CountW-1:0]                         lk_count_d;
+  logic [CountWidth-1:0]                         lk_count_d;
   logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes_d;
   always_comb begin
     lk_count_d = '0;
     lk_nodes_d = '0;
     for (int w = 0; w < NumWays; w++) begin
-      lk_count_d |= l4_count_q[w] & {CountW{l4_match_q[w]}};
+      lk_count_d |= l4_count_q[w] & {CountWidth{l4_match_q[w]}};
       lk_nodes_d |= l4_nodes_q[w] & {(NodesPerEntry * NodeIdWidth){l4_match_q[w]}};
     end
   end
@@ -198,130 +209,119 @@ module hrpp_pred_table
   end
 
   // ---------------------------------------------------------------------------------------------
-  // Update pipeline
+  // Update pipeline: one packed struct of registers per stage
   // ---------------------------------------------------------------------------------------------
-  // T0: the accepted request; its read address goes to the update RAM.
-  logic                   t0_valid_q, t1_valid_q, t2_valid_q, c1_valid_q, c2_valid_q, c3_valid_q;
-  logic [IdxW-1:0]        t0_idx_q, t1_idx_q, t2_idx_q, c1_idx_q, c2_idx_q, c3_idx_q;
-  logic [TagBits-1:0]     t0_tag_q, t1_tag_q, t2_tag_q, c1_tag_q, c2_tag_q;
-  logic [NodeIdWidth-1:0] t0_node_q, t1_node_q, t2_node_q, c1_node_q, c2_node_q, c3_node_q;
-  // The rows written one and two cycles ago (for forwarding), and the set of the first.
-  logic                   h1_valid_q;
-  logic [IdxW-1:0]        h1_idx_q;
-  row_t                   h1_row_q, h2_row_q;
-  // T1 -> T2 -> C1: the RAM data, registered twice. The first register has no other load, so
-  // it sits beside the block RAM; the long route to C1's logic gets a cycle of its own.
-  row_t                   t2_ram_q, c1_ram_q;
-  // The newest write C1's RAM read cannot see (selected in T2), and per way whether to use it
-  // (one copy per way: each drives a way's bits of C1's 2:1 mux).
-  row_t                   c1_fwd_row_q;
+  // T0: the accepted request; its read address goes to the update RAM. T1: the RAM reads.
+  upd_req_t t0_q, t1_q;
+  // T2: the RAM data, registered: the register has no other load, so it sits beside the block
+  // RAM; the long route to C1's logic gets a cycle of its own.
+  typedef struct packed {
+    upd_req_t req;
+    row_t     ram;
+  } t2_t;
+  t2_t t2_q;
+  // C1: the RAM data registered again, and the newest write C1's RAM read cannot see (selected
+  // in T2).
+  typedef struct packed {
+    upd_req_t req;
+    row_t     ram;
+    row_t     fwd_row;
+  } c1_t;
+  c1_t c1_q;
+  // Per way: whether C1 uses fwd_row (one copy per way: each drives a way's bits of C1's 2:1
+  // mux); T1 -> T2: which rows T2 forwards (set compares one cycle ahead; one copy per way).
   (* keep *) logic [NumWays-1:0] c1_use_fwd_q;
-  // T1 -> T2: which rows T2 forwards (set compares one cycle ahead; one copy per way).
   (* keep *) logic [NumWays-1:0] t2_fwd_c3_q, t2_fwd_w_q, t2_fwd_h1_q, t2_fwd_h2_q;
-  // C1 -> C2: the current row and, per way, one-hot decisions (see C1).
-  row_t                   c2_row_q;
-  logic [NumWays-1:0]     c2_match_q, c2_first_inv_q, c2_oldest_q;
-  logic                   c2_any_match_q, c2_any_inv_q;
-  logic [NumWays-1:0][NodesPerEntry-1:0][(NodeIdWidth+1)/2-1:0] c2_node_eq_part_q;
-  // C2 -> C3: the selected way (cleared if newly allocated), which of its nodes equal the node.
-  row_t                   c3_row_q;
-  logic [NumWays-1:0]     c3_sel_q;   // one-hot way to update
-  way_t                   c3_way_q;
-  logic [NodesPerEntry-1:0] c3_node_eq_q;
-  row_t                   c3_new_row;  // C3's result
+  // C2: the current row and, per way, one-hot decisions (see C1).
+  localparam int unsigned EqGroups = (NodeIdWidth + 1) / 2;
+  typedef logic [NumWays-1:0][NodesPerEntry-1:0][EqGroups-1:0] node_eq_part_t;
+  typedef struct packed {
+    upd_req_t           req;
+    row_t               row;
+    logic [NumWays-1:0] match, first_inv, oldest;
+    logic               any_match, any_inv;
+    node_eq_part_t      node_eq_part;
+  } c2_t;
+  c2_t c2_q;
+  // C3: the selected way (cleared if newly allocated), which of its nodes equal the node.
+  typedef struct packed {
+    logic                     valid;
+    logic [IdxWidth-1:0]      idx;
+    logic [NodeIdWidth-1:0]   node;
+    row_t                     row;
+    logic [NumWays-1:0]       sel;      // one-hot way to update
+    way_t                     way;
+    logic [NodesPerEntry-1:0] node_eq;
+  } c3_t;
+  c3_t  c3_q;
+  row_t c3_new_row;  // C3's result
+  // The rows written one (h1) and two (h2) cycles ago (for forwarding), and the set of the first.
+  w_t   h1_q;
+  row_t h2_row_q;
 
   // An update waits while the update accepted in either of the two previous cycles has its set:
   // C1 needs that update's new row, which leaves C3 only two cycles after its own C1.
-  assign up_ready_o = !clearing_q && !(t0_valid_q && t0_idx_q == up_idx_i) &&
-                      !(t1_valid_q && t1_idx_q == up_idx_i);
-  assign up_re      = t0_valid_q;
-  assign up_raddr   = t0_idx_q;
+  assign tbl_wr_ready_o = !clearing_q && !(t0_q.valid && t0_q.idx == tbl_wr_idx_i) &&
+                          !(t1_q.valid && t1_q.idx == tbl_wr_idx_i);
+  assign uram_re        = t0_q.valid;
+  assign uram_raddr     = t0_q.idx;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      t0_valid_q  <= 1'b0;
-      t0_idx_q    <= '0;
-      t0_tag_q    <= '0;
-      t0_node_q   <= '0;
-      t1_valid_q  <= 1'b0;
-      t1_idx_q    <= '0;
-      t1_tag_q    <= '0;
-      t1_node_q   <= '0;
-      t2_valid_q  <= 1'b0;
-      t2_idx_q    <= '0;
-      t2_tag_q    <= '0;
-      t2_node_q   <= '0;
-      t2_ram_q    <= '0;
-      c1_valid_q  <= 1'b0;
-      c1_idx_q    <= '0;
-      c1_tag_q    <= '0;
-      c1_node_q   <= '0;
-      c1_ram_q    <= '0;
-      c1_fwd_row_q <= '0;
+      t0_q         <= '0;
+      t1_q         <= '0;
+      t2_q         <= '0;
+      c1_q         <= '0;
       c1_use_fwd_q <= '0;
       t2_fwd_c3_q  <= '0;
       t2_fwd_w_q   <= '0;
       t2_fwd_h1_q  <= '0;
       t2_fwd_h2_q  <= '0;
-      h1_valid_q  <= 1'b0;
-      h1_idx_q    <= '0;
-      h1_row_q    <= '0;
-      h2_row_q    <= '0;
+      h1_q         <= '0;
+      h2_row_q     <= '0;
     end else begin
-      t0_valid_q <= up_valid_i && up_ready_o;
-      t0_idx_q   <= up_idx_i;
-      t0_tag_q   <= up_tag_i;
-      t0_node_q  <= up_node_i;
-      t1_valid_q <= t0_valid_q;
-      t1_idx_q   <= t0_idx_q;
-      t1_tag_q   <= t0_tag_q;
-      t1_node_q  <= t0_node_q;
-      t2_valid_q <= t1_valid_q;
-      t2_idx_q   <= t1_idx_q;
-      t2_tag_q   <= t1_tag_q;
-      t2_node_q  <= t1_node_q;
-      t2_ram_q   <= row_t'(up_rdata);
-      c1_valid_q <= t2_valid_q;
-      c1_idx_q   <= t2_idx_q;
-      c1_tag_q   <= t2_tag_q;
-      c1_node_q  <= t2_node_q;
-      c1_ram_q   <= t2_ram_q;
+      t0_q.valid <= tbl_wr_valid_i && tbl_wr_ready_o;
+      t0_q.idx   <= tbl_wr_idx_i;
+      t0_q.tag   <= tbl_wr_tag_i;
+      t0_q.node  <= tbl_wr_node_i;
+      t1_q       <= t0_q;
+      t2_q.req   <= t1_q;
+      t2_q.ram   <= row_t'(uram_rdata);
+      c1_q.req   <= t2_q.req;
+      c1_q.ram   <= t2_q.ram;
       // C1 needs the newest of four writes its RAM read (presented in T0, three cycles before
       // C1) cannot have seen: the row C3 computes now (written while C1 runs), the row W writes
       // now, and the rows written one (h1) and two (h2) cycles ago. The set compares are made in
       // T1 against the stages those rows are in one cycle earlier.
-      t2_fwd_c3_q <= {NumWays{c2_valid_q && c2_idx_q == t1_idx_q}};
-      t2_fwd_w_q  <= {NumWays{c3_valid_q && c3_idx_q == t1_idx_q}};
-      t2_fwd_h1_q <= {NumWays{w_valid_q && w_idx_q == t1_idx_q}};
-      t2_fwd_h2_q <= {NumWays{h1_valid_q && h1_idx_q == t1_idx_q}};
+      t2_fwd_c3_q <= {NumWays{c2_q.req.valid && c2_q.req.idx == t1_q.idx}};
+      t2_fwd_w_q  <= {NumWays{c3_q.valid && c3_q.idx == t1_q.idx}};
+      t2_fwd_h1_q <= {NumWays{w_q.valid && w_q.idx == t1_q.idx}};
+      t2_fwd_h2_q <= {NumWays{h1_q.valid && h1_q.idx == t1_q.idx}};
       c1_use_fwd_q <= t2_fwd_c3_q | t2_fwd_w_q | t2_fwd_h1_q | t2_fwd_h2_q;
       for (int w = 0; w < NumWays; w++)
-        c1_fwd_row_q[w] <= t2_fwd_c3_q[w] ? c3_new_row[w] : t2_fwd_w_q[w] ? w_row_q[w] :
-                           t2_fwd_h1_q[w] ? h1_row_q[w] : h2_row_q[w];
-      h1_valid_q <= w_valid_q;
-      h1_idx_q   <= w_idx_q;
-      h1_row_q   <= w_row_q;
-      h2_row_q   <= h1_row_q;
+        c1_q.fwd_row[w] <= t2_fwd_c3_q[w] ? c3_new_row[w] : t2_fwd_w_q[w] ? w_q.row[w] :
+                           t2_fwd_h1_q[w] ? h1_q.row[w] : h2_row_q[w];
+      h1_q     <= w_q;
+      h2_row_q <= h1_q.row;
     end
   end
 
   // C1: the current row (newest write first); per way: tag match (at most one way matches),
   // the first invalid way and the least recently used way, all one-hot, so C2 only selects;
   // and the node compare's first level (two bits at a time), finished in C2.
-  localparam int unsigned EqGroups = (NodeIdWidth + 1) / 2;
-  typedef logic [NumWays-1:0][NodesPerEntry-1:0][EqGroups-1:0] node_eq_part_t;
   row_t               c1_row;
   logic [NumWays-1:0] c1_match, c1_invalid, c1_first_invalid, c1_oldest;
   node_eq_part_t      c1_node_eq_part;
   always_comb begin
-    for (int w = 0; w < NumWays; w++) c1_row[w] = c1_use_fwd_q[w] ? c1_fwd_row_q[w] : c1_ram_q[w];
+    for (int w = 0; w < NumWays; w++) c1_row[w] = c1_use_fwd_q[w] ? c1_q.fwd_row[w] : c1_q.ram[w];
     for (int w = 0; w < NumWays; w++) begin
-      c1_match[w]   = c1_row[w].valid && c1_row[w].tag == c1_tag_q;
+      c1_match[w]   = c1_row[w].valid && c1_row[w].tag == c1_q.req.tag;
       c1_invalid[w] = !c1_row[w].valid;
-      c1_oldest[w]  = c1_row[w].age == AgeW'(NumWays - 1);
+      c1_oldest[w]  = c1_row[w].age == AgeWidth'(NumWays - 1);
       for (int i = 0; i < NodesPerEntry; i++)
         for (int g = 0; g < EqGroups; g++)
-          c1_node_eq_part[w][i][g] = 2'(c1_row[w].nodes[i] >> (2 * g)) == 2'(c1_node_q >> (2 * g));
+          c1_node_eq_part[w][i][g] =
+              2'(c1_row[w].nodes[i] >> (2 * g)) == 2'(c1_q.req.node >> (2 * g));
     end
     for (int w = 0; w < NumWays; w++) begin
       c1_first_invalid[w] = c1_invalid[w];
@@ -332,52 +332,39 @@ module hrpp_pred_table
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      c2_valid_q       <= 1'b0;
-      c2_idx_q         <= '0;
-      c2_tag_q         <= '0;
-      c2_node_q        <= '0;
-      c2_row_q         <= '0;
-      c2_match_q       <= '0;
-      c2_any_match_q   <= 1'b0;
-      c2_first_inv_q   <= '0;
-      c2_any_inv_q     <= 1'b0;
-      c2_oldest_q      <= '0;
-      c2_node_eq_part_q <= '0;
+      c2_q <= '0;
     end else begin
-      c2_valid_q       <= c1_valid_q;
-      c2_idx_q         <= c1_idx_q;
-      c2_tag_q         <= c1_tag_q;
-      c2_node_q        <= c1_node_q;
-      c2_row_q         <= c1_row;
-      c2_match_q       <= c1_match;
-      c2_any_match_q   <= |c1_match;
-      c2_first_inv_q   <= c1_first_invalid;
-      c2_any_inv_q     <= |c1_invalid;
-      c2_oldest_q      <= c1_oldest;
-      c2_node_eq_part_q <= c1_node_eq_part;
+      c2_q.req          <= c1_q.req;
+      c2_q.row          <= c1_row;
+      c2_q.match        <= c1_match;
+      c2_q.any_match    <= |c1_match;
+      c2_q.first_inv    <= c1_first_invalid;
+      c2_q.any_inv      <= |c1_invalid;
+      c2_q.oldest       <= c1_oldest;
+      c2_q.node_eq_part <= c1_node_eq_part;
     end
   end
 
   // C2: the way to update: the matching one, else the first invalid one, else the least
   // recently used one; that way (cleared when newly allocated) and its node matches.
-  logic [NumWays-1:0]       c2_sel;
-  way_t                     c2_way;
-  logic [NodesPerEntry-1:0] c2_way_node_eq;
+  logic [NumWays-1:0]                    c2_sel;
+  way_t                                  c2_way;
+  logic [NodesPerEntry-1:0]              c2_way_node_eq;
   logic [NumWays-1:0][NodesPerEntry-1:0] c2_node_eq;  // per way: node i equals the node
   always_comb begin
-    c2_sel = c2_any_match_q ? c2_match_q : c2_any_inv_q ? c2_first_inv_q : c2_oldest_q;
+    c2_sel = c2_q.any_match ? c2_q.match : c2_q.any_inv ? c2_q.first_inv : c2_q.oldest;
     for (int w = 0; w < NumWays; w++)
       for (int i = 0; i < NodesPerEntry; i++)
-        c2_node_eq[w][i] = CountW'(i) < c2_row_q[w].count && &c2_node_eq_part_q[w][i];
+        c2_node_eq[w][i] = CountWidth'(i) < c2_q.row[w].count && &c2_q.node_eq_part[w][i];
     c2_way = '0;
     c2_way_node_eq = '0;
     for (int w = 0; w < NumWays; w++) begin
-      c2_way         |= c2_row_q[w] & {$bits(way_t){c2_sel[w]}};
+      c2_way         |= c2_q.row[w] & {$bits(way_t){c2_sel[w]}};
       c2_way_node_eq |= c2_node_eq[w] & {NodesPerEntry{c2_sel[w]}};
     end
-    if (!c2_any_match_q) begin  // a newly allocated way (its age stays for the LRU update)
+    if (!c2_q.any_match) begin  // a newly allocated way (its age stays for the LRU update)
       c2_way.valid   = 1'b1;
-      c2_way.tag     = c2_tag_q;
+      c2_way.tag     = c2_q.req.tag;
       c2_way.count   = '0;
       c2_way.nodes   = '0;
       c2_way_node_eq = '0;
@@ -386,82 +373,92 @@ module hrpp_pred_table
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      c3_valid_q   <= 1'b0;
-      c3_idx_q     <= '0;
-      c3_node_q    <= '0;
-      c3_row_q     <= '0;
-      c3_sel_q     <= '0;
-      c3_way_q     <= '0;
-      c3_node_eq_q <= '0;
+      c3_q <= '0;
     end else begin
-      c3_valid_q   <= c2_valid_q;
-      c3_idx_q     <= c2_idx_q;
-      c3_node_q    <= c2_node_q;
-      c3_row_q     <= c2_row_q;
-      c3_sel_q     <= c2_sel;
-      c3_way_q     <= c2_way;
-      c3_node_eq_q <= c2_way_node_eq;
+      c3_q.valid   <= c2_q.req.valid;
+      c3_q.idx     <= c2_q.req.idx;
+      c3_q.node    <= c2_q.req.node;
+      c3_q.row     <= c2_q.row;
+      c3_q.sel     <= c2_sel;
+      c3_q.way     <= c2_way;
+      c3_q.node_eq <= c2_way_node_eq;
     end
   end
 
   // C3: promote the node in the selected way, age every younger way by one.
-  way_t                     c3_new_way;
-  logic [CountW-1:0]        c3_pos;
+  way_t                  c3_new_way;
+  logic [CountWidth-1:0] c3_pos;
   always_comb begin
     // Position of the node in the list, or where it is inserted.
-    c3_pos = c3_way_q.count < CountW'(NodesPerEntry) ? c3_way_q.count
-                                                     : CountW'(NodesPerEntry - 1);
+    c3_pos = c3_q.way.count < CountWidth'(NodesPerEntry) ? c3_q.way.count
+                                                         : CountWidth'(NodesPerEntry - 1);
     for (int i = NodesPerEntry - 1; i >= 0; i--)
-      if (c3_node_eq_q[i]) c3_pos = CountW'(i);
-    c3_new_way = c3_way_q;
-    if (!(|c3_node_eq_q) && c3_way_q.count < CountW'(NodesPerEntry))
-      c3_new_way.count = c3_way_q.count + 1'b1;
+      if (c3_q.node_eq[i]) c3_pos = CountWidth'(i);
+    c3_new_way = c3_q.way;
+    if (!(|c3_q.node_eq) && c3_q.way.count < CountWidth'(NodesPerEntry))
+      c3_new_way.count = c3_q.way.count + 1'b1;
     for (int i = 1; i < NodesPerEntry; i++)
-      if (CountW'(i) <= c3_pos) c3_new_way.nodes[i] = c3_way_q.nodes[i-1];
+      if (CountWidth'(i) <= c3_pos) c3_new_way.nodes[i] = c3_q.way.nodes[i-1];
     // InjectFault (test only): the lowest bit of a node id written to way 0 is flipped.
-    c3_new_way.nodes[0] = c3_node_q ^ NodeIdWidth'(InjectFault && c3_sel_q[0]);
+    c3_new_way.nodes[0] = c3_q.node ^ NodeIdWidth'(InjectFault && c3_q.sel[0]);
     c3_new_way.age = '0;
     for (int w = 0; w < NumWays; w++) begin
-      c3_new_row[w] = c3_sel_q[w] ? c3_new_way : c3_row_q[w];
-      if (!c3_sel_q[w] && c3_row_q[w].age < c3_way_q.age)
-        c3_new_row[w].age = c3_row_q[w].age + 1'b1;
+      c3_new_row[w] = c3_q.sel[w] ? c3_new_way : c3_q.row[w];
+      if (!c3_q.sel[w] && c3_q.row[w].age < c3_q.way.age)
+        c3_new_row[w].age = c3_q.row[w].age + 1'b1;
     end
   end
 
+  // W: the new row, written to both copies.
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      w_valid_q <= 1'b0;
-      w_idx_q   <= '0;
-      w_row_q   <= '0;
+      w_q <= '0;
     end else begin
-      w_valid_q <= c3_valid_q;
-      w_idx_q   <= c3_idx_q;
-      w_row_q   <= c3_new_row;
+      w_q.valid <= c3_q.valid;
+      w_q.idx   <= c3_q.idx;
+      w_q.row   <= c3_new_row;
     end
   end
 
   // ---------------------------------------------------------------------------------------------
   // Assertions
   // ---------------------------------------------------------------------------------------------
-  initial begin : gen_param_checks
-    assert (NumSets >= 2 && (NumSets & (NumSets - 1)) == 0)
-      else $fatal(1, "NumSets must be a power of two >= 2");
-    assert (NumWays >= 2 && NumWays <= 16) else $fatal(1, "NumWays must be 2..16");
-    assert (NodesPerEntry >= 1 && NodesPerEntry <= 8) else $fatal(1, "NodesPerEntry: 1..8");
-    assert (TagBits >= 1 && TagBits <= 64) else $fatal(1, "TagBits must be 1..64");
+  // The pipelines have the stages hrpp_pkg declares: lookup L1 .. L4 (lk_valid_o four cycles
+  // after lk_valid_i), update T0, T1, T2, C1, C2, C3, W.
+  localparam int unsigned LookupStages = 4;
+  localparam int unsigned WriteStages = 7;
+  if (LookupStages != LookupLatency) begin : gen_lookup_latency_check
+    $error("the lookup takes %0d cycles; hrpp_pkg::LookupLatency declares %0d", LookupStages,
+           LookupLatency);
+  end
+  if (WriteStages != UpdateStages) begin : gen_update_stages_check
+    $error("the update pipeline has %0d stages; hrpp_pkg::UpdateStages declares %0d",
+           WriteStages, UpdateStages);
+  end
+  if (NumSets < 2 || (NumSets & (NumSets - 1)) != 0) begin : gen_sets_check
+    $error("NumSets must be a power of two >= 2");
+  end
+  if (NumWays < 2 || NumWays > 16) begin : gen_ways_check
+    $error("NumWays must be 2..16");
+  end
+  if (NodesPerEntry < 1 || NodesPerEntry > 8) begin : gen_nodes_check
+    $error("NodesPerEntry must be 1..8");
+  end
+  if (TagWidth < 1 || TagWidth > 64) begin : gen_tag_check
+    $error("TagWidth must be 1..64");
   end
 
 `ifndef SYNTHESIS
   // At most one way matches a tag (an entry is only allocated when none does).
   OneWayMatches_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c1_valid_q |-> $onehot0(c1_match));
+      c1_q.req.valid |-> $onehot0(c1_match));
   // The selected way is one-hot.
   SelOneHot_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c3_valid_q |-> $onehot(c3_sel_q));
+      c3_q.valid |-> $onehot(c3_q.sel));
   // Updates of one set are at least three cycles apart (the interlock).
   SameSetSpacing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c1_valid_q |-> !(c2_valid_q && c2_idx_q == c1_idx_q) &&
-                     !(c3_valid_q && c3_idx_q == c1_idx_q));
+      c1_q.req.valid |-> !(c2_q.req.valid && c2_q.req.idx == c1_q.req.idx) &&
+                         !(c3_q.valid && c3_q.idx == c1_q.req.idx));
   // At most one way matches in a lookup too.
   LookupOneMatch_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       $onehot0(l4_match_q));

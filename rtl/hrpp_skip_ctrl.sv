@@ -8,7 +8,7 @@
 //     (node_i: which). Decision: ActSkip if the ray is an any-hit query or the mode is
 //     ClosestSpec (node_i is then refreshed in the table), ActShrink in ClosestExact mode,
 //     ActFull without a hit. Every ray gets exactly one.
-//   final outcomes (upd_*): the walk from the root is done; hit_i = write node_i to the table
+//   final outcomes (outcome_*): the walk from the root is done; hit_i = write node_i to the table
 //     (the verified predicted node, or the hit leaf's go-up ancestor); 0 = nothing to write.
 // The table takes one update per cycle: a final outcome goes first, a predicted-walk result
 // that needs the port then waits. A message leaves its register when its decision fits in the
@@ -16,11 +16,11 @@
 module hrpp_skip_ctrl
   import hrpp_pkg::*;
 #(
-  parameter int unsigned IdWidth = 6,        /// ray id bits
-  parameter int unsigned IdxW = 8,           /// set index bits
-  parameter int unsigned TagBits = 12,       /// stored tag bits
-  parameter int unsigned NodeIdWidth = 17,   /// node id bits
-  parameter int unsigned FifoDepth = 4       /// skip decision FIFO entries
+  parameter int unsigned IdWidth = DefaultIdWidth,          /// ray id bits
+  parameter int unsigned IdxWidth = $clog2(DefaultNumSets), /// set index bits
+  parameter int unsigned TagWidth = DefaultTagWidth,        /// stored tag bits
+  parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,  /// node id bits
+  parameter int unsigned FifoDepth = DefaultSkipFifoDepth   /// skip decision FIFO entries
 ) (
   input  logic                   clk_i,
   input  logic                   rst_ni,
@@ -33,25 +33,25 @@ module hrpp_skip_ctrl
   input  logic                   pw_hit_i,
   input  logic [NodeIdWidth-1:0] pw_node_i,
   // Final outcomes from the traversal engine
-  input  logic                   upd_valid_i,
-  output logic                   upd_ready_o,
-  input  logic [IdWidth-1:0]     upd_id_i,
-  input  logic                   upd_hit_i,
-  input  logic [NodeIdWidth-1:0] upd_node_i,
+  input  logic                   outcome_valid_i,
+  output logic                   outcome_ready_o,
+  input  logic [IdWidth-1:0]     outcome_id_i,
+  input  logic                   outcome_hit_i,
+  input  logic [NodeIdWidth-1:0] outcome_node_i,
   // Key store reads (combinational) by the ids of the messages on the inputs
   output logic [IdWidth-1:0]     ksp_id_o,
-  input  logic [IdxW-1:0]        ksp_idx_i,
-  input  logic [TagBits-1:0]     ksp_tag_i,
+  input  logic [IdxWidth-1:0]    ksp_idx_i,
+  input  logic [TagWidth-1:0]    ksp_tag_i,
   input  logic                   ksp_any_hit_i,
   output logic [IdWidth-1:0]     ksf_id_o,
-  input  logic [IdxW-1:0]        ksf_idx_i,
-  input  logic [TagBits-1:0]     ksf_tag_i,
-  // Table update
-  output logic                   up_valid_o,
-  input  logic                   up_ready_i,
-  output logic [IdxW-1:0]        up_idx_o,
-  output logic [TagBits-1:0]     up_tag_o,
-  output logic [NodeIdWidth-1:0] up_node_o,
+  input  logic [IdxWidth-1:0]    ksf_idx_i,
+  input  logic [TagWidth-1:0]    ksf_tag_i,
+  // Table write requests (the table's update: node_o becomes the most recently used node)
+  output logic                   tbl_wr_valid_o,
+  input  logic                   tbl_wr_ready_i,
+  output logic [IdxWidth-1:0]    tbl_wr_idx_o,
+  output logic [TagWidth-1:0]    tbl_wr_tag_o,
+  output logic [NodeIdWidth-1:0] tbl_wr_node_o,
   // Skip decisions
   output logic                   skip_valid_o,
   input  logic                   skip_ready_i,
@@ -62,15 +62,15 @@ module hrpp_skip_ctrl
   // P0 and F0: the registered messages and their rays' keys
   logic                   p0_valid_q, p0_hit_q, p0_any_hit_q, f0_valid_q, f0_hit_q;
   logic [IdWidth-1:0]     p0_id_q;
-  logic [IdxW-1:0]        p0_idx_q, f0_idx_q;
-  logic [TagBits-1:0]     p0_tag_q, f0_tag_q;
+  logic [IdxWidth-1:0]    p0_idx_q, f0_idx_q;
+  logic [TagWidth-1:0]    p0_tag_q, f0_tag_q;
   logic [NodeIdWidth-1:0] p0_node_q, f0_node_q;
 
   action_e action;
   logic    fifo_full, fifo_empty, p_needs, f_req, p_req, p_advance, f_advance;
 
   assign ksp_id_o = pw_id_i;
-  assign ksf_id_o = upd_id_i;
+  assign ksf_id_o = outcome_id_i;
 
   always_comb begin
     action = ActFull;
@@ -81,18 +81,18 @@ module hrpp_skip_ctrl
   end
 
   // The table port: a final outcome first.
-  assign p_needs    = action == ActSkip;
-  assign f_req      = f0_valid_q && f0_hit_q;
-  assign p_req      = p0_valid_q && p_needs && !fifo_full;
-  assign up_valid_o = f_req || p_req;
-  assign up_idx_o   = f_req ? f0_idx_q : p0_idx_q;
-  assign up_tag_o   = f_req ? f0_tag_q : p0_tag_q;
-  assign up_node_o  = f_req ? f0_node_q : p0_node_q;
+  assign p_needs        = action == ActSkip;
+  assign f_req          = f0_valid_q && f0_hit_q;
+  assign p_req          = p0_valid_q && p_needs && !fifo_full;
+  assign tbl_wr_valid_o = f_req || p_req;
+  assign tbl_wr_idx_o   = f_req ? f0_idx_q : p0_idx_q;
+  assign tbl_wr_tag_o   = f_req ? f0_tag_q : p0_tag_q;
+  assign tbl_wr_node_o  = f_req ? f0_node_q : p0_node_q;
 
-  assign f_advance   = f0_valid_q && (!f0_hit_q || up_ready_i);
-  assign p_advance   = p0_valid_q && !fifo_full && (!p_needs || (up_ready_i && !f_req));
-  assign pw_ready_o  = enable_i && (!p0_valid_q || p_advance);
-  assign upd_ready_o = enable_i && (!f0_valid_q || f_advance);
+  assign f_advance       = f0_valid_q && (!f0_hit_q || tbl_wr_ready_i);
+  assign p_advance       = p0_valid_q && !fifo_full && (!p_needs || (tbl_wr_ready_i && !f_req));
+  assign pw_ready_o      = enable_i && (!p0_valid_q || p_advance);
+  assign outcome_ready_o = enable_i && (!f0_valid_q || f_advance);
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -118,10 +118,10 @@ module hrpp_skip_ctrl
         p0_tag_q     <= ksp_tag_i;
         p0_any_hit_q <= ksp_any_hit_i;
       end
-      if (upd_ready_o) begin
-        f0_valid_q <= upd_valid_i;
-        f0_hit_q   <= upd_hit_i;
-        f0_node_q  <= upd_node_i;
+      if (outcome_ready_o) begin
+        f0_valid_q <= outcome_valid_i;
+        f0_hit_q   <= outcome_hit_i;
+        f0_node_q  <= outcome_node_i;
         f0_idx_q   <= ksf_idx_i;
         f0_tag_q   <= ksf_tag_i;
       end
@@ -139,16 +139,25 @@ module hrpp_skip_ctrl
   assign skip_id_o     = fifo_out[IdWidth+1:2];
   assign skip_action_o = action_e'(fifo_out[1:0]);
 
+  // ---------------------------------------------------------------------------------------------
+  // Assertions
+  // ---------------------------------------------------------------------------------------------
+  // A predicted-walk result accepted in cycle t is in P0 in t+1 and at the skip FIFO's head in
+  // t+2 (when it can advance at once): the decision latency hrpp_pkg declares.
+  localparam int unsigned Stages = 2;
+  if (Stages != DecisionLatency) begin : gen_latency_check
+    $error("hrpp_skip_ctrl decides in %0d cycles; hrpp_pkg::DecisionLatency declares %0d", Stages,
+           DecisionLatency);
+  end
+
 `ifndef SYNTHESIS
   SkipKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       skip_valid_o |-> !$isunknown({skip_id_o, skip_action_o}));
   SkipStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       skip_valid_o && !skip_ready_i |=> skip_valid_o && $stable({skip_id_o, skip_action_o}));
-`endif
   // A message that needs the table port is never dropped: it advances only when accepted.
-`ifndef SYNTHESIS
   NoDroppedUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      (f_advance && f0_hit_q) |-> up_valid_o && up_ready_i);
+      (f_advance && f0_hit_q) |-> tbl_wr_valid_o && tbl_wr_ready_i);
 `endif
 
 endmodule

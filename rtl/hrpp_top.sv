@@ -3,7 +3,7 @@
 // stream and its predicted / root walks (docs/microarchitecture.md has the interfaces, the
 // pipeline and a timing diagram).
 //
-//   rays in ──> [A: input regs] ─hash (2 stages)─> [B: key regs, key store write, table lookup]
+//   rays in ──> [A: input regs] ─hash (3 stages)─> [B: key regs, key store write, table lookup]
 //               ─> table (4 cycles) ─> prediction FIFO ──> predictions out
 //   predicted-walk results, final outcomes in ──> skip controller ──> update queue ──> table
 //                                                                 └──> skip decisions out
@@ -12,30 +12,29 @@
 module hrpp_top
   import hrpp_pkg::*;
 #(
-  // Hash (docs/hash.md)
-  parameter bit Variant = 1'b0,                /// hash_variant_e: 0 faithful, 1 improved
-  parameter int unsigned Precision = 6,
-  parameter int unsigned ExpBits = 3,
-  parameter int unsigned OriginBits = 5,
-  parameter int unsigned DirBits = 3,
-  parameter bit Combine = 1'b0,                /// combine_e: 0 xor, 1 concat
+  // Hash (docs/hash.md). Every default is the default configuration's
+  // (rtl/config/hrpp_configs.json, through hrpp_pkg).
+  parameter hash_variant_e Variant = DefaultVariant,
+  parameter int unsigned Precision = DefaultPrecision,
+  parameter int unsigned ExpBits = DefaultExpBits,
+  parameter int unsigned OriginBits = DefaultOriginBits,
+  parameter int unsigned DirBits = DefaultDirBits,
+  parameter combine_e Combine = DefaultCombine,
   // Table
-  parameter int unsigned NumSets = 256,        /// sets, a power of two
-  parameter int unsigned NumWays = 4,          /// ways, 2..16
-  parameter int unsigned NodesPerEntry = 2,    /// node ids per way
-  parameter int unsigned NodeIdWidth = 17,     /// bits of a BVH node id
-  parameter int unsigned TagBits = 12,         /// stored tag bits (at most the full tag)
+  parameter int unsigned NumSets = DefaultNumSets,              /// sets, a power of two
+  parameter int unsigned NumWays = DefaultNumWays,              /// ways, 2..16
+  parameter int unsigned NodesPerEntry = DefaultNodesPerEntry,  /// node ids per way
+  parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,      /// bits of a BVH node id
+  parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits (<= full tag)
   // Interfaces
-  parameter int unsigned IdWidth = 6,          /// ray id bits: rays in flight have distinct ids
-  parameter int unsigned PredFifoDepth = 16,   /// prediction FIFO entries (a power of two)
-  parameter int unsigned SkipFifoDepth = 4,    /// skip decision FIFO entries (a power of two)
-  parameter bit InjectFault = 1'b0,            /// test only: a one-bit fault in the table
-  localparam int unsigned IdxW = $clog2(NumSets),
-  localparam int unsigned CountW = $clog2(NodesPerEntry + 1),
-  localparam int unsigned FieldO = !Variant ? 1 + ExpBits + Precision : OriginBits,
-  localparam int unsigned FieldD = !Variant ? 1 + ExpBits + Precision : DirBits,
-  localparam int unsigned KeyWidth = !Combine ?
-      (FieldO > FieldD ? 3 * FieldO : 3 * FieldD) : 3 * FieldO + 3 * FieldD
+  parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
+  parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
+  parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
+  parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
+  localparam int unsigned IdxWidth = $clog2(NumSets),
+  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
+  localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
+                                               Combine)
 ) (
   input  logic                                       clk_i,
   input  logic                                       rst_ni,
@@ -54,7 +53,7 @@ module hrpp_top
   input  logic                                       pred_ready_i,
   output logic [IdWidth-1:0]                         pred_id_o,
   output logic                                       pred_invalid_o,  /// infinite/NaN ray
-  output logic [CountW-1:0]                          pred_count_o,    /// 0: no prediction
+  output logic [CountWidth-1:0]                      pred_count_o,    /// 0: no prediction
   output logic [NodesPerEntry-1:0][NodeIdWidth-1:0]  pred_nodes_o,    /// MRU first
   // Predicted-walk results from the traversal engine (one per ray)
   input  logic                                       pw_valid_i,
@@ -63,11 +62,11 @@ module hrpp_top
   input  logic                                       pw_hit_i,     /// a predicted subtree hit
   input  logic [NodeIdWidth-1:0]                     pw_node_i,    /// ... this one
   // Final outcomes from the traversal engine (rays not skipped)
-  input  logic                                       upd_valid_i,
-  output logic                                       upd_ready_o,
-  input  logic [IdWidth-1:0]                         upd_id_i,
-  input  logic                                       upd_hit_i,    /// write upd_node_i
-  input  logic [NodeIdWidth-1:0]                     upd_node_i,   /// node to insert/refresh
+  input  logic                                       outcome_valid_i,
+  output logic                                       outcome_ready_o,
+  input  logic [IdWidth-1:0]                         outcome_id_i,
+  input  logic                                       outcome_hit_i,   /// write outcome_node_i
+  input  logic [NodeIdWidth-1:0]                     outcome_node_i,  /// node to insert/refresh
   // Skip decisions
   output logic                                       skip_valid_o,
   input  logic                                       skip_ready_i,
@@ -102,20 +101,19 @@ module hrpp_top
   end
 
   // ---------------------------------------------------------------------------------------------
-  // Hash (three pipeline stages; id and query type travel beside it), then B: key registers
+  // Hash (HashLatency stages; the id and query type travel beside it), then B: key registers
   // ---------------------------------------------------------------------------------------------
   logic [KeyWidth-1:0] key;
   logic                key_invalid;
 
   hrpp_hash #(
-    .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
-    .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine))
+    .Variant(Variant), .Precision(Precision), .ExpBits(ExpBits), .OriginBits(OriginBits),
+    .DirBits(DirBits), .Combine(Combine)
   ) u_hash (
     .clk_i, .rst_ni, .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i),
     .key_o(key), .invalid_o(key_invalid)
   );
 
-  localparam int unsigned HashLatency = 3;  // hrpp_hash's pipeline stages
   logic [HashLatency-1:0]              h_valid_q, h_any_hit_q;
   logic [HashLatency-1:0][IdWidth-1:0] h_id_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -131,19 +129,19 @@ module hrpp_top
     end
   end
 
-  // Set index: XOR of all IdxW-bit chunks of the key; tag: the key above the index.
-  logic [IdxW-1:0]    key_idx;
-  logic [TagBits-1:0] key_tag;
+  // Set index: XOR of all IdxWidth-bit chunks of the key; tag: the key above the index.
+  logic [IdxWidth-1:0] key_idx;
+  logic [TagWidth-1:0] key_tag;
   always_comb begin
     key_idx = '0;
-    for (int i = 0; i < KeyWidth; i += IdxW) key_idx ^= IdxW'(key >> i);
-    key_tag = TagBits'(key >> IdxW);
+    for (int i = 0; i < KeyWidth; i += IdxWidth) key_idx ^= IdxWidth'(key >> i);
+    key_tag = TagWidth'(key >> IdxWidth);
   end
 
-  logic               b_valid_q, b_invalid_q, b_any_hit_q;
-  logic [IdWidth-1:0] b_id_q;
-  logic [IdxW-1:0]    b_idx_q;
-  logic [TagBits-1:0] b_tag_q;
+  logic                b_valid_q, b_invalid_q, b_any_hit_q;
+  logic [IdWidth-1:0]  b_id_q;
+  logic [IdxWidth-1:0] b_idx_q;
+  logic [TagWidth-1:0] b_tag_q;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -167,12 +165,12 @@ module hrpp_top
   // combinationally as a message is accepted (in block RAM, the skip controller's registers
   // would become the RAM's output registers and its slow clock-to-output would start the
   // handshake paths).
-  localparam int unsigned KsW = IdxW + TagBits + 1;
-  (* ram_style = "distributed" *) logic [KsW-1:0] ks_mem_q[2**IdWidth];
-  logic [IdWidth-1:0] ksp_id, ksf_id;  // the ids of the messages being accepted
-  logic [IdxW-1:0]    ksp_idx, ksf_idx;
-  logic [TagBits-1:0] ksp_tag, ksf_tag;
-  logic               ksp_any_hit, ksf_any_hit_unused;
+  localparam int unsigned KsWidth = IdxWidth + TagWidth + 1;
+  (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
+  logic [IdWidth-1:0]  ksp_id, ksf_id;  // the ids of the messages being accepted
+  logic [IdxWidth-1:0] ksp_idx, ksf_idx;
+  logic [TagWidth-1:0] ksp_tag, ksf_tag;
+  logic                ksp_any_hit, ksf_any_hit_unused;
 
   always_ff @(posedge clk_i) begin
     if (b_valid_q) ks_mem_q[b_id_q] <= {b_idx_q, b_tag_q, b_any_hit_q};
@@ -184,41 +182,41 @@ module hrpp_top
   // Table
   // ---------------------------------------------------------------------------------------------
   logic                                      lk_valid;
-  logic [CountW-1:0]                         lk_count;
+  logic [CountWidth-1:0]                     lk_count;
   logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes;
-  logic                                      up_valid, up_ready;
-  logic [IdxW-1:0]                           up_idx;
-  logic [TagBits-1:0]                        up_tag;
-  logic [NodeIdWidth-1:0]                    up_node;
-  // The skip controller's update requests, queued (U) before the table.
-  logic                                      sc_up_valid, uq_full, uq_empty;
-  logic [IdxW-1:0]                           sc_up_idx;
-  logic [TagBits-1:0]                        sc_up_tag;
-  logic [NodeIdWidth-1:0]                    sc_up_node;
+  // Table write requests (updates: the node becomes its entry's most recently used): the skip
+  // controller's (sc_tbl_wr_*), queued (U) before the table (tbl_wr_*).
+  logic                                      tbl_wr_valid, tbl_wr_ready;
+  logic [IdxWidth-1:0]                       tbl_wr_idx;
+  logic [TagWidth-1:0]                       tbl_wr_tag;
+  logic [NodeIdWidth-1:0]                    tbl_wr_node;
+  logic                                      sc_tbl_wr_valid, uq_full, uq_empty;
+  logic [IdxWidth-1:0]                       sc_tbl_wr_idx;
+  logic [TagWidth-1:0]                       sc_tbl_wr_tag;
+  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node;
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
-    .NodeIdWidth(NodeIdWidth), .TagBits(TagBits), .InjectFault(InjectFault)
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault)
   ) u_table (
     .clk_i, .rst_ni, .init_done_o(init_done),
     .lk_valid_i(b_valid_q && !b_invalid_q), .lk_idx_i(b_idx_q), .lk_tag_i(b_tag_q),
     .lk_valid_o(lk_valid), .lk_count_o(lk_count), .lk_nodes_o(lk_nodes),
-    .up_valid_i(up_valid), .up_ready_o(up_ready), .up_idx_i(up_idx), .up_tag_i(up_tag),
-    .up_node_i(up_node)
+    .tbl_wr_valid_i(tbl_wr_valid), .tbl_wr_ready_o(tbl_wr_ready), .tbl_wr_idx_i(tbl_wr_idx),
+    .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node)
   );
 
   // Update queue (two entries): the skip controller sees only whether it is full, so its
   // handshake does not wait for the table's same-set interlock, which looks at the queue's head.
-  hrpp_fifo #(.Depth(2), .Width(IdxW + TagBits + NodeIdWidth)) u_update_fifo (
+  hrpp_fifo #(.Depth(2), .Width(IdxWidth + TagWidth + NodeIdWidth)) u_update_fifo (
     .clk_i, .rst_ni,
-    .push_i(sc_up_valid && !uq_full), .data_i({sc_up_idx, sc_up_tag, sc_up_node}),
-    .pop_i(up_valid && up_ready), .data_o({up_idx, up_tag, up_node}),
+    .push_i(sc_tbl_wr_valid && !uq_full), .data_i({sc_tbl_wr_idx, sc_tbl_wr_tag, sc_tbl_wr_node}),
+    .pop_i(tbl_wr_valid && tbl_wr_ready), .data_o({tbl_wr_idx, tbl_wr_tag, tbl_wr_node}),
     .empty_o(uq_empty), .full_o(uq_full), .count_o()
   );
-  assign up_valid = !uq_empty;
+  assign tbl_wr_valid = !uq_empty;
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
-  localparam int unsigned LookupLatency = 4;
   logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
   logic [LookupLatency-1:0][IdWidth-1:0] d_id_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -232,21 +230,21 @@ module hrpp_top
       d_id_q      <= {d_id_q[LookupLatency-2:0], b_id_q};
     end
   end
-  localparam int unsigned DL = LookupLatency - 1;
+  localparam int unsigned DLast = LookupLatency - 1;
 
   // ---------------------------------------------------------------------------------------------
   // Prediction FIFO; rays are accepted only while every ray in flight has a FIFO place.
   // ---------------------------------------------------------------------------------------------
-  localparam int unsigned PredW = IdWidth + 1 + CountW + NodesPerEntry * NodeIdWidth;
-  localparam int unsigned PredCountW = $clog2(PredFifoDepth + 1);
-  logic [PredW-1:0]      pred_out;
-  logic                  pred_empty;
-  logic [PredCountW-1:0] pred_count;
-  logic [PredCountW:0]   in_flight;
+  localparam int unsigned PredWidth = IdWidth + 1 + CountWidth + NodesPerEntry * NodeIdWidth;
+  localparam int unsigned PredCountWidth = $clog2(PredFifoDepth + 1);
+  logic [PredWidth-1:0]      pred_out;
+  logic                      pred_empty;
+  logic [PredCountWidth-1:0] pred_count;
+  logic [PredCountWidth:0]   in_flight;
 
-  hrpp_fifo #(.Depth(PredFifoDepth), .Width(PredW)) u_pred_fifo (
+  hrpp_fifo #(.Depth(PredFifoDepth), .Width(PredWidth)) u_pred_fifo (
     .clk_i, .rst_ni,
-    .push_i(d_valid_q[DL]), .data_i({d_id_q[DL], d_invalid_q[DL], lk_count, lk_nodes}),
+    .push_i(d_valid_q[DLast]), .data_i({d_id_q[DLast], d_invalid_q[DLast], lk_count, lk_nodes}),
     .pop_i(pred_valid_o && pred_ready_i), .data_o(pred_out),
     .empty_o(pred_empty), .full_o(), .count_o(pred_count)
   );
@@ -254,47 +252,53 @@ module hrpp_top
   assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
 
   always_comb begin
-    in_flight = (PredCountW + 1)'(a_valid_q) + (PredCountW + 1)'(b_valid_q);
-    for (int i = 0; i < HashLatency; i++) in_flight += (PredCountW + 1)'(h_valid_q[i]);
-    for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountW + 1)'(d_valid_q[i]);
+    in_flight = (PredCountWidth + 1)'(a_valid_q) + (PredCountWidth + 1)'(b_valid_q);
+    for (int i = 0; i < HashLatency; i++) in_flight += (PredCountWidth + 1)'(h_valid_q[i]);
+    for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountWidth + 1)'(d_valid_q[i]);
   end
-  assign ray_ready_o = init_done && (in_flight + (PredCountW + 1)'(pred_count)) <
-                                    (PredCountW + 1)'(PredFifoDepth);
-
-  // The table answers exactly when the id pipeline says it should.
-`ifndef SYNTHESIS
-  LookupAligned_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      lk_valid == (d_valid_q[DL] && !d_invalid_q[DL]));
-`endif
+  assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <
+                                    (PredCountWidth + 1)'(PredFifoDepth);
 
   // ---------------------------------------------------------------------------------------------
   // Skip controller
   // ---------------------------------------------------------------------------------------------
   hrpp_skip_ctrl #(
-    .IdWidth(IdWidth), .IdxW(IdxW), .TagBits(TagBits), .NodeIdWidth(NodeIdWidth),
+    .IdWidth(IdWidth), .IdxWidth(IdxWidth), .TagWidth(TagWidth), .NodeIdWidth(NodeIdWidth),
     .FifoDepth(SkipFifoDepth)
   ) u_skip (
     .clk_i, .rst_ni, .enable_i(init_done), .cfg_mode_i,
     .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
-    .upd_valid_i, .upd_ready_o, .upd_id_i, .upd_hit_i, .upd_node_i,
+    .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
     .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
-    .up_valid_o(sc_up_valid), .up_ready_i(!uq_full), .up_idx_o(sc_up_idx),
-    .up_tag_o(sc_up_tag), .up_node_o(sc_up_node),
+    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(!uq_full), .tbl_wr_idx_o(sc_tbl_wr_idx),
+    .tbl_wr_tag_o(sc_tbl_wr_tag), .tbl_wr_node_o(sc_tbl_wr_node),
     .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
   );
 
   // ---------------------------------------------------------------------------------------------
-  // Interface assertions
+  // Assertions
   // ---------------------------------------------------------------------------------------------
+  // A ray accepted in cycle c is in A in c+1, then the hash's stages, B (the table's read), the
+  // lookup's stages, and at the prediction FIFO's head: the latency hrpp_pkg declares.
+  localparam int unsigned Stages = 1 + HashLatency + 1 + LookupLatency + 1;
+  if (Stages != PredictionLatency) begin : gen_latency_check
+    $error("hrpp_top predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
+           PredictionLatency);
+  end
+
 `ifndef SYNTHESIS
+  // The table answers exactly when the id pipeline says it should.
+  LookupAligned_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      lk_valid == (d_valid_q[DLast] && !d_invalid_q[DLast]));
+  // The interfaces.
   PredKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       pred_valid_o |-> !$isunknown({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
   PredStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       pred_valid_o && !pred_ready_i |=> pred_valid_o &&
       $stable({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
   ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      !$isunknown({ray_ready_o, pw_ready_o, upd_ready_o, pred_valid_o, skip_valid_o}));
+      !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
 `endif
 
 endmodule

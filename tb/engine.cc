@@ -129,10 +129,10 @@ void Engine::drive(uint64_t cycle, DutIn* in) {
     in->pw_node = pw_.offered->node;
   }
   if (upd_.offered) {
-    in->upd_valid = true;
-    in->upd_id = upd_.offered->id;
-    in->upd_hit = upd_.offered->hit;
-    in->upd_node = upd_.offered->node;
+    in->outcome_valid = true;
+    in->outcome_id = upd_.offered->id;
+    in->outcome_hit = upd_.offered->hit;
+    in->outcome_node = upd_.offered->node;
   }
 }
 
@@ -201,7 +201,7 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
   }
 
   if (in.pw_valid && out.pw_ready) pw_.offered.reset();
-  if (in.upd_valid && out.upd_ready) {
+  if (in.outcome_valid && out.outcome_ready) {
     const uint32_t id = upd_.offered->id;
     upd_.offered.reset();
     if (!by_id_[id]) {

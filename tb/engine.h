@@ -46,7 +46,7 @@ struct EngineOptions {
 /// The five interfaces, for the stall statistics.
 enum StallPort { kStallRay, kStallPw, kStallUpd, kStallPred, kStallSkip, kNumStallPorts };
 inline const char* stall_port_name(int p) {
-  static const char* const names[] = {"ray_i", "pw_i", "upd_i", "pred_o", "skip_o"};
+  static const char* const names[] = {"ray_i", "pw_i", "outcome_i", "pred_o", "skip_o"};
   return names[p];
 }
 struct StallStats {

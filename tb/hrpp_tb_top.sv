@@ -6,57 +6,59 @@
 // on every cycle, as before). Why it is here: Verilator evaluates all logic that reads a
 // top-level input again on every eval() call, twice per clock cycle; the hash's first stage
 // reads cfg_cell_exp_i, so without the register the whole stage ran three times per cycle
-// (docs/results.md, "Performance"). Ports and parameters are hrpp_top's.
+// (docs/results.md, "Performance"). Ports and parameters are hrpp_top's, except that Variant and
+// Combine are their enumerations' encodings: Verilator's -G cannot set an enum-typed parameter
+// (the Verilator builds and lints take this top; rtl/config/hrpp_config.py writes their -G flags).
 module hrpp_tb_top
   import hrpp_pkg::*;
 #(
-  parameter bit Variant = 1'b0,
-  parameter int unsigned Precision = 6,
-  parameter int unsigned ExpBits = 3,
-  parameter int unsigned OriginBits = 5,
-  parameter int unsigned DirBits = 3,
-  parameter bit Combine = 1'b0,
-  parameter int unsigned NumSets = 256,
-  parameter int unsigned NumWays = 4,
-  parameter int unsigned NodesPerEntry = 2,
-  parameter int unsigned NodeIdWidth = 17,
-  parameter int unsigned TagBits = 12,
-  parameter int unsigned IdWidth = 6,
-  parameter int unsigned PredFifoDepth = 16,
-  parameter int unsigned SkipFifoDepth = 4,
-  parameter bit InjectFault = 1'b0,
-  localparam int unsigned CountW = $clog2(NodesPerEntry + 1)
+  parameter bit Variant = DefaultVariant,  /// hash_variant_e's encoding
+  parameter int unsigned Precision = DefaultPrecision,
+  parameter int unsigned ExpBits = DefaultExpBits,
+  parameter int unsigned OriginBits = DefaultOriginBits,
+  parameter int unsigned DirBits = DefaultDirBits,
+  parameter bit Combine = DefaultCombine,  /// combine_e's encoding
+  parameter int unsigned NumSets = DefaultNumSets,
+  parameter int unsigned NumWays = DefaultNumWays,
+  parameter int unsigned NodesPerEntry = DefaultNodesPerEntry,
+  parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,
+  parameter int unsigned TagWidth = DefaultTagWidth,
+  parameter int unsigned IdWidth = DefaultIdWidth,
+  parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,
+  parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,
+  parameter bit InjectFault = DefaultInjectFault,
+  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
-  input  logic                                       clk_i,
-  input  logic                                       rst_ni,
-  input  mode_e                                      cfg_mode_i,
-  input  logic signed [8:0]                          cfg_cell_exp_i,
-  input  logic                                       ray_valid_i,
-  output logic                                       ray_ready_o,
-  input  logic [IdWidth-1:0]                         ray_id_i,
-  input  logic [2:0]                                 ray_kind_i,
-  input  logic [2:0][31:0]                           ray_org_i,
-  input  logic [2:0][31:0]                           ray_dir_i,
-  output logic                                       pred_valid_o,
-  input  logic                                       pred_ready_i,
-  output logic [IdWidth-1:0]                         pred_id_o,
-  output logic                                       pred_invalid_o,
-  output logic [CountW-1:0]                          pred_count_o,
-  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0]  pred_nodes_o,
-  input  logic                                       pw_valid_i,
-  output logic                                       pw_ready_o,
-  input  logic [IdWidth-1:0]                         pw_id_i,
-  input  logic                                       pw_hit_i,
-  input  logic [NodeIdWidth-1:0]                     pw_node_i,
-  input  logic                                       upd_valid_i,
-  output logic                                       upd_ready_o,
-  input  logic [IdWidth-1:0]                         upd_id_i,
-  input  logic                                       upd_hit_i,
-  input  logic [NodeIdWidth-1:0]                     upd_node_i,
-  output logic                                       skip_valid_o,
-  input  logic                                       skip_ready_i,
-  output logic [IdWidth-1:0]                         skip_id_o,
-  output action_e                                    skip_action_o
+  input  logic                                      clk_i,
+  input  logic                                      rst_ni,
+  input  mode_e                                     cfg_mode_i,
+  input  logic signed [8:0]                         cfg_cell_exp_i,
+  input  logic                                      ray_valid_i,
+  output logic                                      ray_ready_o,
+  input  logic [IdWidth-1:0]                        ray_id_i,
+  input  logic [2:0]                                ray_kind_i,
+  input  logic [2:0][31:0]                          ray_org_i,
+  input  logic [2:0][31:0]                          ray_dir_i,
+  output logic                                      pred_valid_o,
+  input  logic                                      pred_ready_i,
+  output logic [IdWidth-1:0]                        pred_id_o,
+  output logic                                      pred_invalid_o,
+  output logic [CountWidth-1:0]                     pred_count_o,
+  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0] pred_nodes_o,
+  input  logic                                      pw_valid_i,
+  output logic                                      pw_ready_o,
+  input  logic [IdWidth-1:0]                        pw_id_i,
+  input  logic                                      pw_hit_i,
+  input  logic [NodeIdWidth-1:0]                    pw_node_i,
+  input  logic                                      outcome_valid_i,
+  output logic                                      outcome_ready_o,
+  input  logic [IdWidth-1:0]                        outcome_id_i,
+  input  logic                                      outcome_hit_i,
+  input  logic [NodeIdWidth-1:0]                    outcome_node_i,
+  output logic                                      skip_valid_o,
+  input  logic                                      skip_ready_i,
+  output logic [IdWidth-1:0]                        skip_id_o,
+  output action_e                                   skip_action_o
 );
 
   // Loaded on every clock edge, in reset too (tb_hrpp clocks twice in its initial reset).
@@ -68,17 +70,17 @@ module hrpp_tb_top
   end
 
   hrpp_top #(
-    .Variant(Variant), .Precision(Precision), .ExpBits(ExpBits), .OriginBits(OriginBits),
-    .DirBits(DirBits), .Combine(Combine), .NumSets(NumSets), .NumWays(NumWays),
-    .NodesPerEntry(NodesPerEntry), .NodeIdWidth(NodeIdWidth), .TagBits(TagBits),
-    .IdWidth(IdWidth), .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
-    .InjectFault(InjectFault)
+    .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
+    .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
+    .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth), .InjectFault(InjectFault)
   ) u_dut (
     .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
     .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
     .pred_valid_o, .pred_ready_i, .pred_id_o, .pred_invalid_o, .pred_count_o, .pred_nodes_o,
     .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
-    .upd_valid_i, .upd_ready_o, .upd_id_i, .upd_hit_i, .upd_node_i,
+    .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
     .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
   );
 

@@ -7,17 +7,14 @@ import sys
 import pyslang
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "rtl" / "config"))
+import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+
 FILES = [str(ROOT / line.strip()) for line in (ROOT / "rtl" / "hrpp.f").read_text().splitlines()
          if line.strip()]
-# Keep in sync with tb/CMakeLists.txt.
-CONFIGS = {
-    "default": "-GVariant=1'b1 -GOriginBits=5 -GDirBits=3 -GCombine=1'b1 -GNumSets=128 -GNumWays=8 "
-               "-GNodesPerEntry=2 -GTagBits=8 -GIdWidth=6 -GNodeIdWidth=20",
-    "small": "-GVariant=1'b0 -GPrecision=6 -GExpBits=3 -GCombine=1'b0 -GNumSets=64 -GNumWays=2 "
-             "-GNodesPerEntry=1 -GTagBits=12 -GIdWidth=4 -GNodeIdWidth=20",
-    "large": "-GVariant=1'b0 -GPrecision=6 -GExpBits=3 -GCombine=1'b0 -GNumSets=4096 -GNumWays=4 "
-             "-GNodesPerEntry=4 -GTagBits=16 -GIdWidth=8 -GNodeIdWidth=20",
-}
+# hrpp_top's parameters of every configuration; slang takes the enumerations by name.
+CONFIGS = {name: " ".join(f"-G{k}={v}" for k, v in hrpp_config.hrpp_top_params(c).items())
+           for name, c in hrpp_config.load()["configurations"].items()}
 
 
 def check(name, params):

@@ -13,6 +13,7 @@
 
 #include "Vtb_hash_top.h"
 #include "hrpp/hash.h"
+#include "hrpp/rtl_config_data.h"
 
 using namespace hrpp;
 
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
   // The unit is pipelined (HashLatency stages): a vector applied before a clock edge reaches the
   // output after HashLatency - 1 more edges, so each edge's output is compared with the vector
   // applied that many edges earlier.
-  constexpr size_t kHashLatency = 3;
+  constexpr size_t kHashLatency = rtl::kHashStages;  // rtl/config/hrpp_configs.json
   dut->rst_ni = 0;
   dut->clk_i = 0;
   dut->eval();

@@ -1,5 +1,5 @@
 // Test harness for the hash unit: eight parameter sets side by side on the same inputs, each
-// output HashLatency (3) cycles after its inputs
+// output HashLatency (hrpp_pkg) cycles after its inputs
 // (tb_hash.cc compares each key with the C++ hash of docs/hash.md).
 module tb_hash_top
   import hrpp_pkg::*;
@@ -23,9 +23,7 @@ module tb_hash_top
                                 CombineConcat, CombineXor, CombineConcat, CombineXor};
 
   for (genvar i = 0; i < 8; i++) begin : gen_hash
-    localparam int unsigned FO = V[i] == HashFaithful ? 1 + E[i] + P[i] : GO[i];
-    localparam int unsigned FD = V[i] == HashFaithful ? 1 + E[i] + P[i] : GD[i];
-    localparam int unsigned KW = C[i] == CombineXor ? (FO > FD ? 3 * FO : 3 * FD) : 3 * FO + 3 * FD;
+    localparam int unsigned KW = key_width(V[i], P[i], E[i], GO[i], GD[i], C[i]);
     logic [KW-1:0] key;
     hrpp_hash #(
       .Variant(V[i]), .Precision(P[i]), .ExpBits(E[i]), .OriginBits(GO[i]), .DirBits(GD[i]),

@@ -1,7 +1,7 @@
 // tb_hrpp: the RTL parity testbench (tb/README.md). The golden model generates real ray streams
 // and plays the traversal engine; every cycle every DUT output is compared with the cycle model.
 //
-//   tb_hrpp --scene SCENE|--stream FILE [--rays N] [--config small|default|large|mutant]
+//   tb_hrpp --scene SCENE|--stream FILE|--latency [--rays N] [--config small|default|large|mutant]
 //           [--mode anyhit|closest-exact|closest-spec] [--seed S] [--trace FILE.vcd]
 //           [--reset-every N] [--stall-gap G --stall-max M] [--stress KIND] [+verilator+...]
 #include <verilated.h>
@@ -22,40 +22,16 @@
 #include "Vhrpp_mutant.h"
 #include "Vhrpp_small.h"
 #include "engine.h"
+#include "latency.h"
 #include "stress.h"
 #include "hrpp/cycle_model.h"
+#include "hrpp/rtl_config.h"
 #include "hrpp/ray_stream.h"
 #include "hrpp/scene.h"
 #include "hrpp/workload.h"
 
 namespace hrpp::tb {
 namespace {
-
-constexpr int kNodeIdWidth = 20;  // every Verilated configuration uses 20-bit node ids
-
-struct Spec {
-  const char* name;
-  HashConfig hash;
-  uint32_t sets, ways, k;
-  int tag_bits, id_bits;
-};
-
-Spec spec_for(const std::string& name) {
-  HashConfig faithful;
-  faithful.variant = HashVariant::kFaithful;
-  faithful.precision = 6;
-  faithful.exp_bits = 3;
-  faithful.combine = CombineMode::kXor;
-  HashConfig improved;
-  improved.variant = HashVariant::kImproved;
-  improved.origin_bits = 5;
-  improved.dir_bits = 3;
-  improved.combine = CombineMode::kConcat;
-  // Keep in sync with the verilate() parameters in tb/CMakeLists.txt.
-  if (name == "small") return {"small", faithful, 64, 2, 1, 12, 4};
-  if (name == "large") return {"large", faithful, 4096, 4, 4, 16, 8};
-  return {name == "mutant" ? "mutant" : "default", improved, 128, 8, 2, 8, 6};
-}
 
 // Reads `w` bits at `lsb` of a Verilated signal (integral or VlWide).
 template <typename T>
@@ -82,24 +58,25 @@ void apply(M* dut, const DutIn& in) {
   dut->pw_id_i = in.pw_id;
   dut->pw_hit_i = in.pw_hit;
   dut->pw_node_i = in.pw_node;
-  dut->upd_valid_i = in.upd_valid;
-  dut->upd_id_i = in.upd_id;
-  dut->upd_hit_i = in.upd_hit;
-  dut->upd_node_i = in.upd_node;
+  dut->outcome_valid_i = in.outcome_valid;
+  dut->outcome_id_i = in.outcome_id;
+  dut->outcome_hit_i = in.outcome_hit;
+  dut->outcome_node_i = in.outcome_node;
   dut->skip_ready_i = in.skip_ready;
 }
 
 template <typename M>
-DutOut read(const M* dut, uint32_t k) {
+DutOut read(const M* dut, uint32_t k, int node_bits) {
   DutOut o;
   o.ray_ready = dut->ray_ready_o;
   o.pred_valid = dut->pred_valid_o;
   o.pred_id = dut->pred_id_o;
   o.pred_invalid = dut->pred_invalid_o;
   o.pred_count = dut->pred_count_o;
-  for (uint32_t i = 0; i < k; ++i) o.pred_nodes[i] = bits_of(dut->pred_nodes_o, i * kNodeIdWidth, kNodeIdWidth);
+  for (uint32_t i = 0; i < k; ++i)
+    o.pred_nodes[i] = bits_of(dut->pred_nodes_o, int(i) * node_bits, node_bits);
   o.pw_ready = dut->pw_ready_o;
-  o.upd_ready = dut->upd_ready_o;
+  o.outcome_ready = dut->outcome_ready_o;
   o.skip_valid = dut->skip_valid_o;
   o.skip_id = dut->skip_id_o;
   o.skip_action = static_cast<Action>(dut->skip_action_o);
@@ -117,7 +94,8 @@ std::string compare(const DutOut& exp, const DutOut& act, uint32_t k) {
   };
   if (exp.ray_ready != act.ray_ready) return diff("ray_ready_o", exp.ray_ready, act.ray_ready, 0);
   if (exp.pw_ready != act.pw_ready) return diff("pw_ready_o", exp.pw_ready, act.pw_ready, 0);
-  if (exp.upd_ready != act.upd_ready) return diff("upd_ready_o", exp.upd_ready, act.upd_ready, 0);
+  if (exp.outcome_ready != act.outcome_ready)
+    return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
   if (exp.pred_valid != act.pred_valid)
     return diff("pred_valid_o", exp.pred_valid, act.pred_valid, exp.pred_id);
   if (exp.pred_valid) {
@@ -271,7 +249,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     dut->clk_i = 0;
     dut->eval();
     if (vcd) vcd->dump(time++);
-    const DutOut act = read(dut.get(), cc.table.nodes_per_entry);
+    const DutOut act = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
     const DutOut exp = model.outputs();
     const std::string d = compare(exp, act, cc.table.nodes_per_entry);
     if (!d.empty()) {
@@ -338,6 +316,91 @@ Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord
   return run;
 }
 
+// Calls f.template operator()<M>() with M the Verilated model of configuration `name`.
+template <typename F>
+auto with_model(const std::string& name, F&& f) {
+  if (name == "small") return f.template operator()<Vhrpp_small>();
+  if (name == "large") return f.template operator()<Vhrpp_large>();
+  if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
+  if (name == "default") return f.template operator()<Vhrpp_default>();
+  throw std::invalid_argument("tb_hrpp has no Verilated model of configuration " + name);
+}
+
+// The latencies of the DUT, measured at its ports (tb/latency.h).
+template <typename M>
+Latencies measure_dut_latencies(const CycleConfig& cc, std::string* error) {
+  auto ctx = std::make_unique<VerilatedContext>();
+  auto dut = std::make_unique<M>(ctx.get());
+  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
+  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
+  apply(dut.get(), DutIn{});
+  dut->rst_ni = 0;
+  for (int i = 0; i < 4; ++i) {
+    dut->clk_i = i & 1;
+    dut->eval();
+  }
+  dut->clk_i = 0;
+  dut->rst_ni = 1;
+  dut->eval();
+  const CycleFn cycle = [&](const DutIn& in) {
+    apply(dut.get(), in);
+    dut->clk_i = 0;
+    dut->eval();
+    const DutOut o = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
+    dut->clk_i = 1;
+    dut->eval();
+    return o;
+  };
+  Latencies l;
+  *error = measure_latencies(cycle, cc.id_bits, cc.table.sets, &l);
+  if (error->empty() && ctx->gotFinish()) *error = "the simulation finished early (an assertion?)";
+  dut->final();
+  return l;
+}
+
+// tb_hrpp --latency: the DUT's and the cycle model's latencies against the declared ones.
+int check_latencies(const RtlConfig& rc, PredictMode mode) {
+  const CycleConfig cc = rc.cycle(mode);
+  std::string dut_error, model_error;
+  const Latencies dut = with_model(rc.name, [&]<typename M>() {
+    return measure_dut_latencies<M>(cc, &dut_error);
+  });
+  CycleModel cm(cc);
+  const CycleFn model_cycle = [&](const DutIn& in) {
+    const DutOut o = cm.outputs();
+    cm.tick(in);
+    return o;
+  };
+  Latencies model;
+  model_error = measure_latencies(model_cycle, cc.id_bits, cc.table.sets, &model);
+  const Latencies declared = declared_latencies();
+  std::printf("latency: config %s (cycles: ray accepted to pred_valid_o, predicted-walk result "
+              "accepted to skip_valid_o, final outcome accepted to the first ray seeing its "
+              "write)\n",
+              rc.name.c_str());
+  auto line = [](const char* who, const Latencies& l) {
+    std::printf("  %-12s prediction %d, decision %d, update landing %d\n", who, l.prediction,
+                l.decision, l.landing);
+  };
+  line("declared", declared);
+  line("DUT", dut);
+  line("cycle model", model);
+  std::string e = !dut_error.empty() ? "DUT: " + dut_error
+                  : !model_error.empty() ? "cycle model: " + model_error
+                                         : "";
+  if (e.empty()) {
+    if (std::string d = compare_latencies(dut, declared); !d.empty()) e = "DUT: " + d;
+    else if (std::string m = compare_latencies(model, declared); !m.empty())
+      e = "cycle model: " + m;
+  }
+  if (!e.empty()) {
+    std::printf("FAIL: %s (rtl/config/hrpp_configs.json)\n", e.c_str());
+    return 1;
+  }
+  std::printf("PASS\n");
+  return 0;
+}
+
 void print_stats(const char* who, const PredictStats& s) {
   std::printf("  %-22s rays %llu, predictions %llu, verified %llu, skipped walks %llu, "
               "interior tests %llu / baseline %llu (skipped %.2f%%), wrong %llu, exact-mismatch %llu\n",
@@ -365,10 +428,14 @@ int main_impl(int argc, char** argv) {
   auto* src = app.add_option_group("source");
   src->add_option("--scene", scene_path, "generate the rays of this glTF scene");
   src->add_option("--stream", stream_path, "read the rays from this ray-stream file");
+  bool latency = false;
+  src->add_flag("--latency", latency,
+                "measure the pipeline latencies at the ports and compare them with the declared "
+                "ones (rtl/config/hrpp_configs.json)");
   src->require_option(1);
   app.add_option("--rays", nrays, "rays to run (at most)")->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
   app.add_option("--config", config, "RTL configuration")
-      ->check(CLI::IsMember({"small", "default", "large", "mutant"}));
+      ->check(CLI::IsMember(rtl_config_names()));
   app.add_option("--mode", mode, "how closest-hit rays use predictions")
       ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
   app.add_option("--go-up", go_up, "go-up level of inserted nodes")->check(CLI::Range(0u, 64u));
@@ -441,12 +508,13 @@ int main_impl(int argc, char** argv) {
   eo.seed = seed;
   eo.go_up = go_up;
   parse_predict_mode(mode, &eo.mode);
+  if (latency) return check_latencies(rtl_config(config), eo.mode);
 
   if (skip_missing && !scene_path.empty() && !std::filesystem::exists(scene_path)) {
     std::printf("SKIP: %s is absent\n", scene_path.c_str());
     return 77;
   }
-  const Spec spec = spec_for(config);
+  const RtlConfig spec = rtl_config(config);  // rtl/config/hrpp_configs.json
   std::vector<RayRecord> rays;
   std::string scene_file = scene_path;
   std::unique_ptr<RayStreamReader> reader;
@@ -487,19 +555,14 @@ int main_impl(int argc, char** argv) {
       generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { take(r); });
   }
 
-  CycleConfig cc;
-  cc.hash = spec.hash;
-  cc.table.sets = spec.sets;
-  cc.table.ways = spec.ways;
-  cc.table.nodes_per_entry = spec.k;
-  cc.mode = eo.mode;
-  cc.id_bits = spec.id_bits;
-  eo.id_bits = spec.id_bits;
-  std::string cfg_err = resolve_for_scene(scene, bvh, &cc.hash, &cc.table,
-                                          {.node_bits = kNodeIdWidth, .tag_bits = spec.tag_bits});
+  CycleConfig cc = spec.cycle(eo.mode);
+  eo.id_bits = cc.id_bits;
+  std::string cfg_err =
+      resolve_for_scene(scene, bvh, &cc.hash, &cc.table,
+                        {.node_bits = spec.node_id_width, .tag_bits = spec.table.tag_bits});
   if (cfg_err.empty()) cfg_err = cc.validate();
   if (!cfg_err.empty()) {
-    std::fprintf(stderr, "tb_hrpp: configuration %s: %s\n", spec.name, cfg_err.c_str());
+    std::fprintf(stderr, "tb_hrpp: configuration %s: %s\n", spec.name.c_str(), cfg_err.c_str());
     return 2;
   }
   StressKind stress_kind{};
@@ -515,7 +578,7 @@ int main_impl(int argc, char** argv) {
                 (unsigned long long)ss.distinct_sets, ss.target_set,
                 (unsigned long long)ss.target_set_rays, (unsigned long long)ss.target_set_keys,
                 (unsigned long long)ss.longest_set_run);
-    const std::string e = check_stress_stream(stress_kind, ss, spec.sets, spec.ways);
+    const std::string e = check_stress_stream(stress_kind, ss, spec.table.sets, spec.table.ways);
     if (!e.empty()) {
       std::printf("FAIL: the %s stream is not what it claims: %s\n", stress.c_str(), e.c_str());
       return 1;
@@ -524,8 +587,9 @@ int main_impl(int argc, char** argv) {
   }
   std::printf("tb_hrpp: config %s (%s hash, %u sets x %u ways x %u nodes, %d-bit tags, %d-bit ids), "
               "mode %s, %zu rays of %s%s, seed %llu\n",
-              spec.name, hash_variant_name(cc.hash.variant), spec.sets, spec.ways, spec.k,
-              spec.tag_bits, spec.id_bits, mode.c_str(), rays.size(),
+              spec.name.c_str(), hash_variant_name(cc.hash.variant), spec.table.sets,
+              spec.table.ways, spec.table.nodes_per_entry, spec.table.tag_bits, spec.id_width,
+              mode.c_str(), rays.size(),
               reader ? stream_path.c_str() : scene_file.c_str(),
               invalid ? (" (" + std::to_string(invalid) + " invalid rays not issued)").c_str() : "",
               (unsigned long long)seed);
@@ -533,10 +597,7 @@ int main_impl(int argc, char** argv) {
   Run r;
   const auto t_sim = std::chrono::steady_clock::now();
   const std::clock_t cpu_sim = std::clock();
-  if (config == "small") r = run_dut<Vhrpp_small>(cc, bvh, rays, eo, ro, trace);
-  else if (config == "large") r = run_dut<Vhrpp_large>(cc, bvh, rays, eo, ro, trace);
-  else if (config == "mutant") r = run_dut<Vhrpp_mutant>(cc, bvh, rays, eo, ro, trace);
-  else r = run_dut<Vhrpp_default>(cc, bvh, rays, eo, ro, trace);
+  r = with_model(config, [&]<typename M>() { return run_dut<M>(cc, bvh, rays, eo, ro, trace); });
   const uint64_t finished = r.stats.rays;
   std::printf("parity: %llu rays, %llu cycles, %llu mismatches\n", (unsigned long long)finished,
               (unsigned long long)r.cycles, (unsigned long long)r.mismatches);
@@ -566,7 +627,7 @@ int main_impl(int argc, char** argv) {
               "entries valid at the end\n",
               (unsigned long long)r.table.updates, (unsigned long long)r.table.evictions,
               (unsigned long long)r.table.interlock_cycles, (unsigned long long)r.table_used,
-              spec.sets * spec.ways);
+              spec.table.sets * spec.table.ways);
   // Every ray of the stream got exactly one final result, resets or not.
   if (!r.exactly_once.empty()) {
     std::printf("FAIL: not every ray got exactly one final result: %s\n", r.exactly_once.c_str());
@@ -588,7 +649,7 @@ int main_impl(int argc, char** argv) {
     }
   if (!stress.empty()) {
     std::string e;
-    const uint64_t entries = uint64_t{spec.sets} * spec.ways;
+    const uint64_t entries = uint64_t{spec.table.sets} * spec.table.ways;
     if (stress_kind == StressKind::kSetBurst &&
         (r.table.interlock_cycles == 0 || r.table.evictions == 0))
       e = "no same-set interlock or no eviction";

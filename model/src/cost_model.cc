@@ -9,6 +9,7 @@
 
 #include "hrpp/cycle_model.h"
 #include "hrpp/render.h"
+#include "hrpp/rtl_config.h"
 
 namespace hrpp {
 
@@ -49,23 +50,8 @@ nlohmann::json cycle_cost_json(const PredictStats& s, const CostModel& m) {
 
 namespace {
 
-CycleConfig default_rtl_config() {
-  CycleConfig c;  // the RTL's default configuration (tb/CMakeLists.txt, HRPP_CFG_default)
-  c.hash.variant = HashVariant::kImproved;
-  c.hash.origin_bits = 5;
-  c.hash.dir_bits = 3;
-  c.hash.combine = CombineMode::kConcat;
-  c.hash.index_bits = 7;
-  c.table.sets = 128;
-  c.table.ways = 8;
-  c.table.nodes_per_entry = 2;
-  c.table.tag_bits = 8;
-  c.table.node_bits = 20;
-  c.table.key_bits = c.hash.key_bits();
-  c.mode = PredictMode::kClosestExact;
-  c.id_bits = 6;
-  return c;
-}
+// The RTL's default configuration (rtl/config/hrpp_configs.json).
+CycleConfig default_rtl_config() { return rtl_config("default").cycle(PredictMode::kClosestExact); }
 
 uint32_t f32(float f) {
   uint32_t u;
@@ -117,11 +103,11 @@ bool second_ray_sees_write(const CycleConfig& cfg, uint32_t gap, uint32_t walk_l
     if (out.skip_valid && out.skip_id == 0) upd_due[0] = now + walk_latency;
     for (auto it = upd_due.begin(); it != upd_due.end(); ++it)
       if (now >= it->second) {
-        in.upd_valid = true;
-        in.upd_id = it->first;
-        in.upd_hit = true;
-        in.upd_node = 5;
-        if (out.upd_ready) upd_due.erase(it);
+        in.outcome_valid = true;
+        in.outcome_id = it->first;
+        in.outcome_hit = true;
+        in.outcome_node = 5;
+        if (out.outcome_ready) upd_due.erase(it);
         break;
       }
     cm.tick(in);

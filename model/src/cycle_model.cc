@@ -92,7 +92,7 @@ DutOut CycleModel::outputs(const Decision& d) const {
     o.pred_nodes = p.nodes;
   }
   o.pw_ready = !clearing_ && (!p0_.valid || d.p_advance);
-  o.upd_ready = !clearing_ && (!f0_.valid || d.f_advance);
+  o.outcome_ready = !clearing_ && (!f0_.valid || d.f_advance);
   if (!skip_fifo_.empty()) {
     o.skip_valid = true;
     o.skip_id = skip_fifo_.front().first;
@@ -160,10 +160,11 @@ void CycleModel::tick(const DutIn& in) {
                " whose key-store entry was not written since reset (stale contents)";
   };
   if (o.pw_ready) check_key(in.pw_valid, in.pw_id, "predicted-walk result accepted");
-  if (o.upd_ready) check_key(in.upd_valid, in.upd_id, "final outcome accepted");
+  if (o.outcome_ready) check_key(in.outcome_valid, in.outcome_id, "final outcome accepted");
   if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
-  if (o.upd_ready)
-    f0_ = Msg{in.upd_valid, in.upd_id, in.upd_hit, in.upd_node, key_store_[in.upd_id]};
+  if (o.outcome_ready)
+    f0_ = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
+              key_store_[in.outcome_id]};
 
   // Key store write (B), after U0's read above.
   if (b_) {

@@ -50,6 +50,7 @@
 #include "hrpp/embree_ref.h"
 #include "hrpp/predictor.h"
 #include "hrpp/ray_stream.h"
+#include "hrpp/rtl_config.h"
 #include "hrpp/scene.h"
 #include "hrpp/tiled_predictor.h"
 #include "hrpp/traverse.h"
@@ -222,18 +223,12 @@ json child_embree(const ChildArgs& a) {
   return j;
 }
 
-// The RTL's default configuration (Makefile PREDICT_DEFAULT, tb_hrpp --config default).
+// The RTL's default configuration (rtl/config/hrpp_configs.json; hrpp predict --preset
+// rtl-default), with the golden model's node-id width for the scene.
 PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
-  PredictorConfig c;
-  c.hash.variant = HashVariant::kImproved;
-  c.hash.origin_bits = 5;
-  c.hash.dir_bits = 3;
-  c.hash.combine = CombineMode::kConcat;
-  c.table.sets = 128;
-  c.table.ways = 8;
-  c.table.nodes_per_entry = 2;
-  c.mode = PredictMode::kClosestExact;
-  if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = 8}); !e.empty())
+  PredictorConfig c = rtl_config("default").predictor();
+  if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = c.table.tag_bits});
+      !e.empty())
     throw std::runtime_error("predictor configuration: " + e);
   return c;
 }
@@ -676,7 +671,7 @@ int driver_main(const DriverArgs& a) {
   json out{{"machine", machine},
            {"settings",
             {{"samples", a.samples}, {"reps", a.reps}, {"cosim_rays", a.cosim_rays},
-             {"predictor", "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags, closest-exact"},
+             {"predictor", rtl_config("default").describe() + ", closest-exact"},
              {"predictor_cores", kBenchCores}}},
            {"scenes", json::object()}};
   const std::vector<std::string> keys{"build_vs_embree",       "traversal_vs_embree",
@@ -833,9 +828,8 @@ int driver_main(const DriverArgs& a) {
     for (const char* res : {"256x192", "2048x1536"}) {
       std::fprintf(stderr, "bench: hrpp predict %s --res %s: peak memory\n", scenes[0].c_str(), res);
       const Proc p = run_process({a.hrpp, "predict", scenes[0], "--res", res, "--cores", "8",
-                                  "--threads", std::to_string(threads), "--hash", "improved",
-                                  "--origin-bits", "5", "--dir-bits", "3", "--combine", "concat",
-                                  "--table", "128x8", "--nodes-per-entry", "2", "--tag-bits", "8"});
+                                  "--threads", std::to_string(threads), "--preset",
+                                  "rtl-default"});
       if (!WIFEXITED(p.status) || WEXITSTATUS(p.status) != 0)
         throw std::runtime_error(a.hrpp + " predict failed:\n" + p.out);
       std::smatch m;

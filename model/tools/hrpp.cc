@@ -15,6 +15,7 @@
 #include "hrpp/predictor.h"
 #include "hrpp/ray_stream.h"
 #include "hrpp/render.h"
+#include "hrpp/rtl_config.h"
 #include "hrpp/scene.h"
 #include "hrpp/tiled_predictor.h"
 #include "hrpp/workload.h"
@@ -24,6 +25,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <unistd.h>
 
@@ -284,9 +286,17 @@ struct PredictorArgs {
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;
   int tag_bits = -1;
+  std::string preset;  // rtl-NAME: an RTL configuration's hash and table
+  std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
 };
 
 void add_predictor_options(CLI::App* app, PredictorArgs& a) {
+  std::vector<std::string> presets;
+  for (const std::string& n : rtl_config_names()) presets.push_back("rtl-" + n);
+  app->add_option("--preset", a.preset,
+                  "an RTL configuration's hash and table (rtl/config/hrpp_configs.json); the "
+                  "options below override it")
+      ->check(CLI::IsMember(presets));
   app->add_option("--hash", a.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
   app->add_option("--precision", a.precision, "faithful hash: mantissa bits per component (P)")
       ->check(CLI::Range(1, 23));
@@ -309,6 +319,30 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a) {
       ->check(CLI::Range(1, kMaxNodesPerEntry));
   app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
       ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
+  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
+                        "--combine", "--table", "--tag-bits", "--nodes-per-entry"})
+    a.given[o] = app->get_option(o);
+}
+
+/// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
+void apply_preset(PredictorArgs& a) {
+  if (a.preset.empty()) return;
+  const RtlConfig rc = rtl_config(a.preset.substr(4));  // "rtl-"
+  const HashConfig& h = rc.hash;
+  const TableConfig& t = rc.table;
+  auto set = [&](const char* opt, auto* field, auto value) {
+    if (a.given.at(opt)->count() == 0) *field = value;
+  };
+  set("--hash", &a.hash,
+      std::string(h.variant == HashVariant::kFaithful ? "faithful" : "improved"));
+  set("--precision", &a.precision, h.precision);
+  set("--exp-bits", &a.exp_bits, h.exp_bits);
+  set("--origin-bits", &a.origin_bits, h.origin_bits);
+  set("--dir-bits", &a.dir_bits, h.dir_bits);
+  set("--combine", &a.combine, std::string(h.combine == CombineMode::kXor ? "xor" : "concat"));
+  set("--table", &a.table, std::to_string(t.sets) + "x" + std::to_string(t.ways));
+  set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
+  set("--tag-bits", &a.tag_bits, t.tag_bits);
 }
 
 /// The parts of the predictor configuration that need no scene; prints the error.
@@ -746,9 +780,15 @@ int main(int argc, char** argv) {
   try {
     if (*info) return cmd_info(scene, leaf_size, json_path);
     if (*ce) return cmd_check_embree(scene, rays, kind, seed, config, json_path);
-    if (*pr) return cmd_predict(pa);
+    if (*pr) {
+      apply_preset(pa.p);
+      return cmd_predict(pa);
+    }
     if (*tr) return cmd_trace(ta);
-    if (*rd) return cmd_render(ra);
+    if (*rd) {
+      apply_preset(ra.p);
+      return cmd_render(ra);
+    }
     if (*sw) {
       std::vector<std::string> args = {HRPP_PYTHON, HRPP_SOURCE_DIR "/model/tools/sweep.py",
                                        "--hrpp", "/proc/self/exe"};

@@ -17,7 +17,9 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+sys.path.insert(0, str(ROOT / "rtl" / "config"))
 from pyhrpp.docs import update_blocks  # noqa: E402
+import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.
@@ -27,10 +29,12 @@ STUDY = {
     "happy_buddha": ("23%", "41%", "18 MB / 18 MB"),
 }
 
+# The study's hash; the RTL default configuration's hash and finite table.
+RTL_DEFAULT = hrpp_config.config("default")
 FAITHFUL = ["--hash", "faithful", "--precision", "6", "--exp-bits", "3", "--combine", "xor"]
-IMPROVED = ["--hash", "improved", "--origin-bits", "5", "--dir-bits", "3", "--combine", "concat"]
+IMPROVED = hrpp_config.predict_args(RTL_DEFAULT, ("hash",))
 UNBOUNDED = ["--table", "unbounded", "--nodes-per-entry", "2"]
-FINITE = ["--table", "128x8", "--nodes-per-entry", "2", "--tag-bits", "8"]
+FINITE = hrpp_config.predict_args(RTL_DEFAULT, ("table",))
 
 # name -> predict arguments
 RUNS = {
@@ -116,8 +120,10 @@ def table1(stems, r, cmd):
 
 def finite(stems, r, cmd):
     lines = [
-        f"Regenerate with `{cmd}`. Finite table: 128 sets x 8 ways, 2 node ids per entry, "
-        "8-bit stored tags, LRU; its size in bytes is counted from the field widths "
+        f"Regenerate with `{cmd}`. Finite table: {RTL_DEFAULT['sets']} sets x "
+        f"{RTL_DEFAULT['ways']} ways, {RTL_DEFAULT['nodes_per_entry']} node ids per entry, "
+        f"{RTL_DEFAULT['tag_bits']}-bit stored tags, LRU; its size in bytes is counted from the "
+        "field widths "
         "(docs/hash.md). Kept = finite skipped / unbounded skipped (same hash, same K = 2).",
         "",
         "| scene | mode | unbounded (faithful) | 8 KB faithful | kept | 8 KB improved | "

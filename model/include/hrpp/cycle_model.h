@@ -16,6 +16,7 @@
 #include "hrpp/hash.h"
 #include "hrpp/pred_table.h"
 #include "hrpp/predictor.h"
+#include "hrpp/rtl_config_data.h"
 
 namespace hrpp {
 
@@ -23,9 +24,9 @@ struct CycleConfig {
   HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
   TableConfig table;  // finite; tag_bits = the RTL's TagBits
   PredictMode mode = PredictMode::kClosestExact;
-  int id_bits = 6;
-  int pred_fifo_depth = 16;
-  int skip_fifo_depth = 4;
+  int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
+  int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
+  int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
   std::string validate() const;
 };
 
@@ -40,10 +41,10 @@ struct DutIn {
   uint32_t pw_id = 0;
   bool pw_hit = false;
   uint32_t pw_node = 0;
-  bool upd_valid = false;  // final outcome
-  uint32_t upd_id = 0;
-  bool upd_hit = false;
-  uint32_t upd_node = 0;
+  bool outcome_valid = false;  // final outcome
+  uint32_t outcome_id = 0;
+  bool outcome_hit = false;
+  uint32_t outcome_node = 0;
   bool skip_ready = false;
 };
 
@@ -56,7 +57,7 @@ struct DutOut {
   uint32_t pred_count = 0;
   std::array<uint32_t, kMaxNodesPerEntry> pred_nodes{};
   bool pw_ready = false;
-  bool upd_ready = false;
+  bool outcome_ready = false;
   bool skip_valid = false;
   uint32_t skip_id = 0;
   Action skip_action = Action::kFull;
@@ -130,9 +131,9 @@ class CycleModel {
   uint64_t cycle_ = 0;
   bool clearing_ = true;
   uint32_t clear_idx_ = 0;
-  // Lookup path: A (input regs), H0..H2 (the hash's three stages), B (key regs), D0..D3 (beside
-  // the table's four-cycle lookup).
-  static constexpr int kHashLatency = 3;
+  // Lookup path: A (input regs), H0..H2 (the hash's stages), B (key regs), D0..D3 (beside the
+  // table's lookup). The latencies are the RTL's declared ones (rtl/config/hrpp_configs.json).
+  static constexpr int kHashLatency = rtl::kHashStages;
   std::optional<DutIn> a_;
   std::array<std::optional<DutIn>, kHashLatency> h_;
   struct B {
@@ -141,7 +142,7 @@ class CycleModel {
     bool invalid = false, any_hit = false;
   };
   std::optional<B> b_;
-  static constexpr int kLookupLatency = 4;
+  static constexpr int kLookupLatency = rtl::kLookupStages;
   std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;     // no reset, as in the RTL
@@ -152,7 +153,7 @@ class CycleModel {
   Msg p0_, f0_;
   static constexpr size_t kUpdateQueueDepth = 2;
   std::deque<Op> update_queue_;
-  static constexpr int kUpdateStages = 7;
+  static constexpr int kUpdateStages = rtl::kUpdateStages;
   std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [6] = W
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
 };

@@ -1,0 +1,34 @@
+// The pipeline latencies measured at the ports (tb_hrpp --latency; ctest tb.latency.<config>):
+// on an otherwise idle pipeline, one ray, its predicted-walk result and its final outcome, then
+// rays of the same key until one sees the outcome's table write. Compared with the declared
+// latencies (rtl/config/hrpp_configs.json, hrpp/rtl_config_data.h).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "hrpp/cycle_model.h"
+
+namespace hrpp::tb {
+
+struct Latencies {
+  int prediction = -1;  // ray accepted -> pred_valid_o
+  int decision = -1;    // predicted-walk result accepted -> skip_valid_o
+  int landing = -1;     // final outcome accepted -> the first ray accepted whose lookup sees it
+};
+
+/// The declared ones.
+Latencies declared_latencies();
+
+/// One clock cycle of a DUT out of reset: drives `in` with the clock low, returns the outputs
+/// of that cycle, then the rising edge.
+using CycleFn = std::function<DutOut(const DutIn&)>;
+
+/// Measures the latencies through `cycle` (ray ids below 2^id_bits; node ids below 2^node_bits).
+/// Returns "" or what went wrong (no answer within the time limit, a wrong node written).
+std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, Latencies* out);
+
+/// "" when `measured` equals `declared`, else which latencies differ.
+std::string compare_latencies(const Latencies& measured, const Latencies& declared);
+
+}  // namespace hrpp::tb
