@@ -492,8 +492,10 @@ TEST(ValidRange, OccludersWithinTheSpawnOffsetAreMissed) {
   const float x = 148376.f;
   for (float gap : {3.f, 5.f}) {
     std::vector<Triangle> tris = {{{x, -10, -10}, {x, 10, -10}, {x, 10, 10}}};
-    for (const Triangle& t : square(Vec3(0), 10.f))  // the occluder, turned into the plane x + gap
-      tris.push_back({{x + gap, t.v0.x, t.v0.y}, {x + gap, t.v1.x, t.v1.y}, {x + gap, t.v2.x, t.v2.y}});
+    for (const Triangle& t : square(Vec3(0), 10.f)) {  // the occluder, turned into x = x + gap
+      auto yz = [&](const Vec3& v) { return Vec3(x + gap, v.x, v.y); };
+      tris.push_back({yz(t.v0), yz(t.v1), yz(t.v2)});
+    }
     Bvh bvh = build_bvh(tris);
     const Vec3 o = offset_ray_origin({x, 1, 2}, {1, 0, 0});
     EXPECT_EQ(o.x, x + 4.f);

@@ -263,8 +263,9 @@ TEST_F(Malformed, GeometryOutsideTheValidRangeIsRejected) {
     float h, z;
     const char* value;  // the first offending coordinate, as the message prints it
   };
-  for (const Case& c : {Case{1e12f, 1e14f, "-9.99999996e+11"}, Case{1e13f, 1e12f, "-9.99999983e+12"},
-                        Case{1e17f, 1e6f, "-9.99999984e+16"}, Case{1e19f, 0, "-9.99999998e+18"}}) {
+  for (const Case& c :
+       {Case{1e12f, 1e14f, "-9.99999996e+11"}, Case{1e13f, 1e12f, "-9.99999983e+12"},
+        Case{1e17f, 1e6f, "-9.99999984e+16"}, Case{1e19f, 0, "-9.99999998e+18"}}) {
     auto j = test::minimal_gltf(square(c.h, c.z), {0, 1, 2, 0, 2, 3});
     j["nodes"][0]["name"] = "far";
     expect_error(j, {"node 0 (far) mesh 0 primitive 0: vertex 0 has the world coordinate",
