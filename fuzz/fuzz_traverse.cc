@@ -17,7 +17,7 @@
 
 #include "fuzz_util.h"
 #include "hrpp/bvh.h"
-#include "hrpp/crosscheck.h"
+#include "hrpp/referee.h"
 #include "hrpp/traverse.h"
 
 using namespace hrpp;

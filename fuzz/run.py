@@ -24,6 +24,8 @@ import time
 TARGETS = ["scene", "stream", "hash", "traverse"]
 MAX_LEN = {"scene": 65536, "stream": 4096, "hash": 64, "traverse": 1024}
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, ".."))  # the pyhrpp package
+from pyhrpp.files import write_json_atomic  # noqa: E402
 
 
 def fail(msg):
@@ -138,12 +140,7 @@ def campaign(args, targets):
                 print(f"fuzz {t}: crash input {os.path.join(crashes_dir, c)}: reproduce with "
                       f"{binary(args.bin_dir, 'fuzz_' + t)} FILE; once fixed, commit it to "
                       f"fuzz/regressions/{t}/")
-    # Written to a temporary name and renamed: a killed run never leaves a half-written summary.
-    tmp = summary_path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(summary, f, indent=2)
-        f.write("\n")
-    os.replace(tmp, summary_path)
+    write_json_atomic(summary_path, summary)
     print(f"fuzz: wrote {summary_path}")
     return status
 

@@ -35,6 +35,9 @@ import struct
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the pyhrpp package
+from pyhrpp.files import write_atomic  # noqa: E402
+
 GENERATOR = "hrpp scenes/gen_scenes.py"
 
 GLB_MAGIC = 0x46546C67  # "glTF"
@@ -912,7 +915,7 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     for name, g, files in built:
         for fname, data in files.items():
-            (args.out / fname).write_bytes(data)
+            write_atomic(args.out / fname, data)
         glb = files[name + ".glb"]
         print("%-14s triangles %6d  vertices %6d  bbox %s - %s  %d bytes  "
               "sha256 %s" % (name, g.triangles, g.vertices, fmt(g.bbox_min),

@@ -143,10 +143,6 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
                                 [](uint64_t c, const Message& x) { return c < x.ready_cycle; });
     port->pending.insert(pos, m);
   };
-  auto walk = [&](const InFlight& f, const Ray& r, uint32_t start, Counters* c) {
-    return f.any ? any_hit(bvh_, r, c, {.start_node = start})
-                 : closest_hit(bvh_, r, c, {.start_node = start});
-  };
 
   if (out.pred_valid && stalled_[kStallPred]) stall_[kStallPred].blocked++;
   if (out.skip_valid && stalled_[kStallSkip]) stall_[kStallSkip].blocked++;
@@ -156,8 +152,8 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     offered_ray_.reset();
     InFlight f;
     f.ray = ray;
-    f.any = is_any_hit(rays_[ray].kind) || opt_.mode == PredictMode::kAnyHit;
-    by_id_[id] = std::move(f);  // the baseline walk is made with the skip decision
+    f.er.any = answers_any_hit(rays_[ray].kind, opt_.mode);
+    by_id_[id] = f;  // the baseline walk is made with the skip decision
   }
 
   if (out.pred_valid && in.pred_ready) {
@@ -165,9 +161,9 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
       error_ = "prediction for ray id " + std::to_string(out.pred_id) + " that is not in flight";
       return;
     }
-    InFlight& f = *by_id_[out.pred_id];
-    const Ray& r = rays_[f.ray].ray;
-    f.predicted = out.pred_count > 0;
+    EngineRay& er = by_id_[out.pred_id]->er;
+    const Ray& r = rays_[by_id_[out.pred_id]->ray].ray;
+    er.predicted = out.pred_count > 0;
     if (out.pred_count > uint32_t(kMaxNodesPerEntry)) {
       error_ = "prediction of " + std::to_string(out.pred_count) + " nodes";
       return;
@@ -178,16 +174,9 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
         error_ = "predicted node " + std::to_string(node) + " outside the BVH";
         return;
       }
-      f.nodes[f.num_nodes++] = node;
-      const Hit h = walk(f, r, node, &f.pred);
-      if (h.hit() && (!f.best.hit() || h.t < f.best.t)) {
-        f.best = h;
-        f.best_node = node;
-        if (f.any) break;
-      }
+      if (!walk_predicted_node(bvh_, r, node, &er)) break;
     }
-    f.hrpp = f.pred;
-    schedule(&pw_, out.pred_id, f.best.hit(), f.best.hit() ? f.best_node : 0);
+    schedule(&pw_, out.pred_id, er.best.hit(), er.best.hit() ? er.best_node : 0);
   }
 
   if (out.skip_valid && in.skip_ready) {
@@ -196,45 +185,18 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
       error_ = "skip decision for ray id " + std::to_string(id) + " that is not in flight";
       return;
     }
-    InFlight& f = *by_id_[id];
-    const Ray& r = rays_[f.ray].ray;
+    EngineRay& er = by_id_[id]->er;
+    const Ray& r = rays_[by_id_[id]->ray].ray;
     // The baseline walk (the statistics' reference and the exactness check) is made here, once
     // the decision is known, so that a shortened closest-hit walk rides along with it
-    // (closest_hit_pair: both walks' hits and counters, exactly; docs/predictor.md).
-    const bool pair = out.skip_action == Action::kShrink && !f.any && f.best.hit();
-    Hit shrunk_hit;
-    if (pair)
-      closest_hit_pair(bvh_, r, f.best.t, &f.baseline, &f.base, &shrunk_hit, &f.hrpp);
-    else
-      f.baseline = walk(f, r, 0, &f.base);
+    // (walk_from_root: both walks' hits and counters, exactly; docs/predictor.md).
+    walk_from_root(bvh_, r, out.skip_action, &er);
+    finish(bvh_, out.skip_action, &er);
     if (out.skip_action == Action::kSkip) {
-      finish(id, f.best, true, true);
+      report(id);
     } else {
-      Hit answer;
-      uint32_t verified = kNoNode;
-      if (out.skip_action == Action::kShrink) {
-        Hit h = shrunk_hit;
-        if (!pair) {
-          Ray shrunk = r;
-          shrunk.tfar = f.best.t;
-          h = walk(f, shrunk, 0, &f.hrpp);
-        }
-        answer = h.hit() ? h : f.best;
-        for (uint32_t i = 0; i < f.num_nodes; ++i)
-          if (in_subtree(bvh_, f.nodes[i], answer.leaf)) {
-            verified = f.nodes[i];
-            break;
-          }
-      } else {
-        answer = f.baseline;
-        f.hrpp += f.base;
-      }
-      const uint32_t node = verified != kNoNode ? verified
-                            : answer.hit()      ? bvh_.ancestor(answer.leaf, opt_.go_up)
-                                                : 0;
-      f.best = answer;
-      f.best_node = verified;
-      schedule(&upd_, id, answer.hit(), node);
+      const uint32_t node = update_node(bvh_, er, opt_.go_up);
+      schedule(&upd_, id, er.answer.hit(), node != kNoNode ? node : 0);
     }
   }
 
@@ -246,33 +208,13 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
       error_ = "final outcome of ray id " + std::to_string(id) + " that is not in flight";
       return;
     }
-    finish(id, by_id_[id]->best, by_id_[id]->best_node != kNoNode, false);
+    report(id);
   }
 }
 
-void Engine::finish(uint32_t id, const Hit& answer, bool verified, bool skipped) {
+void Engine::report(uint32_t id) {
   const InFlight& f = *by_id_[id];
-  const RayRecord& rec = rays_[f.ray];
-  PredictStats s;
-  s.rays = 1;
-  s.baseline = f.base;
-  s.hrpp = f.hrpp;
-  s.predicted = f.pred;
-  if (f.predicted && !verified) s.wasted = f.pred;
-  s.baseline_hits = f.baseline.hit();
-  s.skipped_walks = skipped;
-  if (f.predicted) {
-    (verified ? s.true_positive : s.false_positive) = 1;
-  } else {
-    (answer.hit() ? s.false_negative : s.true_negative) = 1;
-  }
-  if (!f.any) {
-    if (!same_answer(bvh_, rec.ray, answer, f.baseline))
-      (opt_.mode == PredictMode::kClosestSpec ? s.wrong_results : s.exact_mismatches) = 1;
-  } else if (answer.hit() != f.baseline.hit()) {
-    s.exact_mismatches = 1;
-  }
-  stats_ += s;
+  classify(bvh_, rays_[f.ray].ray, f.er, opt_.mode, &stats_);
   ++reports_[f.ray];
   by_id_[id].reset();
   free_ids_.push_back(id);

@@ -14,6 +14,7 @@
 
 #include "hrpp/bvh.h"
 #include "hrpp/cycle_model.h"
+#include "hrpp/engine_side.h"
 #include "hrpp/predictor.h"
 #include "hrpp/workload.h"
 
@@ -86,13 +87,7 @@ class Engine {
  private:
   struct InFlight {
     size_t ray = 0;
-    bool any = false;
-    bool predicted = false;
-    Hit baseline, best;
-    uint32_t best_node = kNoNode;
-    std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // the predicted nodes walked
-    uint32_t num_nodes = 0;
-    Counters base, hrpp, pred;
+    EngineRay er;  // walks, outcome and statistics (hrpp/engine_side.h)
   };
   struct Message {
     uint64_t ready_cycle;
@@ -105,7 +100,8 @@ class Engine {
     std::deque<Message> pending;
     std::optional<Message> offered;
   };
-  void finish(uint32_t id, const Hit& answer, bool verified, bool skipped);
+  /// The ray's final result is reported: its statistics, and its id is free again.
+  void report(uint32_t id);
   /// Advances the random stall of each interface to this cycle.
   void step_stalls(uint64_t cycle);
   bool chance(double p) { return std::uniform_real_distribution<double>(0, 1)(rng_) < p; }

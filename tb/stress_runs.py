@@ -17,6 +17,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # pyhrpp
+from pyhrpp.files import write_json_atomic  # noqa: E402
+
 PARITY = re.compile(r"^parity: (\d+) rays, (\d+) cycles, (\d+) mismatches", re.M)
 RESETS = re.compile(r"^resets: (\d+) \((\d+) cycles in reset\), (\d+) hit rays in flight: (\d+) rays", re.M)
 STALLS = re.compile(r"^stalls .*?:(.*)$", re.M)
@@ -120,9 +123,8 @@ def main():
         for k in ("rays", "cycles", "mismatches", "resets"):
             g[k] += r.get(k, 0)
     os.makedirs(a.out, exist_ok=True)
-    with open(os.path.join(a.out, "summary.json.tmp"), "w") as f:
-        json.dump({"total": tot, "groups": groups, "runs": results}, f, indent=1)
-    os.replace(os.path.join(a.out, "summary.json.tmp"), os.path.join(a.out, "summary.json"))
+    write_json_atomic(os.path.join(a.out, "summary.json"),
+                      {"total": tot, "groups": groups, "runs": results}, indent=1, newline=False)
     print("| group | runs | rays | cycles | resets | mismatches | failed |")
     print("|---|---|---|---|---|---|---|")
     for name, g in groups.items():

@@ -463,11 +463,6 @@ int main_impl(int argc, char** argv) {
   }
   const Scene scene = load_scene(scene_file);
   const Bvh bvh = build_bvh(scene.triangles);
-  if (bvh.nodes.size() > (size_t{1} << kNodeIdWidth)) {
-    std::fprintf(stderr, "tb_hrpp: the BVH has %zu nodes; the RTL configurations have %d-bit node ids\n",
-                 bvh.nodes.size(), kNodeIdWidth);
-    return 2;
-  }
   uint64_t invalid = 0;
   auto take = [&](const RayRecord& r) {
     if (rays.size() >= nrays) return;
@@ -494,19 +489,17 @@ int main_impl(int argc, char** argv) {
 
   CycleConfig cc;
   cc.hash = spec.hash;
-  cc.hash.index_bits = std::countr_zero(spec.sets);
-  cc.hash.origin_cell_exp = cell_exp_for(scene.bounds, cc.hash.origin_bits);
   cc.table.sets = spec.sets;
   cc.table.ways = spec.ways;
   cc.table.nodes_per_entry = spec.k;
-  cc.table.node_bits = kNodeIdWidth;
-  cc.table.tag_bits = spec.tag_bits;
-  cc.table.key_bits = cc.hash.key_bits();
   cc.mode = eo.mode;
   cc.id_bits = spec.id_bits;
   eo.id_bits = spec.id_bits;
-  if (const std::string e = cc.validate(); !e.empty()) {
-    std::fprintf(stderr, "tb_hrpp: configuration %s: %s\n", spec.name, e.c_str());
+  std::string cfg_err = resolve_for_scene(scene, bvh, &cc.hash, &cc.table,
+                                          {.node_bits = kNodeIdWidth, .tag_bits = spec.tag_bits});
+  if (cfg_err.empty()) cfg_err = cc.validate();
+  if (!cfg_err.empty()) {
+    std::fprintf(stderr, "tb_hrpp: configuration %s: %s\n", spec.name, cfg_err.c_str());
     return 2;
   }
   StressKind stress_kind{};

@@ -1,6 +1,9 @@
 #include "hrpp/predictor.h"
 
+#include <bit>
 #include <chrono>
+
+#include "hrpp/engine_side.h"
 
 namespace hrpp {
 
@@ -20,6 +23,32 @@ bool parse_predict_mode(const std::string& s, PredictMode* out) {
       return true;
     }
   return false;
+}
+
+std::string resolve_for_scene(const Scene& scene, const Bvh& bvh, HashConfig* hash,
+                              TableConfig* table, const ResolveOptions& opt) {
+  HashConfig& h = *hash;
+  TableConfig& t = *table;
+  h.index_bits = t.unbounded ? 0 : std::countr_zero(t.sets);
+  h.origin_cell_exp = cell_exp_for(scene.bounds, h.origin_bits);
+  const size_t nodes = bvh.nodes.size();
+  if (opt.node_bits > 0 && opt.node_bits < 64 && nodes > (uint64_t{1} << opt.node_bits))
+    return "the BVH has " + std::to_string(nodes) + " nodes; " + std::to_string(opt.node_bits) +
+           "-bit node ids name at most " + std::to_string(uint64_t{1} << opt.node_bits);
+  t.node_bits = opt.node_bits > 0 ? opt.node_bits : node_bits_for(nodes);
+  t.key_bits = h.key_bits();
+  t.tag_bits = t.unbounded ? 0 : h.tag_bits();
+  if (opt.tag_bits >= 0 && !t.unbounded) {
+    if (opt.tag_bits > h.tag_bits())
+      return std::string(opt.tag_bits_name) + " " + std::to_string(opt.tag_bits) +
+             " exceeds the full tag width " + std::to_string(h.tag_bits()) + " (key " +
+             std::to_string(h.key_bits()) + " bits, index " + std::to_string(h.index_bits) +
+             " bits)";
+    t.tag_bits = opt.tag_bits;
+  }
+  for (const std::string& err : {h.validate(), t.validate()})
+    if (!err.empty()) return err;
+  return {};
 }
 
 PredictStats& PredictStats::operator+=(const PredictStats& o) {
@@ -118,7 +147,6 @@ RayResult Predictor::process(const RayRecord& rec) {
   RayResult res;
   // Statistics go straight into the ray kind's record (total() sums the kinds when asked).
   PredictStats& s = by_kind_[static_cast<int>(rec.kind)];
-  s.rays += 1;
   const uint64_t ray_no = issued_++;
   // Writes of rays issued update_delay or more rays ago have landed.
   while (!pending_.empty() && pending_.front().due <= ray_no) {
@@ -134,87 +162,41 @@ RayResult Predictor::process(const RayRecord& rec) {
   const Ray& ray = rec.ray;
   if (validate_ray(ray) != RayError::kNone) {  // never hashed
     res.invalid = true;
+    s.rays += 1;
     s.invalid_rays += 1;
     return res;
   }
-  const bool any = is_any_hit(rec.kind) || cfg_.mode == PredictMode::kAnyHit;
-  auto walk = [&](const Ray& r, uint32_t start, Counters* c) {
-    return any ? any_hit(bvh_, r, c, {.start_node = start}) : closest_hit(bvh_, r, c, {.start_node = start});
-  };
+  EngineRay er;
+  er.any = answers_any_hit(rec.kind, cfg_.mode);
 
-  // Lookup and predicted subtree walks, most recently used node first; the baseline walk (the
-  // full walk from the root) comes after them, so that in closest-exact mode it can carry the
-  // shortened walk along (closest_hit_pair). Neither depends on the other, so the order changes
-  // no result; with timing on, every walk runs on its own and is timed as before.
+  // Lookup and predicted subtree walks, most recently used node first; the walks from the root
+  // come after them, so that in closest-exact mode the baseline walk can carry the shortened
+  // walk along (walk_from_root). Neither depends on the other, so the order changes no result;
+  // with timing on, every walk runs on its own and is timed as before.
   Clock::time_point t0;
   if (timed) t0 = Clock::now();
   res.key = hash_ray(ray, cfg_.hash);
   const Prediction p = table_.lookup(res.key.index, res.key.tag, res.key.key);
-  res.predicted = p.count > 0;
-  Counters pc;
-  Hit best;
-  uint32_t best_node = kNoNode;
-  for (uint32_t i = 0; i < p.count; ++i) {
-    const Hit h = walk(ray, p.nodes[i], &pc);
-    if (h.hit() && (!best.hit() || h.t < best.t)) {
-      best = h;
-      best_node = p.nodes[i];
-      if (any) break;  // any hit ends the ray
-    }
-  }
-  res.hrpp_counters = pc;
+  walk_predicted(bvh_, ray, p.nodes.data(), p.count, &er);
   const uint64_t lookup_ns = timed ? ns_since(t0) : 0;
-  const bool exact_shrink = best.hit() && !any && cfg_.mode == PredictMode::kClosestExact;
+  const Action action = decide(er, cfg_.mode);
 
-  // Baseline: the full walk from the root (with the shortened walk, when there is one).
-  Hit shrunk_hit;
-  if (timed) t0 = Clock::now();
-  if (exact_shrink && !timed)
-    closest_hit_pair(bvh_, ray, best.t, &res.baseline, &res.base_counters, &shrunk_hit,
-                     &res.hrpp_counters);
-  else
-    res.baseline = walk(ray, 0, &res.base_counters);
-  uint64_t base_ns = timed ? ns_since(t0) : 0;
-  s.baseline += res.base_counters;
-  s.baseline_hits += res.baseline.hit();
-  if (timed) t0 = Clock::now();  // the rest of HRPP's time, after lookup_ns
-
-  Hit answer;
-  uint32_t verified_node = kNoNode;
-  uint64_t hrpp_ns = 0;
-  if (best.hit() && (any || cfg_.mode == PredictMode::kClosestSpec)) {
-    answer = best;  // no walk from the root
-    verified_node = best_node;
-    s.skipped_walks += 1;
-  } else if (best.hit()) {
-    // Closest-hit exact: the predicted hit bounds the interval of the full walk.
-    Hit h = shrunk_hit;
-    if (timed) {
-      Ray shrunk = ray;
-      shrunk.tfar = best.t;
-      h = walk(shrunk, 0, &res.hrpp_counters);
-    }
-    answer = h.hit() ? h : best;
-    // Verified when the closest hit lies in one of the predicted subtrees.
-    for (uint32_t i = 0; i < p.count; ++i)
-      if (in_subtree(bvh_, p.nodes[i], answer.leaf)) {
-        verified_node = p.nodes[i];
-        break;
-      }
+  // The walks from the root: the baseline walk (with the shortened walk, when there is one).
+  uint64_t base_ns = 0, hrpp_ns = 0;
+  if (timed) {
+    t0 = Clock::now();
+    baseline_walk(bvh_, ray, &er);
+    base_ns = ns_since(t0);
+    t0 = Clock::now();  // the rest of HRPP's time, after lookup_ns
+    if (action == Action::kShrink) shrunk_walk(bvh_, ray, &er);
+    if (action == Action::kFull) hrpp_ns = base_ns;  // HRPP runs the same walk, not twice
   } else {
-    answer = res.baseline;  // the full walk is the baseline walk
-    res.hrpp_counters += res.base_counters;
-    hrpp_ns = base_ns;  // HRPP runs the same walk; it is not run twice
+    walk_from_root(bvh_, ray, action, &er);
   }
-  res.answer = answer;
-  res.verified = verified_node != kNoNode;
+  finish(bvh_, action, &er);
 
   // Update: refresh a verified node, else insert the hit's node.
-  if (res.verified) {
-    res.update_node = verified_node;
-  } else if (answer.hit()) {
-    res.update_node = bvh_.ancestor(answer.leaf, cfg_.go_up);
-  }
+  res.update_node = update_node(bvh_, er, cfg_.go_up);
   if (res.update_node != kNoNode) {
     s.table_updates += 1;
     if (cfg_.update_delay == 0)
@@ -228,21 +210,13 @@ RayResult Predictor::process(const RayRecord& rec) {
     s.baseline_ns += base_ns;
   }
 
-  // Statistics.
-  s.hrpp += res.hrpp_counters;
-  s.predicted += pc;
-  if (res.predicted && !res.verified) s.wasted += pc;
-  if (res.predicted) {
-    (res.verified ? s.true_positive : s.false_positive) += 1;
-  } else {
-    (answer.hit() ? s.false_negative : s.true_negative) += 1;
-  }
-  if (!any) {
-    const bool same = same_answer(bvh_, ray, answer, res.baseline);
-    if (!same) (cfg_.mode == PredictMode::kClosestSpec ? s.wrong_results : s.exact_mismatches) += 1;
-  } else if (answer.hit() != res.baseline.hit()) {
-    s.exact_mismatches += 1;
-  }
+  classify(bvh_, ray, er, cfg_.mode, &s);
+  res.predicted = er.predicted;
+  res.verified = er.verified;
+  res.baseline = er.baseline;
+  res.answer = er.answer;
+  res.base_counters = er.base;
+  res.hrpp_counters = er.hrpp;
   return res;
 }
 

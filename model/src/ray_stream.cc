@@ -72,12 +72,10 @@ uint64_t scene_fingerprint(const Scene& scene) {
 // ---- writer -----------------------------------------------------------------------------------
 
 RayStreamWriter::RayStreamWriter(const std::string& path, const StreamHeader& header)
-    : path_(path), tmp_(path + ".tmp") {
+    : path_(path) {
   if (header.version != kVersion)
     throw StreamError(path + ": this writer writes ray-stream version " +
                       std::to_string(kVersion) + ", not " + std::to_string(header.version));
-  f_ = std::fopen(tmp_.c_str(), "wb");
-  if (!f_) throw StreamError(tmp_ + ": cannot open for writing: " + errno_text());
   const size_t header_len = (kFixedHeader + header.options.size() + kAlign - 1) / kAlign * kAlign;
   std::vector<uint8_t> h(header_len, 0);
   std::memcpy(h.data(), kMagic, 8);
@@ -88,24 +86,19 @@ RayStreamWriter::RayStreamWriter(const std::string& path, const StreamHeader& he
   put32(&h[32], static_cast<uint32_t>(header.options.size()));
   std::memcpy(&h[kFixedHeader], header.options.data(), header.options.size());
   count_offset_ = kCountOffset;
-  if (std::fwrite(h.data(), 1, h.size(), f_) != h.size()) {
-    const std::string e = errno_text();
-    std::fclose(f_);
-    f_ = nullptr;
-    std::remove(tmp_.c_str());
-    throw StreamError(tmp_ + ": write error: " + e);
+  try {
+    file_.emplace(path);
+    file_->write(h.data(), h.size());
+  } catch (const AtomicFileError& e) {
+    file_.reset();
+    throw StreamError(e.what());
   }
 }
 
-RayStreamWriter::~RayStreamWriter() {
-  if (f_) {
-    std::fclose(f_);
-    std::remove(tmp_.c_str());
-  }
-}
+RayStreamWriter::~RayStreamWriter() = default;  // without close(): file_ removes the temporary
 
 void RayStreamWriter::write(const RayRecord& r) {
-  if (!f_) throw StreamError(path_ + ": write after close");
+  if (!file_) throw StreamError(path_ + ": write after close");
   if (const char* field = bad_field(r.ray))
     throw StreamError(path_ + ": record " + std::to_string(count_) + ": NaN or infinite field (" +
                       field + "); not written");
@@ -124,30 +117,27 @@ void RayStreamWriter::write(const RayRecord& r) {
   put32(&b[44], r.spawn_prim);
   put64(&b[48], r.id);
   put64(&b[56], r.parent);
-  if (std::fwrite(b.data(), 1, b.size(), f_) != b.size())
-    throw StreamError(tmp_ + ": write error at record " + std::to_string(count_) + ": " +
-                      errno_text());
+  if (std::fwrite(b.data(), 1, b.size(), file_->stream()) != b.size())
+    throw StreamError(file_->tmp_path() + ": write error at record " + std::to_string(count_) +
+                      ": " + errno_text());
   ++count_;
 }
 
 void RayStreamWriter::close() {
-  if (!f_) return;
+  if (!file_) return;
   uint8_t c[8];
   put64(c, count_);
-  bool ok = std::fflush(f_) == 0 && std::fseek(f_, count_offset_, SEEK_SET) == 0 &&
-            std::fwrite(c, 1, 8, f_) == 8;
-  const std::string e = ok ? std::string() : errno_text();
-  ok = std::fclose(f_) == 0 && ok;
-  f_ = nullptr;
-  if (!ok) {
-    std::remove(tmp_.c_str());
-    throw StreamError(tmp_ + ": write error: " + (e.empty() ? errno_text() : e));
+  std::FILE* f = file_->stream();
+  try {
+    if (!(std::fflush(f) == 0 && std::fseek(f, count_offset_, SEEK_SET) == 0 &&
+          std::fwrite(c, 1, 8, f) == 8))
+      file_->fail(errno_text());
+    file_->commit();
+  } catch (const AtomicFileError& e) {
+    file_.reset();
+    throw StreamError(e.what());
   }
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    const std::string e2 = errno_text();
-    std::remove(tmp_.c_str());
-    throw StreamError(path_ + ": cannot rename " + tmp_ + " to it: " + e2);
-  }
+  file_.reset();
 }
 
 // ---- reader -----------------------------------------------------------------------------------

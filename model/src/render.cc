@@ -1,17 +1,17 @@
 #include "hrpp/render.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBIW_WINDOWS_UTF8 0
 #include <stb/stb_image_write.h>
 #include <stb/stb_easy_font.h>
+
+#include "hrpp/atomic_file.h"
 
 namespace hrpp {
 
@@ -67,16 +67,18 @@ int text_width(const std::string& s) {
   return stb_easy_font_width(txt.data());
 }
 
-/// Renames PATH.tmp to PATH (files are written to a temporary name and renamed when complete,
-/// so a killed run never leaves a half-written file that looks complete).
-void commit_tmp(const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string e = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw RenderError(path + ": cannot rename " + tmp + " to it: " + e);
+namespace {
+
+/// Writes BYTES to PATH through a temporary file (hrpp/atomic_file.h). Throws RenderError.
+void write_output(const std::string& path, std::string_view bytes) {
+  try {
+    write_file_atomic(path, bytes);
+  } catch (const AtomicFileError& e) {
+    throw RenderError(e.what());
   }
 }
+
+}  // namespace
 
 void write_png(const std::string& path, const Image& img) {
   // Encoded in memory and written here, because stbi_write_png ignores write errors.
@@ -88,16 +90,7 @@ void write_png(const std::string& path, const Image& img) {
   if (!stbi_write_png_to_func(append, &png, img.width, img.height, 3, img.rgb.data(),
                               img.width * 3))
     throw RenderError(path + ": cannot encode the PNG image");
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw RenderError(tmp + ": cannot open for writing: " + std::strerror(errno));
-  const bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
-  const std::string e = std::strerror(errno);
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(tmp.c_str());
-    throw RenderError(tmp + ": write error: " + (ok ? std::string(std::strerror(errno)) : e));
-  }
-  commit_tmp(path);
+  write_output(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 float srgb_encode(float l) {
@@ -346,16 +339,7 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
                  {"skipped_interior_fraction", pred.total().skipped_interior_fraction()},
                  {"by_kind", pj["by_kind"]}};
   const std::string jpath = (fs::path(dir) / "render.json").string();
-  {
-    std::ofstream f(jpath + ".tmp");
-    f << out.summary.dump(2) << "\n";
-    f.close();
-    if (!f) {
-      std::remove((jpath + ".tmp").c_str());
-      throw RenderError(jpath + ": cannot write");
-    }
-  }
-  commit_tmp(jpath);
+  write_output(jpath, out.summary.dump(2) + "\n");
   out.files.push_back(jpath);
   return out;
 }

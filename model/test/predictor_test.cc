@@ -1,9 +1,11 @@
 // The predictor: exact modes give the baseline's answers on every ray of every shared scene, the
-// speculative mode's wrong answers are counted, invalid rays never reach the hash.
+// speculative mode's wrong answers are counted, invalid rays never reach the hash. The engine's
+// side (engine_side.h) piece by piece, and the resolution of a configuration for a scene.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
+#include "hrpp/engine_side.h"
 #include "hrpp/predictor.h"
 #include "test_util.h"
 
@@ -16,16 +18,12 @@ PredictorConfig config(const Scene& s, const Bvh& bvh, PredictMode mode, bool un
   c.mode = mode;
   c.hash.variant = v;
   c.hash.combine = v == HashVariant::kImproved ? CombineMode::kConcat : CombineMode::kXor;
-  c.hash.origin_cell_exp = cell_exp_for(s.bounds, c.hash.origin_bits);
   c.table.unbounded = unbounded;
   c.table.sets = 256;
   c.table.ways = 4;
   c.table.nodes_per_entry = 2;
-  c.hash.index_bits = unbounded ? 0 : 8;
-  c.table.node_bits = node_bits_for(bvh.nodes.size());
-  c.table.tag_bits = unbounded ? 0 : c.hash.tag_bits();
-  c.table.key_bits = c.hash.key_bits();
   c.go_up = 1;
+  EXPECT_EQ(resolve_for_scene(s, bvh, &c), "");
   return c;
 }
 
@@ -134,6 +132,158 @@ TEST(Predictor, StatisticsAddUp) {
             st.rays - st.invalid_rays);
   EXPECT_LE(st.wasted.interior_tests, st.predicted.interior_tests);
   EXPECT_LE(st.predicted.interior_tests, st.hrpp.interior_tests);
+}
+
+
+TEST(ResolveForScene, FillsThePerSceneFields) {
+  Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb");
+  Bvh bvh = build_bvh(s.triangles);
+  PredictorConfig c;
+  c.hash.variant = HashVariant::kImproved;
+  c.hash.origin_bits = 5;
+  c.hash.combine = CombineMode::kConcat;
+  c.table.sets = 128;
+  c.table.ways = 8;
+  ASSERT_EQ(resolve_for_scene(s, bvh, &c), "");
+  EXPECT_EQ(c.hash.origin_cell_exp, cell_exp_for(s.bounds, 5));
+  EXPECT_EQ(c.hash.index_bits, 7);
+  EXPECT_EQ(c.table.node_bits, node_bits_for(bvh.nodes.size()));
+  EXPECT_EQ(c.table.key_bits, c.hash.key_bits());
+  EXPECT_EQ(c.table.tag_bits, c.hash.key_bits() - 7);  // the full tag
+  ASSERT_EQ(resolve_for_scene(s, bvh, &c, {.node_bits = 20, .tag_bits = 8}), "");
+  EXPECT_EQ(c.table.node_bits, 20);
+  EXPECT_EQ(c.table.tag_bits, 8);
+  c.table.unbounded = true;
+  ASSERT_EQ(resolve_for_scene(s, bvh, &c, {.tag_bits = 8}), "");
+  EXPECT_EQ(c.hash.index_bits, 0);
+  EXPECT_EQ(c.table.tag_bits, 0);
+  c.table.unbounded = false;
+  EXPECT_NE(resolve_for_scene(s, bvh, &c, {.tag_bits = 64, .tag_bits_name = "--tag-bits"})
+                .find("--tag-bits 64 exceeds the full tag width"),
+            std::string::npos);
+  const int narrow = node_bits_for(bvh.nodes.size()) - 1;
+  EXPECT_NE(resolve_for_scene(s, bvh, &c, {.node_bits = narrow}).find("node ids name at most"),
+            std::string::npos);
+  c.table.sets = 100;
+  EXPECT_NE(resolve_for_scene(s, bvh, &c), "");
+}
+
+// The engine's side run piece by piece, as a timed model would: the one-pass walks from the root
+// equal the separate walks, and the pieces give Predictor::process's statistics.
+TEST(EngineSide, PiecesMakeThePredictor) {
+  Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb");
+  Bvh bvh = build_bvh(s.triangles);
+  for (PredictMode mode :
+       {PredictMode::kAnyHit, PredictMode::kClosestExact, PredictMode::kClosestSpec}) {
+    SCOPED_TRACE(predict_mode_name(mode));
+    const PredictorConfig c = config(s, bvh, mode, false, HashVariant::kImproved);
+    Predictor pred(bvh, c);
+    PredTable table(c.table);
+    PredictStats st;
+    uint64_t shrunk = 0;
+    WorkloadOptions wo;
+    wo.width = wo.height = 48;
+    generate_rays(s, bvh, wo, [&](const RayRecord& r, const Hit*) {
+      const RayResult res = pred.process(r);
+      EngineRay one, two;
+      one.any = two.any = answers_any_hit(r.kind, mode);
+      const HashKey k = hash_ray(r.ray, c.hash);
+      const Prediction p = table.lookup(k.index, k.tag, k.key);
+      walk_predicted(bvh, r.ray, p.nodes.data(), p.count, &one);
+      two.predicted = p.count > 0;
+      for (uint32_t i = 0; i < p.count; ++i)
+        if (!walk_predicted_node(bvh, r.ray, p.nodes[i], &two)) break;
+      const Action a = decide(one, mode);
+      walk_from_root(bvh, r.ray, a, &one);
+      baseline_walk(bvh, r.ray, &two);
+      if (a == Action::kShrink) shrunk_walk(bvh, r.ray, &two);
+      shrunk += a == Action::kShrink;
+      finish(bvh, a, &one);
+      finish(bvh, a, &two);
+      EXPECT_EQ(one.shrunk.t, two.shrunk.t);
+      EXPECT_EQ(one.shrunk_work, two.shrunk_work);
+      EXPECT_EQ(one.base, two.base);
+      EXPECT_EQ(one.hrpp, two.hrpp);
+      EXPECT_EQ(one.answer.prim, two.answer.prim);
+      EXPECT_EQ(one.verified_node, two.verified_node);
+      EXPECT_EQ(one.predicted, res.predicted);
+      EXPECT_EQ(one.verified, res.verified);
+      EXPECT_EQ(one.hrpp, res.hrpp_counters);
+      const uint32_t node = update_node(bvh, one, c.go_up);
+      EXPECT_EQ(node, res.update_node);
+      if (node != kNoNode) table.update(k.index, k.tag, k.key, node);
+      classify(bvh, r.ray, one, mode, &st);
+    });
+    const PredictStats& t = pred.total();
+    EXPECT_EQ(st.rays, t.rays);
+    EXPECT_EQ(st.hrpp, t.hrpp);
+    EXPECT_EQ(st.baseline, t.baseline);
+    EXPECT_EQ(st.wasted, t.wasted);
+    EXPECT_EQ(st.true_positive, t.true_positive);
+    EXPECT_EQ(st.false_positive, t.false_positive);
+    EXPECT_EQ(st.skipped_walks, t.skipped_walks);
+    EXPECT_EQ(st.wrong_results, t.wrong_results);
+    EXPECT_GT(t.true_positive, 0u);
+    if (mode == PredictMode::kClosestExact) EXPECT_GT(shrunk, 0u);
+  }
+}
+
+// Each outcome is classified once, in the right counter.
+TEST(EngineSide, ClassifyCountsEachOutcome) {
+  Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb");
+  Bvh bvh = build_bvh(s.triangles);
+  Ray hit_ray{s.camera.eye, glm::normalize(s.camera.target - s.camera.eye)};
+  Ray miss_ray{s.camera.eye, -hit_ray.dir};
+  Counters c;
+  ASSERT_TRUE(closest_hit(bvh, hit_ray, &c).hit());
+  ASSERT_FALSE(closest_hit(bvh, miss_ray, &c).hit());
+  auto run = [&](const Ray& ray, PredictMode mode, std::vector<uint32_t> nodes,
+                 const Hit* fake = nullptr) {
+    EngineRay er;
+    walk_predicted(bvh, ray, nodes.data(), uint32_t(nodes.size()), &er);
+    if (fake) er.take_predicted(0, *fake);
+    const Action a = decide(er, mode);
+    walk_from_root(bvh, ray, a, &er);
+    finish(bvh, a, &er);
+    PredictStats st;
+    classify(bvh, ray, er, mode, &st);
+    EXPECT_EQ(st.rays, 1u);
+    EXPECT_EQ(st.true_positive + st.false_positive + st.false_negative + st.true_negative, 1u);
+    return st;
+  };
+  const uint32_t leaf = closest_hit(bvh, hit_ray, &c).leaf;
+  PredictStats st = run(hit_ray, PredictMode::kClosestExact, {bvh.ancestor(leaf, 1)});
+  EXPECT_EQ(st.true_positive, 1u);
+  EXPECT_EQ(st.wasted, Counters{});
+  EXPECT_EQ(st.exact_mismatches, 0u);
+  EXPECT_EQ(st.skipped_walks, 0u);
+  EXPECT_LE(st.hrpp.interior_tests, st.baseline.interior_tests + st.predicted.interior_tests);
+  // A subtree the ray misses: a false positive, its walk wasted, the full walk made.
+  uint32_t other = 0;
+  for (uint32_t n = 1; n < bvh.nodes.size() && !other; ++n)
+    if (!in_subtree(bvh, n, leaf) && !closest_hit(bvh, hit_ray, &c, {.start_node = n}).hit())
+      other = n;
+  ASSERT_NE(other, 0u);
+  st = run(hit_ray, PredictMode::kClosestExact, {other});
+  EXPECT_EQ(st.false_positive, 1u);
+  EXPECT_EQ(st.wasted, st.predicted);
+  EXPECT_GT(st.wasted.box_tests, 0u);
+  Counters expect = st.predicted;
+  expect += st.baseline;
+  EXPECT_EQ(st.hrpp, expect);
+  EXPECT_EQ(run(hit_ray, PredictMode::kClosestExact, {}).false_negative, 1u);
+  EXPECT_EQ(run(miss_ray, PredictMode::kClosestSpec, {}).true_negative, 1u);
+  // An accepted wrong hit: skipped, counted as verified, and a wrong result in closest-spec.
+  Hit fake = closest_hit(bvh, hit_ray, &c);
+  fake.prim = fake.prim == 0 ? 1 : 0;
+  fake.t *= 2;
+  st = run(hit_ray, PredictMode::kClosestSpec, {other}, &fake);
+  EXPECT_EQ(st.true_positive, 1u);
+  EXPECT_EQ(st.skipped_walks, 1u);
+  EXPECT_EQ(st.wrong_results, 1u);
+  EXPECT_EQ(st.exact_mismatches, 0u);
+  EXPECT_EQ(st.hrpp, st.predicted);
+  EXPECT_EQ(st.wasted, Counters{});
 }
 
 }  // namespace

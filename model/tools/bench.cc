@@ -45,6 +45,7 @@
 #include <sstream>
 #include <thread>
 
+#include "hrpp/atomic_file.h"
 #include "hrpp/bvh.h"
 #include "hrpp/embree_ref.h"
 #include "hrpp/predictor.h"
@@ -228,17 +229,12 @@ PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
   c.hash.origin_bits = 5;
   c.hash.dir_bits = 3;
   c.hash.combine = CombineMode::kConcat;
-  c.hash.origin_cell_exp = cell_exp_for(scene.bounds, c.hash.origin_bits);
   c.table.sets = 128;
   c.table.ways = 8;
   c.table.nodes_per_entry = 2;
-  c.hash.index_bits = 7;
-  c.table.node_bits = node_bits_for(bvh.nodes.size());
-  c.table.key_bits = c.hash.key_bits();
-  c.table.tag_bits = 8;
   c.mode = PredictMode::kClosestExact;
-  for (const std::string& e : {c.hash.validate(), c.table.validate()})
-    if (!e.empty()) throw std::runtime_error("predictor configuration: " + e);
+  if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = 8}); !e.empty())
+    throw std::runtime_error("predictor configuration: " + e);
   return c;
 }
 
@@ -872,18 +868,14 @@ int driver_main(const DriverArgs& a) {
     }
     out["big_scene"] = big;
   }
-  const std::string tmp = a.out + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) {
-      std::fprintf(stderr, "hrpp_bench: cannot write %s\n", tmp.c_str());
-      return 2;
-    }
-    f << out.dump(2) << "\n";
-  }
-  fs::rename(tmp, a.out);
   const std::string md_path = (fs::path(a.out).replace_extension(".md")).string();
-  std::ofstream(md_path) << markdown(out);
+  try {
+    hrpp::write_file_atomic(a.out, out.dump(2) + "\n");
+    hrpp::write_file_atomic(md_path, markdown(out));
+  } catch (const hrpp::AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp_bench: %s\n", e.what());
+    return 2;
+  }
   std::printf("wrote %s and %s\n", a.out.c_str(), md_path.c_str());
   return 0;
 }

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "hrpp/atomic_file.h"
 #include "hrpp/bvh.h"
 #include "hrpp/cost_model.h"
 #include "hrpp/crosscheck.h"
@@ -38,25 +39,10 @@ void print_vec(const char* label, const Vec3& v) {
 }
 
 bool write_json_file(const std::string& path, const nlohmann::json& j) {
-  // Written to a temporary name and renamed, so a killed run never leaves a partial file.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) {
-      std::fprintf(stderr, "hrpp: cannot write %s\n", tmp.c_str());
-      return false;
-    }
-    out << j.dump(2) << "\n";
-    out.close();  // the last buffer is written here: its errors count too
-    if (!out) {
-      std::fprintf(stderr, "hrpp: error writing %s\n", tmp.c_str());
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::fprintf(stderr, "hrpp: cannot rename %s to %s\n", tmp.c_str(), path.c_str());
-    std::remove(tmp.c_str());
+  try {
+    write_file_atomic(path, j.dump(2) + "\n");
+  } catch (const AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
     return false;
   }
   return true;
@@ -348,7 +334,6 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
   t.nodes_per_entry = a.nodes_per_entry;
   if (a.table == "unbounded") {
     t.unbounded = true;
-    h.index_bits = 0;
   } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
     std::fprintf(stderr, "hrpp %s: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
                  cmd, a.table.c_str());
@@ -359,7 +344,6 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
                    cmd, a.table.c_str());
       return false;
     }
-    h.index_bits = std::countr_zero(t.sets);
   }
   return true;
 }
@@ -367,25 +351,12 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
 /// Completes the configuration for a scene and its BVH and validates it; prints the error.
 bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scene& scene,
                              const Bvh& bvh, PredictorConfig* cfg) {
-  HashConfig& h = cfg->hash;
-  TableConfig& t = cfg->table;
-  h.origin_cell_exp = cell_exp_for(scene.bounds, h.origin_bits);
-  t.node_bits = node_bits_for(bvh.nodes.size());
-  t.key_bits = h.key_bits();
-  t.tag_bits = t.unbounded ? 0 : h.tag_bits();
-  if (a.tag_bits >= 0 && !t.unbounded) {
-    if (a.tag_bits > h.tag_bits()) {
-      std::fprintf(stderr, "hrpp %s: --tag-bits %d exceeds the full tag width %d (key %d bits, index %d bits)\n",
-                   cmd, a.tag_bits, h.tag_bits(), h.key_bits(), h.index_bits);
-      return false;
-    }
-    t.tag_bits = a.tag_bits;
+  const std::string err =
+      resolve_for_scene(scene, bvh, cfg, {.tag_bits = a.tag_bits, .tag_bits_name = "--tag-bits"});
+  if (!err.empty()) {
+    std::fprintf(stderr, "hrpp %s: %s\n", cmd, err.c_str());
+    return false;
   }
-  for (const std::string& err : {h.validate(), t.validate()})
-    if (!err.empty()) {
-      std::fprintf(stderr, "hrpp %s: %s\n", cmd, err.c_str());
-      return false;
-    }
   return true;
 }
 

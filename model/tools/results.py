@@ -16,6 +16,8 @@ import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import update_blocks  # noqa: E402
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.
@@ -137,20 +139,6 @@ def finite(stems, r, cmd):
     return "\n".join(lines)
 
 
-def splice(doc, name, body):
-    begin, end = f"<!-- BEGIN {name} -->", f"<!-- END {name} -->"
-    text = doc.read_text() if doc.exists() else ""
-    if begin in text and end in text:
-        head, rest = text.split(begin, 1)
-        _, tail = rest.split(end, 1)
-        text = f"{head}{begin}\n{body}\n{end}{tail}"
-    else:
-        text += f"\n{begin}\n{body}\n{end}\n"
-    tmp = doc.with_suffix(".md.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, doc)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
@@ -168,8 +156,7 @@ def main():
     cmd = "make results" if (args.res, args.spp) == ("1024x1024", 8) else \
         f"python3 model/tools/results.py --res {args.res} --spp {args.spp}"
     doc = pathlib.Path(args.doc)
-    splice(doc, "table1", table1(stems, r, cmd))
-    splice(doc, "finite", finite(stems, r, cmd))
+    update_blocks(doc, {"table1": table1(stems, r, cmd), "finite": finite(stems, r, cmd)})
     print(f"results: updated {doc}")
 
 

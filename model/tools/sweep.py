@@ -28,6 +28,8 @@ import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.files import write_atomic  # noqa: E402
 
 # Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
 PARAMS = {
@@ -188,9 +190,7 @@ def write_csv(path, rows):
         w.writerow([fmt(r[c]) for c in cols])
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(buf.getvalue())
-    os.replace(tmp, path)
+    write_atomic(path, buf.getvalue())
 
 
 def read_csv(paths):
@@ -515,7 +515,7 @@ def report(rows, plots, path, command):
     lines += spec_section(rows, varied, path)
     lines += ["## Recommendation", ""] + recommend(rows, varied)
     pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    pathlib.Path(path).write_text("\n".join(lines) + "\n")
+    write_atomic(path, "\n".join(lines) + "\n")
 
 
 def delay_groups(rows):

@@ -46,6 +46,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import replace_block  # noqa: E402
+from pyhrpp.files import commit_tmp, write_atomic  # noqa: E402
 OUT = Path("out/synth")  # relative to ROOT (yowasp rejects ../ and absolute paths outside)
 NODE_ID_WIDTH = 20       # every configuration (tb/CMakeLists.txt)
 TARGET_RATIO = 0.85      # issue 6: Fmax at least 85% of the block-RAM ceiling
@@ -237,8 +240,8 @@ tee -q -o {pre}.xc7.stat.json stat -json
     (ROOT / f"{pre}.ys").write_text(ys)
     run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"], Path(f"{pre}.yosys.stdout"),
              YOSYS_TIMEOUT, f"{name}: yosys (generic, ECP5, iCE40, xc7)")
-    for tmp in [f"{pre}.coarse.json", f"{pre}.ecp5.json"] + ([f"{pre}_netlist.v"] if netlist else []):
-        os.replace(ROOT / f"{tmp}.tmp", ROOT / tmp)
+    for f in [f"{pre}.coarse.json", f"{pre}.ecp5.json"] + ([f"{pre}_netlist.v"] if netlist else []):
+        commit_tmp(ROOT / f)
     return analyse_design(name, params, Path(f"{pre}.yosys.log"))
 
 
@@ -323,7 +326,7 @@ tee -q -o {pre}.ecp5.stat.json stat -json
     (ROOT / f"{pre}.ys").write_text(ys)
     run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"], Path(f"{pre}.yosys.stdout"),
              YOSYS_TIMEOUT, f"{name}: yosys ceiling RAM {depth} x {width}")
-    os.replace(ROOT / f"{pre}.ecp5.json.tmp", ROOT / f"{pre}.ecp5.json")
+    commit_tmp(ROOT / f"{pre}.ecp5.json")
     check_warnings(Path(f"{pre}.yosys.log"))
     e = stat_cells(Path(f"{pre}.ecp5.stat.json"))
     mapping = memory_mapping(Path(f"{pre}.yosys.log"), "synth_ecp5")
@@ -366,7 +369,7 @@ def nextpnr(tag: str, speed: int, seed: int) -> dict:
             "--json", f"{pre}.ecp5.json", "--report", f"{rep}.tmp", "-l", f"{run}.log"]
     run_tool(argv, Path(f"{run}.stdout"), NEXTPNR_TIMEOUT,
              f"{tag}: nextpnr-ecp5 speed {speed} seed {seed}")
-    os.replace(ROOT / f"{rep}.tmp", ROOT / rep)
+    commit_tmp(ROOT / rep)
     r = load_json(rep)
     fmax = r.get("fmax", {})
     if not fmax:
@@ -497,12 +500,6 @@ def load_report(path: Path) -> tuple[list[dict], list[dict]]:
     return rep.get("configurations", []), rep.get("sweep", [])
 
 
-def write_atomic(path: Path, text: str) -> None:
-    tmp = ROOT / f"{path}.tmp"
-    tmp.write_text(text)
-    os.replace(tmp, ROOT / path)
-
-
 def sweep_doc(sweep: list[dict]) -> str:
     """The scaling table of docs/results.md (between <!-- BEGIN synth-sweep --> and its END)."""
     seeds = sorted({sd for r in sweep for sd in r["pnr"][6].get("seeds", {})}, key=int)
@@ -520,15 +517,6 @@ def sweep_doc(sweep: list[dict]) -> str:
                  f"{r['fmax_mhz']:.1f} MHz | {r['fmax_ceiling_mhz']:.1f} MHz | "
                  f"{r['fmax_ratio']:.0%} |")
     return "\n".join(L) + "\n"
-
-
-def replace_block(text: str, name: str, section: str, heading: str) -> str:
-    begin, end = f"<!-- BEGIN {name} -->", f"<!-- END {name} -->"
-    if begin in text and end in text:
-        a = text.index(begin) + len(begin)
-        b = text.index(end)
-        return text[:a] + "\n" + section + text[b:]
-    return text.rstrip("\n") + f"\n\n{heading}\n\n{begin}\n{section}{end}\n"
 
 
 def update_results_doc(results: list[dict], sweep: list[dict]) -> None:
@@ -564,9 +552,7 @@ def update_results_doc(results: list[dict], sweep: list[dict]) -> None:
     if sweep:
         text = replace_block(text, "synth-sweep", sweep_doc(sweep),
                              "### Synthesis: how area and clock speed scale")
-    tmp = doc.with_suffix(".md.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, doc)
+    write_atomic(doc, text)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -666,7 +652,7 @@ def main() -> int:
             run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"],
                      Path(f"{pre}.yosys.stdout"), YOSYS_TIMEOUT, f"{c}: yosys generic netlist")
             check_warnings(Path(f"{pre}.yosys.log"))
-            os.replace(ROOT / f"{pre}.v.tmp", ROOT / f"{pre}.v")
+            commit_tmp(ROOT / f"{pre}.v")
             log(f"wrote {pre}.v")
         return 0
 
@@ -698,8 +684,8 @@ def main() -> int:
                        "placer_freq_mhz": NEXTPNR_FREQ_MHZ},
               "configurations": results, "sweep": sweep}
     if not args.doc_only:
-        write_atomic(OUT / "report.json", json.dumps(report, indent=1) + "\n")
-    write_atomic(OUT / "report.md", "# HRPP synthesis report\n\n" + report_md(results, sweep))
+        write_atomic(ROOT / OUT / "report.json", json.dumps(report, indent=1) + "\n")
+    write_atomic(ROOT / OUT / "report.md", "# HRPP synthesis report\n\n" + report_md(results, sweep))
     if not args.no_doc and any(r["config"] == "default" for r in results):
         update_results_doc(results, sweep)
     log(f"wrote {OUT}/report.json, {OUT}/report.md" + ("" if args.no_doc else ", docs/results.md"))

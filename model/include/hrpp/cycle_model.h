@@ -12,14 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "hrpp/engine_side.h"  // Action: the skip decisions
 #include "hrpp/hash.h"
 #include "hrpp/pred_table.h"
 #include "hrpp/predictor.h"
 
 namespace hrpp {
-
-/// Skip decisions (rtl/hrpp_pkg.sv action_e).
-enum class Action : uint8_t { kFull = 0, kShrink = 1, kSkip = 2 };
 
 struct CycleConfig {
   HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i

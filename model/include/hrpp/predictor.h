@@ -12,6 +12,7 @@
 #include "hrpp/hash.h"
 #include "hrpp/pred_table.h"
 #include "hrpp/ray.h"
+#include "hrpp/scene.h"
 #include "hrpp/traverse.h"
 #include "hrpp/workload.h"
 
@@ -39,6 +40,26 @@ struct PredictorConfig {
   /// Measure the CPU time of the baseline walk and of HRPP's work per ray (baseline_ns, hrpp_ns).
   bool measure_time = false;
 };
+
+/// Choices resolve_for_scene leaves to its caller.
+struct ResolveOptions {
+  int node_bits = 0;  // node-id width: 0 for the narrowest that names every node of the BVH
+                      // (node_bits_for), else this width (a fixed RTL width), checked to suffice
+  int tag_bits = -1;  // stored tag width: < 0 for the hash's full tag, else this many bits
+  const char* tag_bits_name = "the stored tag width";  // names tag_bits in the error message
+};
+
+/// Completes a hash and table configuration for a scene and its BVH, and validates it: the
+/// improved hash's origin cell exponent from the scene's bounds (cell_exp_for), the hash's index
+/// width from the table's sets (0 for the unbounded table), the table's key width, node-id width
+/// and stored tag width (none for the unbounded table). Returns "" or what is wrong. Every tool
+/// that runs a predictor on a scene (hrpp, hrpp_bench, tb_hrpp) resolves its configuration here.
+std::string resolve_for_scene(const Scene& scene, const Bvh& bvh, HashConfig* hash,
+                              TableConfig* table, const ResolveOptions& opt = {});
+inline std::string resolve_for_scene(const Scene& scene, const Bvh& bvh, PredictorConfig* cfg,
+                                     const ResolveOptions& opt = {}) {
+  return resolve_for_scene(scene, bvh, &cfg->hash, &cfg->table, opt);
+}
 
 struct PredictStats {
   uint64_t rays = 0, invalid_rays = 0;

@@ -5,9 +5,11 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "hrpp/atomic_file.h"
 #include "hrpp/workload.h"
 
 namespace hrpp {
@@ -39,8 +41,8 @@ class RayStreamWriter {
   uint64_t count() const { return count_; }
 
  private:
-  std::string path_, tmp_;
-  std::FILE* f_ = nullptr;
+  std::string path_;
+  std::optional<AtomicFile> file_;  // PATH.tmp until close()
   uint64_t count_ = 0;
   long count_offset_ = 0;
 };
