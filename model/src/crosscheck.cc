@@ -12,6 +12,7 @@ namespace hrpp {
 CrossCheckCounts& CrossCheckCounts::operator+=(const CrossCheckCounts& o) {
   rays += o.rays;
   invalid_rays += o.invalid_rays;
+  outside_embree += o.outside_embree;
   compared += o.compared;
   hit_agree += o.hit_agree;
   hit_mismatches += o.hit_mismatches;
@@ -23,9 +24,29 @@ CrossCheckCounts& CrossCheckCounts::operator+=(const CrossCheckCounts& o) {
   return *this;
 }
 
-bool CrossCheckResult::passed() const {
-  return total.hit_mismatches == 0 && total.t_mismatches == 0 && total.prim_mismatches == 0 &&
-         double(total.grazes) <= 1e-5 * double(std::max<uint64_t>(total.compared, 1));
+bool CrossCheckResult::passed() const { return failure().empty(); }
+
+std::string CrossCheckResult::failure() const {
+  const CrossCheckCounts& c = total;
+  const std::string uncompared = std::to_string(c.invalid_rays) + " invalid, " +
+                                 std::to_string(c.outside_embree) + " outside Embree's range";
+  if (c.compared == 0)
+    return "no ray compared (" + std::to_string(c.rays) + " rays of the kinds asked for: " +
+           uncompared + ")";
+  if (double(c.compared) < kMinComparedFraction * double(c.rays)) {
+    char pct[16];
+    std::snprintf(pct, sizeof pct, "%g%%", 100 * kMinComparedFraction);
+    return "only " + std::to_string(c.compared) + " of " + std::to_string(c.rays) +
+           " rays compared, fewer than the required " + pct + " (" + uncompared + ")";
+  }
+  if (c.hit_mismatches || c.t_mismatches || c.prim_mismatches)
+    return "disagreements beyond genuine ties and grazes (" + std::to_string(c.hit_mismatches) +
+           " hit, " + std::to_string(c.t_mismatches) + " t, " + std::to_string(c.prim_mismatches) +
+           " primitive mismatches)";
+  if (double(c.grazes) > 1e-5 * double(c.compared))
+    return std::to_string(c.grazes) + " genuine grazes, more than 1e-5 of the " +
+           std::to_string(c.compared) + " compared rays";
+  return {};
 }
 
 namespace {
@@ -33,6 +54,7 @@ namespace {
 nlohmann::json counts_json(const CrossCheckCounts& c) {
   return {{"rays", c.rays},
           {"invalid_rays", c.invalid_rays},
+          {"outside_embree_range", c.outside_embree},
           {"compared", c.compared},
           {"hits", c.hits},
           {"hit_agreement", c.hit_agreement()},
@@ -65,6 +87,11 @@ class Comparer {
     c.rays = 1;
     if (validate_ray(ray) != RayError::kNone) {
       c.invalid_rays = 1;
+      add(kind, c);
+      return;
+    }
+    if (!embree_accepts(ray)) {  // Embree would abort on it: never sent
+      c.outside_embree = 1;
       add(kind, c);
       return;
     }
@@ -166,6 +193,8 @@ nlohmann::json CrossCheckResult::to_json() const {
   j["resolution"] = {width, height};
   j["seconds"] = seconds;
   j["passed"] = passed();
+  j["min_compared_fraction"] = kMinComparedFraction;
+  if (!passed()) j["failure"] = failure();
   j["tolerance"] =
       "perturbation delta = 128*FLT_EPSILON*M (M: largest coordinate of origin, hit point, "
       "triangle); t tolerance delta/(|d| cos theta); graze: double-precision hit within delta "

@@ -22,6 +22,9 @@ void on_error(void* user, RTCError code, const char* str) {
 }
 
 void to_rtc(const Ray& r, RTCRay* out) {
+  // Embree asserts (aborts the process) on an origin outside its range: refuse it here instead.
+  if (!(max_abs(r.org) < kEmbreeLarge))
+    throw std::invalid_argument("Embree: ray origin outside Embree's range (|x| < 1.844e18)");
   out->org_x = r.org.x;
   out->org_y = r.org.y;
   out->org_z = r.org.z;

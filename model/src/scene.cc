@@ -4,6 +4,8 @@
 
 #include <tiny_gltf.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +25,21 @@ using glm::dmat4;
 [[noreturn]] void fail(const std::string& file, const std::string& what) {
   throw SceneError(file + ": " + what);
 }
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+/// The first coordinate of v outside [-limit, limit] (NaN when there is none).
+float outside(const Vec3& v, float limit) {
+  for (int a = 0; a < 3; ++a)
+    if (!(std::fabs(v[a]) <= limit)) return v[a];
+  return std::nanf("");
+}
+
+const std::string kRangeDoc = " (docs/bvh.md, \"Valid range\")";
 
 /// Images are never needed (no textures are used), so they are not decoded.
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
@@ -227,6 +244,11 @@ class Loader {
     if (!std::isfinite(l.intensity) || !std::isfinite(l.position.x) ||
         !std::isfinite(l.position.y) || !std::isfinite(l.position.z))
       fail(path_, "light '" + l.name + "' has a NaN or infinite value");
+    const float bad = outside(l.position, kMaxRayOrigin);
+    if (l.type != Light::Type::kDirectional && !std::isnan(bad))
+      fail(path_, "node " + std::to_string(ni) + ": light '" + l.name + "' has the position " +
+                      "coordinate " + num(bad) + ", outside the traceable range |x| <= " +
+                      num(kMaxRayOrigin) + kRangeDoc);
     s_.lights.push_back(l);
   }
 
@@ -344,15 +366,29 @@ class Loader {
         if (!std::isfinite(wpos[i].x) || !std::isfinite(wpos[i].y) || !std::isfinite(wpos[i].z))
           fail(path_, where + ": vertex " + std::to_string(i) +
                           " is not finite after the node transform");
+        const float bad = outside(wpos[i], kMaxSceneCoordinate);
+        if (!std::isnan(bad))
+          fail(path_, "node " + std::to_string(ni) + " (" + node_name + ") " + where +
+                          ": vertex " + std::to_string(i) + " has the world coordinate " +
+                          num(bad) + ", outside the traceable range |x| <= " +
+                          num(kMaxSceneCoordinate) + kRangeDoc);
       }
       MeshRange range;
       range.name = node_name;
       range.first = static_cast<uint32_t>(s_.triangles.size());
       range.count = static_cast<uint32_t>(tris.size());
       range.material = material_index(prim.material, where);
-      for (const auto& t : tris) {
+      for (size_t ti = 0; ti < tris.size(); ++ti) {
+        const auto& t = tris[ti];
         Triangle tri{wpos[t[0]], wpos[t[1]], wpos[t[2]]};
         if (flip) std::swap(tri.v1, tri.v2);
+        const double twice_area = glm::length(
+            glm::cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0)));
+        if (twice_area > 0 && twice_area < kMinTwiceArea)
+          fail(path_, "node " + std::to_string(ni) + " (" + node_name + ") " + where +
+                          ": triangle " + std::to_string(ti) + " has twice the area " +
+                          num(twice_area) + ", below the smallest traceable " +
+                          num(kMinTwiceArea) + " (zero-area triangles are accepted)" + kRangeDoc);
         if (tri.degenerate()) ++s_.degenerate_triangles;
         s_.bounds.grow(tri.bounds());
         s_.triangles.push_back(tri);
@@ -524,6 +560,12 @@ void check_extent(const Scene& s) {
                  "(bounds (" + std::to_string(s.bounds.lo.x) + ", " + std::to_string(s.bounds.lo.y) +
                  ", " + std::to_string(s.bounds.lo.z) + ") to (" + std::to_string(s.bounds.hi.x) +
                  ", " + std::to_string(s.bounds.hi.y) + ", " + std::to_string(s.bounds.hi.z) + "))");
+  for (const auto& [what, v] : {std::pair{"eye", c.eye}, std::pair{"target", c.target}}) {
+    const float bad = outside(v, kMaxRayOrigin);
+    if (!std::isnan(bad))
+      fail(s.path, "camera (" + c.source + "): the " + what + " coordinate " + num(bad) +
+                       " is outside the traceable range |x| <= " + num(kMaxRayOrigin) + kRangeDoc);
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "hrpp/crosscheck.h"
+#include "hrpp/traverse.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -16,7 +17,9 @@ void check_scene(const std::string& path, uint64_t rays) {
   opt.rays = rays;
   CrossCheckResult r = cross_check(s, bvh, opt);
   SCOPED_TRACE(path);
-  EXPECT_TRUE(r.passed()) << r.to_json().dump(2);
+  EXPECT_TRUE(r.passed()) << r.failure() << "\n" << r.to_json().dump(2);
+  EXPECT_GE(double(r.total.compared), kMinComparedFraction * double(r.total.rays));
+  EXPECT_EQ(r.total.outside_embree, 0u);
   EXPECT_EQ(r.total.hit_mismatches, 0u);
   EXPECT_EQ(r.total.t_mismatches, 0u);
   EXPECT_EQ(r.total.prim_mismatches, 0u);
@@ -61,6 +64,81 @@ TEST(CrossCheck, DetectsAWrongTraversal) {
   CrossCheckResult r = cross_check(s, bvh, opt);
   EXPECT_FALSE(r.passed());
   EXPECT_GT(r.total.hit_mismatches + r.total.prim_mismatches, 100u);
+}
+
+// Quad Q of HARD_CASES.md: the plane z = 1 over [-1, 1]^2.
+std::vector<Triangle> quad() {
+  return {{{1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, {{1, -1, 1}, {-1, -1, 1}, {-1, 1, 1}}};
+}
+
+TEST(CrossCheck, ACheckThatComparedNothingFails) {
+  Scene s = test::scene_from_triangles(quad());
+  Bvh bvh = build_bvh(s.triangles);
+  EmbreeScene emb(s.triangles, kEmbreeReferenceConfig, true);
+  const Ray nan_ray{{std::nanf(""), 0, 0}, {0, 0, 1}};
+  CrossCheckResult r = cross_check_rays(s, bvh, emb, {{nan_ray, RayKind::kPrimary}});
+  EXPECT_EQ(r.total.compared, 0u);
+  EXPECT_FALSE(r.passed());
+  EXPECT_NE(r.failure().find("no ray compared"), std::string::npos) << r.failure();
+  EXPECT_EQ(r.to_json()["passed"], false);
+  EXPECT_NE(r.to_json()["failure"].get<std::string>().find("no ray compared"), std::string::npos);
+  // Nothing at all to compare: a scene without lights asked for shadow rays only.
+  CrossCheckOptions opt;
+  opt.rays = 1000;
+  opt.kinds = {RayKind::kShadow};
+  CrossCheckResult none = cross_check(s, bvh, opt);
+  EXPECT_EQ(none.total.rays, 0u);
+  EXPECT_FALSE(none.passed());
+  EXPECT_NE(none.failure().find("no ray compared (0 rays"), std::string::npos) << none.failure();
+}
+
+TEST(CrossCheck, FewerThanTheRequiredFractionComparedFails) {
+  Scene s = test::scene_from_triangles(quad());
+  Bvh bvh = build_bvh(s.triangles);
+  EmbreeScene emb(s.triangles, kEmbreeReferenceConfig, true);
+  const Ray good{{0.25f, 0.5f, 0}, {0, 0, 1}}, bad{{0, 0, 0}, {0, 0, 0}};
+  auto run = [&](int n_good, int n_bad) {
+    std::vector<std::pair<Ray, RayKind>> rays;
+    for (int i = 0; i < n_good; ++i) rays.push_back({good, RayKind::kPrimary});
+    for (int i = 0; i < n_bad; ++i) rays.push_back({bad, RayKind::kPrimary});
+    return cross_check_rays(s, bvh, emb, rays);
+  };
+  EXPECT_TRUE(run(99, 1).passed()) << run(99, 1).failure();
+  const CrossCheckResult r = run(98, 2);
+  EXPECT_EQ(r.total.compared, 98u);
+  EXPECT_FALSE(r.passed());
+  EXPECT_NE(r.failure().find("only 98 of 100 rays compared"), std::string::npos) << r.failure();
+}
+
+TEST(CrossCheck, OriginsOutsideEmbreesRangeAreNeverSent) {
+  // This machine's Embree aborts on an origin component of 1.8441e18 (its FLT_LARGE is
+  // 1.844e18) and traces 1.8439e18. Both are valid rays for our traversal.
+  Scene s = test::scene_from_triangles(quad());
+  Bvh bvh = build_bvh(s.triangles);
+  EmbreeScene emb(s.triangles, kEmbreeReferenceConfig, true);
+  std::vector<std::pair<Ray, RayKind>> rays;
+  for (const Vec3& o : {Vec3(1.8441e18f, 0, 0), Vec3(0, -2e18f, 0), Vec3(0, 0, 1e30f)})
+    for (RayKind k : {RayKind::kPrimary, RayKind::kShadow}) {
+      const Ray r{o, {1, 0, 0}};
+      EXPECT_EQ(validate_ray(r), RayError::kNone);
+      EXPECT_FALSE(embree_accepts(r));
+      rays.push_back({r, k});
+    }
+  const Ray inside{{1.8439e18f, 0, 0}, {1, 0, 0}};
+  EXPECT_TRUE(embree_accepts(inside));
+  rays.push_back({inside, RayKind::kPrimary});
+  rays.push_back({inside, RayKind::kShadow});
+  // Reaching the end proves none of the six was sent (Embree would abort the process).
+  CrossCheckResult r = cross_check_rays(s, bvh, emb, rays);
+  EXPECT_EQ(r.total.outside_embree, 6u);
+  EXPECT_EQ(r.total.invalid_rays, 0u);
+  EXPECT_EQ(r.total.compared, 2u);
+  EXPECT_EQ(r.to_json()["outside_embree_range"], 6u);
+  EXPECT_FALSE(r.passed()) << "2 of 8 compared";
+  EXPECT_NE(r.failure().find("6 outside Embree's range"), std::string::npos) << r.failure();
+  // Called directly, EmbreeScene refuses them with an exception instead of aborting.
+  EXPECT_THROW(emb.intersect(rays[0].first), std::invalid_argument);
+  EXPECT_THROW(emb.occluded(rays[0].first), std::invalid_argument);
 }
 
 }  // namespace

@@ -156,6 +156,7 @@ TEST(HardCases, T09_TnearAboveTfarIsRejected) {
   CrossCheckResult res = cross_check_rays(s, tr.bvh(), tr.embree(), {{r, RayKind::kPrimary}});
   EXPECT_EQ(res.total.invalid_rays, 1u);
   EXPECT_EQ(res.total.compared, 0u);
+  EXPECT_FALSE(res.passed()) << "a cross-check that compared nothing must not pass";
   EXPECT_EQ(std::memcmp(&r, &copy, sizeof r), 0) << "ray changed";
 }
 
@@ -193,6 +194,8 @@ TEST(HardCases, T11_NonFiniteAndNegativeTnearRaysNeverReachEmbree) {
   CrossCheckResult res = cross_check_rays(s, tr.bvh(), tr.embree(), rays);
   EXPECT_EQ(res.total.invalid_rays, rays.size());
   EXPECT_EQ(res.total.compared, 0u);
+  EXPECT_FALSE(res.passed());
+  EXPECT_NE(res.failure().find("no ray compared"), std::string::npos) << res.failure();
   // tfar = +inf is valid.
   EXPECT_EQ(validate_ray(make_ray({0, 0, 0}, {0, 0, 1}, 0.f, inf)), RayError::kNone);
 }
@@ -362,6 +365,144 @@ TEST(HardCases, T18_OffsetOriginsGiveNoSelfHits) {
   EXPECT_GT(spawned, 10000u);
   // The check can fail: without the offset, rays do re-hit their own triangle.
   EXPECT_GT(self_hits(tris, false, &spawned), spawned / 20);
+}
+
+// ---- The valid range (docs/bvh.md, "Valid range") ------------------------------------------
+
+// A square of half-size h centred at c in the plane z = c.z, as two triangles.
+std::vector<Triangle> square(Vec3 c, float h) {
+  const Vec3 a = c + Vec3(-h, -h, 0), b = c + Vec3(h, -h, 0), d = c + Vec3(h, h, 0),
+             e = c + Vec3(-h, h, 0);
+  return {{a, b, d}, {a, d, e}};
+}
+
+// Traces rays from `o` at points inside the triangles (several barycentric positions); returns
+// how many of them our traversal misses although the double-precision referee hits.
+int silent_misses(const std::vector<Triangle>& tris, Vec3 o, int* traced) {
+  Bvh bvh = build_bvh(tris);
+  int misses = 0;
+  *traced = 0;
+  for (const Triangle& t : tris)
+    for (const Vec3 b : {Vec3(1, 1, 1) / 3.f, Vec3(0.6f, 0.3f, 0.1f), Vec3(0.1f, 0.2f, 0.7f)}) {
+      const DVec3 target =
+          double(b.x) * DVec3(t.v0) + double(b.y) * DVec3(t.v1) + double(b.z) * DVec3(t.v2);
+      const Ray r = make_ray(o, Vec3(glm::normalize(target - DVec3(o))));
+      if (validate_ray(r) != RayError::kNone || !referee_intersect(r, t).hit) continue;
+      ++*traced;
+      Counters c;
+      const Hit h = closest_hit(bvh, r, &c);
+      misses += !h.hit() || !std::isfinite(h.t);
+    }
+  return misses;
+}
+
+TEST(ValidRange, LargeTrianglesInsideTheRangeAreHit) {
+  // The extremes the loader accepts: vertices at +-kMaxSceneCoordinate, ray origins at up to
+  // kMaxRayOrigin on every side (slanted directions: the dominant component near 1/sqrt(3)).
+  const float g = kMaxSceneCoordinate, o = kMaxRayOrigin;
+  int total = 0;
+  for (float h : {g, g / 2, 1e6f, 1.f})
+    for (float z : {-g, 0.f, g}) {
+      auto tris = square(Vec3(g - h, h - g, z), h);
+      for (const Vec3& org : {Vec3(0, 0, o), Vec3(o, o, o), Vec3(-o, o, -o), Vec3(o, -o, 0),
+                              Vec3(g, -g, z + 1e3f)}) {
+        int traced;
+        EXPECT_EQ(silent_misses(tris, org, &traced), 0)
+            << "half-size " << h << " at z " << z << " from " << org.x << "," << org.y << ","
+            << org.z;
+        total += traced;
+      }
+    }
+  EXPECT_GT(total, 200);
+}
+
+TEST(ValidRange, JustOutsideTheRangeTheFloatTestOverflows) {
+  // The cases of issue 21 (why the loader rejects them): T = t * det overflows float, t is NaN and
+  // every hit is lost. If a fallback ever traces them, this test tells that the range may grow.
+  struct Case {
+    float h, dist;
+  };
+  for (const Case& k : {Case{1e12f, 1e14f}, Case{1e13f, 1e12f}, Case{1e17f, 1e6f}}) {
+    int traced;
+    EXPECT_EQ(silent_misses(square(Vec3(0, 0, k.dist), k.h), Vec3(0), &traced), traced)
+        << "half-size " << k.h << " at distance " << k.dist;
+    EXPECT_GT(traced, 0);
+    EXPECT_GT(k.h + k.dist, kMaxSceneCoordinate);
+  }
+}
+
+TEST(ValidRange, TrianglesBelowTheSmallestAreaAreNeverHit) {
+  // Twice the area 1e-40: 1/det overflows and the float test never reports the hit the referee
+  // sees; at kMinTwiceArea (2^-100) it does, also at an incidence of about 2^-20 from grazing.
+  const float tiny = 1e-20f, limit = 0x1p-50f;
+  int traced;
+  EXPECT_EQ(silent_misses({{{0, 0, 0}, {tiny, 0, 0}, {0, tiny, 0}}}, Vec3(0, 0, 1), &traced),
+            traced);
+  EXPECT_GT(traced, 0);
+  const Triangle at_limit{{0, 0, 0}, {limit, 0, 0}, {0, limit, 0}};
+  EXPECT_DOUBLE_EQ(glm::length(glm::cross(DVec3(at_limit.v1), DVec3(at_limit.v2))), kMinTwiceArea);
+  // (The last origin sits 2^-20 of its distance above the plane: a grazing ray at the scale of
+  // the triangle, whose coordinates the subtraction v - o keeps exactly.)
+  for (const Vec3& o : {Vec3(0, 0, 1), Vec3(0, 0, 1e-10f), Vec3(4 * limit, 4 * limit, 0x1p-68f)}) {
+    EXPECT_EQ(silent_misses({at_limit}, o, &traced), 0) << o.z;
+    EXPECT_GT(traced, 0);
+  }
+}
+
+TEST(ValidRange, SpawnOffsetDistance) {
+  // docs/bvh.md: the offset along axis a is floor(256 |n_a|) ulps of p_a, ulp(x) =
+  // 2^(floor(log2 |x|) - 23): between 2^-16 and 2^-15 of |p_a| |n_a| (|p_a| >= 1/32), else
+  // n_a / 65536. At x = 148,376 (ulp 2^-6) that is 4 world units.
+  EXPECT_EQ(offset_ray_origin({148376.f, 0, 0}, {1, 0, 0}).x, 148380.f);
+  EXPECT_EQ(offset_ray_origin({-148376.f, 0, 0}, {-1, 0, 0}).x, -148380.f);
+  EXPECT_EQ(offset_ray_origin({0.01f, 0, 0}, {1, 0, 0}).x, 0.01f + 1.f / 65536);
+  auto u = [](int i, int k) { return uniform01(7, i, k); };
+  for (int i = 0; i < 100000; ++i) {
+    Vec3 p, n;
+    for (int a = 0; a < 3; ++a) {
+      p[a] = std::ldexp(u(i, a) - 0.5f, int(u(i, 3 + a) * 80) - 20);
+      n[a] = u(i, 6 + a) - 0.5f;
+    }
+    n = glm::normalize(n);
+    const Vec3 q = offset_ray_origin(p, n);
+    for (int a = 0; a < 3; ++a) {
+      const double d = std::fabs(double(q[a]) - p[a]), pa = std::fabs(p[a]), na = std::fabs(n[a]);
+      if (pa < 1.0 / 32) {
+        // p + n / 65536 rounded to float: within half an ulp of the result.
+        EXPECT_NEAR(d, na / 65536, std::ldexp(1.0, std::ilogb(q[a]) - 24)) << p[a] << " " << n[a];
+        continue;
+      }
+      const double ulp = std::ldexp(1.0, std::ilogb(p[a]) - 23);
+      const double k = std::floor(256 * na);
+      if (k > 0) {
+        EXPECT_EQ(q[a] > p[a], n[a] > 0) << "moved along the normal";
+      }
+      if (std::ilogb(q[a]) == std::ilogb(p[a])) {
+        EXPECT_EQ(d, k * ulp) << p[a] << " " << n[a];
+      }
+      EXPECT_LE(d, 0x1p-15 * pa * na * (1 + 1e-6)) << p[a] << " " << n[a];
+      EXPECT_GE(d, 0x1p-16 * pa * (k / 256) * (1 - 1e-6)) << p[a] << " " << n[a];
+    }
+  }
+}
+
+TEST(ValidRange, OccludersWithinTheSpawnOffsetAreMissed) {
+  // The consequence: a surface at x = 148,376 spawns rays 4 units in front of it, so an occluder
+  // 3 units away is behind the origin and missed; one 5 units away is found.
+  const float x = 148376.f;
+  for (float gap : {3.f, 5.f}) {
+    std::vector<Triangle> tris = {{{x, -10, -10}, {x, 10, -10}, {x, 10, 10}}};
+    for (const Triangle& t : square(Vec3(0), 10.f)) {  // the occluder, turned into x = x + gap
+      auto yz = [&](const Vec3& v) { return Vec3(x + gap, v.x, v.y); };
+      tris.push_back({yz(t.v0), yz(t.v1), yz(t.v2)});
+    }
+    Bvh bvh = build_bvh(tris);
+    const Vec3 o = offset_ray_origin({x, 1, 2}, {1, 0, 0});
+    EXPECT_EQ(o.x, x + 4.f);
+    Counters c;
+    const Hit h = any_hit(bvh, make_ray(o, {1, 0, 0}), &c);
+    EXPECT_EQ(h.hit(), gap > 4.f) << "gap " << gap;
+  }
 }
 
 }  // namespace

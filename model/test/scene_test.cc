@@ -252,5 +252,76 @@ TEST_F(Malformed, NodeTransformsAreApplied) {
   EXPECT_GT(m.triangles[0].normal().z, 0.f);
 }
 
+// ---- The valid range (docs/bvh.md, "Valid range") -------------------------------------------
+
+std::vector<float> square(float h, float z) { return {-h, -h, z, h, -h, z, h, h, z, -h, h, z}; }
+
+TEST_F(Malformed, GeometryOutsideTheValidRangeIsRejected) {
+  // The cases of issue 21: squares of half-size 1e12 at distance 1e14, 1e13 at 1e12, 1e17 at 1e6,
+  // and coordinates of 1e19 (whose default camera sat at 3.7e19).
+  struct Case {
+    float h, z;
+    const char* value;  // the first offending coordinate, as the message prints it
+  };
+  for (const Case& c :
+       {Case{1e12f, 1e14f, "-9.99999996e+11"}, Case{1e13f, 1e12f, "-9.99999983e+12"},
+        Case{1e17f, 1e6f, "-9.99999984e+16"}, Case{1e19f, 0, "-9.99999998e+18"}}) {
+    auto j = test::minimal_gltf(square(c.h, c.z), {0, 1, 2, 0, 2, 3});
+    j["nodes"][0]["name"] = "far";
+    expect_error(j, {"node 0 (far) mesh 0 primitive 0: vertex 0 has the world coordinate",
+                     c.value, "outside the traceable range |x| <= 1.37438953e+11"});
+  }
+  // The node transform counts: in range in the file, out of range in the world.
+  auto t = test::minimal_gltf(square(1, 0), {0, 1, 2, 0, 2, 3});
+  t["nodes"][0]["translation"] = {0, 0, 2e11};
+  expect_error(t, {"node 0", "vertex 0 has the world coordinate 1.99999996e+11"});
+}
+
+TEST_F(Malformed, TheValidRangeIsAccepted) {
+  // Vertices at exactly +-kMaxSceneCoordinate load, and their default camera is inside the range
+  // of ray origins (a square of half-size g at z = g puts it farthest: z = (1 + 2.613 sqrt(2)) g);
+  // one float step further is rejected.
+  const float g = kMaxSceneCoordinate;
+  std::string path = dir_ + "/edge.gltf";
+  test::write_text(path, test::minimal_gltf(square(g, g), {0, 1, 2, 0, 2, 3}).dump());
+  Scene s = load_scene(path);
+  EXPECT_EQ(s.camera.source, "computed default");
+  EXPECT_LE(max_abs(s.camera.eye), kMaxRayOrigin);
+  EXPECT_GT(max_abs(s.camera.eye), 4.6f * g);
+  expect_error(test::minimal_gltf(square(std::nextafter(kMaxSceneCoordinate, kInf), 0),
+                                  {0, 1, 2, 0, 2, 3}),
+               {"vertex 0", "outside the traceable range"});
+}
+
+TEST_F(Malformed, TrianglesBelowTheSmallestAreaAreRejected) {
+  // Twice the area 1e-40: never hit by the float test (ValidRange.TrianglesBelowTheSmallestArea-
+  // AreNeverHit). Zero-area triangles stay accepted (kept, never hit).
+  auto j = test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1e-20f, 0, 0, 0, 1e-20f, 0},
+                              {0, 1, 2, 3, 4, 5});
+  expect_error(j, {"node 0", "mesh 0 primitive 0: triangle 1 has twice the area 9.99999937e-41",
+                   "below the smallest traceable 7.88860905e-31"});
+  std::string path = dir_ + "/flat.gltf";
+  test::write_text(path, test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 0, 5, 5, 0, 6, 6, 0},
+                                            {0, 1, 2, 3, 4, 5}).dump());
+  EXPECT_EQ(load_scene(path).degenerate_triangles, 1u);
+}
+
+TEST_F(Malformed, CamerasAndLightsOutsideTheValidRangeAreRejected) {
+  std::string path = dir_ + "/s.gltf";
+  test::write_text(path, good().dump());
+  test::write_text(dir_ + "/s.camera.json",
+                   R"({"eye":[0,0,2e12],"target":[0,0,0],"up":[0,1,0],"fov_y_deg":40})");
+  expect_error_file(path, {"camera (sidecar s.camera.json): the eye coordinate 1.99999999e+12",
+                           "outside the traceable range |x| <= 1.09951163e+12"});
+  std::filesystem::remove(dir_ + "/s.camera.json");
+  auto j = good();
+  j["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"name", "far"}}};
+  j["extensionsUsed"] = {"KHR_lights_punctual"};
+  j["nodes"].push_back({{"translation", {0, -3e12, 0}},
+                        {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  j["scenes"][0]["nodes"].push_back(1);
+  expect_error(j, {"node 1: light 'far' has the position coordinate -3.00000005e+12", "outside"});
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -2,7 +2,8 @@
 """Every documented error path of the `hrpp` tool, data-driven: each case writes a bad input
 (malformed scene, camera sidecar or ray stream) or passes a bad option, runs the tool, and checks
 that it exits with the documented code (2: bad input) within a time limit, that its error message
-matches, and that nothing it printed holds a NaN or infinite figure.
+matches, and that nothing it printed holds a NaN or infinite figure. The valid-range cases also
+run `info` and `check-embree` on scenes at the range's edges (exit 0 or 1, no NaN printed).
 
   tool_errors.py HRPP_BINARY [--list]
 
@@ -211,7 +212,8 @@ SCENE_CASES = [
      "info {dir}/s.gltf", r"NaN or infinite"),
     ("scene: coordinates of -3e38 and 3e38 (the extent overflows float32)",
      {"s.gltf": json.dumps(gltf(positions=[-3e38, 0, 0, 3e38, 0, 0, 3e38, 1, 0, 0, 1, 0]))},
-     "info {dir}/s.gltf", r"coordinates too large: the scene's bounds or its camera overflow float32"),
+     "info {dir}/s.gltf", r"node 0 \(quad\) mesh 0 primitive 0: vertex 0 has the world coordinate -3\.00000001e\+38, "
+                          r"outside the traceable range \|x\| <= 1\.37438953e\+11"),
     ("scene: indices accessor out of range",
      {"s.gltf": edit(lambda j: put(j, ["meshes", 0, "primitives", 0, "indices"], 8))},
      "info {dir}/s.gltf", "indices accessor"),
@@ -327,7 +329,57 @@ OPTION_CASES = [
     ("option: render --out is a file", {}, "render {scene} --res 4x4 --out {scene}", r"cannot create the output directory"),
 ]
 
+
+
+def square(h, z):
+    """The minimal scene's quad scaled to half-size h in the plane z."""
+    return json.dumps(gltf(positions=[-h, -h, z, h, -h, z, h, h, z, -h, h, z]))
+
+
+def with_light(position):
+    j = gltf()
+    j["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "name": "far"}]}}
+    j["extensionsUsed"] = ["KHR_lights_punctual"]
+    j["nodes"].append({"translation": position, "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    j["scenes"][0]["nodes"].append(1)
+    return json.dumps(j)
+
+
+RANGE = r"outside the traceable range \|x\| <= "
+# The valid range (docs/bvh.md, "Valid range") and the cross-check's verdicts: (name, files,
+# arguments, exit code, stderr regex). Before the range was enforced, `info` printed "SAH cost -nan"
+# for 1e19, check-embree aborted inside Embree (exit 134) for 1e18, and printed PASS with nothing
+# compared.
+RANGE_CASES = [
+    ("range: coordinates of 1e19 (info printed SAH cost -nan)", {"s.gltf": square(1e19, 0)},
+     "info {dir}/s.gltf", 2, r"node 0 \(quad\) mesh 0 primitive 0: vertex 0 has the world coordinate "
+                             r"-9\.99999998e\+18, " + RANGE + r"1\.37438953e\+11"),
+    ("range: coordinates of 1e18 (check-embree aborted on the default camera's rays)",
+     {"s.gltf": square(1e18, 0)}, "check-embree {dir}/s.gltf --rays 100", 2,
+     r"vertex 0 has the world coordinate -9\.99999984e\+17, " + RANGE),
+    ("range: a square of half-size 1e12 at distance 1e14 (silently missed)",
+     {"s.gltf": square(1e12, 1e14)}, "info {dir}/s.gltf", 2, r"world coordinate -9\.99999996e\+11, " + RANGE),
+    ("range: a triangle of twice the area 1e-40 (silently missed)",
+     {"s.gltf": json.dumps(gltf(positions=[0, 0, 0, 1e-20, 0, 0, 1e-20, 1e-20, 0, 0, 1e-20, 0]))},
+     "info {dir}/s.gltf", 2, r"triangle 0 has twice the area 9\.99999\d+e-41, below the smallest traceable"),
+    ("range: a camera eye at 2e12", {"c.gltf": json.dumps(gltf()), "c.camera.json":
+     json.dumps({"eye": [0, 0, 2e12], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 40})},
+     "info {dir}/c.gltf", 2, r"camera \(sidecar c\.camera\.json\): the eye coordinate 1\.99999999e\+12 is " + RANGE),
+    ("range: a point light at 3e12", {"s.gltf": with_light([3e12, 0, 0])}, "info {dir}/s.gltf", 2,
+     r"node 1: light 'far' has the position coordinate 3\.00000005e\+12, " + RANGE),
+    ("range: info at the range's corner (half-size 2^37) prints no NaN or infinity",
+     {"s.gltf": square(2.0 ** 37, 2.0 ** 37)}, "info {dir}/s.gltf", 0, r"^$"),
+    ("range: info on a scene of zero-area triangles prints no NaN or infinity",
+     {"s.gltf": json.dumps(gltf(positions=[1, 1, 1] * 4))}, "info {dir}/s.gltf", 0, r"^$"),
+    ("check-embree: no ray compared (shadow rays of a scene without lights) fails",
+     {"s.gltf": json.dumps(gltf())}, "check-embree {dir}/s.gltf --kind shadow --rays 100", 1,
+     r"hrpp check-embree: FAIL: no ray compared \(0 rays of the kinds asked for"),
+    ("check-embree: a valid scene passes", {"s.gltf": square(1, -1)},
+     "check-embree {dir}/s.gltf --rays 400", 0, r"^$"),
+]
+
 CASES = [(n, f, a, 2, r) for n, f, a, r in SCENE_CASES + SIDECAR_CASES + STREAM_CASES + OPTION_CASES]
+CASES += RANGE_CASES
 MALFORMED_FILES = len(SCENE_CASES) + len(SIDECAR_CASES) + len(STREAM_CASES)
 
 NAN_RE = re.compile(r"(?<![A-Za-z_])(-?nan|-?inf)(?![A-Za-z_])", re.IGNORECASE)
@@ -396,9 +448,9 @@ def main():
                 failed += 1
                 print("FAIL %s: %s" % (case[0], err))
         print("tool.errors: %d cases (%d malformed files: %d scenes, %d camera sidecars, "
-              "%d ray streams; %d bad options), %d failed"
+              "%d ray streams; %d bad options; %d valid-range and check verdicts), %d failed"
               % (len(CASES), MALFORMED_FILES, len(SCENE_CASES), len(SIDECAR_CASES),
-                 len(STREAM_CASES), len(OPTION_CASES), failed))
+                 len(STREAM_CASES), len(OPTION_CASES), len(RANGE_CASES), failed))
         return 1 if failed else 0
 
 

@@ -17,9 +17,14 @@
 
 namespace hrpp {
 
+/// A cross-check must compare at least this fraction of the rays it was given or generated (of
+/// the kinds asked for), and at least one: a check that compared nothing proves nothing.
+constexpr double kMinComparedFraction = 0.99;
+
 struct CrossCheckCounts {
   uint64_t rays = 0;            // generated
   uint64_t invalid_rays = 0;    // rejected by validate_ray, never traced nor sent to Embree
+  uint64_t outside_embree = 0;  // valid, but outside Embree's range (embree_accepts): not sent
   uint64_t compared = 0;        // valid rays traced by both
   uint64_t hit_agree = 0;       // hit/miss agreement
   uint64_t hit_mismatches = 0;  // disagreements the referee does not explain
@@ -50,8 +55,11 @@ struct CrossCheckResult {
   double seconds = 0;
   std::vector<std::string> examples;  // descriptions of the first disagreements
 
-  /// True when there is no hit, t or primitive mismatch and genuine grazes are below 1e-5.
+  /// True when at least kMinComparedFraction of the rays (and at least one) were compared, there
+  /// is no hit, t or primitive mismatch, and genuine grazes are below 1e-5 of the compared rays.
   bool passed() const;
+  /// Why the check failed ("" when it passed).
+  std::string failure() const;
   nlohmann::json to_json() const;
 };
 

@@ -78,10 +78,24 @@ struct Scene {
   std::vector<uint32_t> emissive_triangles() const;
 };
 
+/// The traceable range (docs/bvh.md, "Valid range"), derived from the float error model of the
+/// watertight triangle test: with every vertex coordinate within kMaxSceneCoordinate and every ray
+/// origin within kMaxRayOrigin, a unit-direction ray's edge functions, determinant and scaled
+/// distance T stay below FLT_MAX (|T| <= 24 sqrt(3) (kMaxSceneCoordinate + kMaxRayOrigin)^3 =
+/// 7.9e37), so the test is exact-or-conservative. The loader rejects geometry, cameras and lights
+/// outside it; the default camera of in-range geometry is always inside it.
+constexpr float kMaxSceneCoordinate = 0x1p37f;  // 1.374e11: vertex coordinates (world space)
+constexpr float kMaxRayOrigin = 0x1p40f;        // 1.100e12: camera eye and target, light positions
+/// Non-degenerate triangles must have twice their area (|e1 x e2| in double) at least this: below
+/// it the reciprocal of the test's determinant overflows at any incidence that is not a graze,
+/// and the triangle would silently never be hit.
+constexpr double kMinTwiceArea = 0x1p-100;  // 7.9e-31
+
 /// Loads a .glb or .gltf file: every mesh primitive of the default scene with node transforms
 /// applied, cameras, KHR_lights_punctual lights and materials. The camera comes from the file's
 /// first camera node, else from a sidecar NAME.camera.json next to it, else a computed default.
-/// Throws SceneError naming the file and the problem.
+/// Throws SceneError naming the file and the problem, also for geometry outside the traceable
+/// range above (naming the node, mesh and offending value).
 Scene load_scene(const std::string& path);
 
 /// Loads glTF bytes held in memory (binary when they start with "glTF", else JSON; external
