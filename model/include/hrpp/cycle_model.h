@@ -22,7 +22,7 @@ namespace hrpp {
 
 struct CycleConfig {
   HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
-  TableConfig table;  // finite; tag_bits = the RTL's TagBits
+  TableConfig table;  // finite; tag_bits = the RTL's TagWidth
   PredictMode mode = PredictMode::kClosestExact;
   int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
   int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
