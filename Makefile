@@ -177,7 +177,7 @@ report: sweep
 	  $(OUT)/sweep/latency.csv $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots \
 	  --report $(OUT)/report.md --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
 
-# Benchmark (model/tools/bench.cc; not a test): our BVH build, traversal and predictor against
+# Benchmark (model/tools/bench/; not a test): our BVH build, traversal and predictor against
 # Embree on the same rays of every shared scene, the RTL co-simulation's throughput, peak memory,
 # and a 10-million-triangle procedural scene; out/bench.json and a table on stdout (docs/results.md,
 # "Performance"). About 15 minutes on 2 loaded cores. BENCH_ARGS passes options (--reps, --samples).

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "hrpp/cost_model.h"
+#include "hrpp/rtl_update_delay.h"
+#include "hrpp/spec_image.h"
 #include "test_util.h"
 
 namespace hrpp {

@@ -1,17 +1,16 @@
 // What accuracy costs in time (docs/cost_model.md): a cycle cost model of a ray-tracing unit
-// applied to the predictor's work counters, the table update delay of the RTL pipeline derived
-// from the cycle model, and the image error of speculative closest hits.
+// applied to the predictor's work counters. The table update delay of the RTL pipeline
+// (rtl_update_delay.h) and the image error of speculative closest hits (spec_image.h, in the
+// report library hrpp_report) are included here for the tools that use all three.
 #pragma once
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
-#include <string>
-#include <vector>
 
 #include "hrpp/predictor.h"
 #include "hrpp/rtl_config_data.h"
-#include "hrpp/scene.h"
-#include "hrpp/workload.h"
+#include "hrpp/rtl_update_delay.h"
+#include "hrpp/spec_image.h"
 
 namespace hrpp {
 
@@ -39,31 +38,5 @@ struct CycleCost {
 CycleCost cycle_cost(const PredictStats& s, const CostModel& m);
 /// {"baseline_cycles", "hrpp_cycles", "saved_cycle_fraction", per ray figures}.
 nlohmann::json cycle_cost_json(const PredictStats& s, const CostModel& m);
-
-/// Rays issued between a ray's lookup and the first lookup that sees its table write, in the
-/// RTL (the cycle model, default configuration) at one ray per cycle, when the traversal engine
-/// answers an empty prediction in 1 cycle and takes `walk_latency` cycles from the skip decision
-/// to the ray's final outcome. This is PredictorConfig::update_delay for that pipeline.
-uint32_t rtl_update_delay(uint32_t walk_latency);
-
-/// Speculative closest hits against the exact image. Per camera sample, the primary ray's
-/// baseline hit and the predictor's answer are shaded the same way (base colour under a light at
-/// the eye); the pictures are the per-pixel means.
-class SpecImage {
- public:
-  SpecImage(const Scene& scene, int width, int height, int spp);
-  /// Adds one primary ray's two answers (other kinds are ignored).
-  void add(const RayRecord& r, const RayResult& res);
-  /// Mean absolute error (0..1, over pixels and colour channels, 8-bit sRGB values / 255),
-  /// share of pixels that differ, wrong primary samples. Writes DIR/spec_compare.png (exact |
-  /// speculative | difference x8) when dir is not empty (throws RenderError naming the file).
-  nlohmann::json finish(const std::string& dir) const;
-
- private:
-  const Scene& scene_;
-  int width_, height_, spp_;
-  std::vector<float> exact_, spec_;  // linear RGB sums
-  uint64_t samples_ = 0, wrong_ = 0;
-};
 
 }  // namespace hrpp
