@@ -17,9 +17,8 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
-sys.path.insert(0, str(ROOT / "rtl" / "config"))
+from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 from pyhrpp.docs import update_blocks  # noqa: E402
-import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.

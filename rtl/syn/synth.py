@@ -47,10 +47,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
-sys.path.insert(0, str(ROOT / "rtl" / "config"))
+from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 from pyhrpp.docs import replace_block  # noqa: E402
 from pyhrpp.files import commit_tmp, write_atomic  # noqa: E402
-import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
 OUT = Path("out/synth")  # relative to ROOT (yowasp rejects ../ and absolute paths outside)
 TARGET_RATIO = 0.85      # issue 6: Fmax at least 85% of the block-RAM ceiling
