@@ -18,9 +18,11 @@ import argparse
 import csv
 import io
 import itertools
+import json
 import math
 import os
 import pathlib
+import subprocess
 import sys
 import tempfile
 import time
@@ -28,7 +30,6 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp.files import write_atomic  # noqa: E402
-from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
 
 # Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
 PARAMS = {
@@ -113,7 +114,9 @@ def predict_args(cfg):
 
 
 def run_one(task):
-    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds)."""
+    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
+    Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
+    remote worker need not have the repository on its path."""
     index, hrpp, scene, cfg, res, timing, images = task
     t0 = time.time()
     with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
@@ -123,10 +126,12 @@ def run_one(task):
             cmd.append("--measure-time")
         if images:
             cmd += ["--spec-images", images]
-        try:
-            data = run_json(cmd, out)
-        except ToolFailed as e:
-            return index, {"error": str(e), "rc": e.returncode}, 0
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
+                           "rc": proc.returncode}, 0
+        with open(out) as f:
+            data = json.load(f)
     return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
 
 
