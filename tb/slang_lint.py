@@ -7,8 +7,8 @@ import sys
 import pyslang
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "rtl" / "config"))
-import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
 FILES = [str(ROOT / line.strip()) for line in (ROOT / "rtl" / "hrpp.f").read_text().splitlines()
          if line.strip()]

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""The shared Python helpers (pyhrpp/): atomic writing and the docs-block rewriting.
+"""The shared Python helpers (pyhrpp/): atomic writing, the docs-block rewriting, the RTL
+configurations' loader and running a tool for its JSON report.
 
   pyhrpp_test.py        (ctest: pyhrpp.unit)
 """
+import json
 import os
 import pathlib
 import sys
@@ -11,8 +13,10 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+from pyhrpp import rtl_config  # noqa: E402
 from pyhrpp.docs import replace_block, update_blocks  # noqa: E402
 from pyhrpp.files import commit_tmp, tmp_path, write_atomic, write_json_atomic  # noqa: E402
+from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
 
 
 class Files(unittest.TestCase):
@@ -85,6 +89,71 @@ class DocsBlock(unittest.TestCase):
             self.assertEqual(missing.read_text(),
                              "# Results\n\n## S\n\n<!-- BEGIN s -->\nS\n<!-- END s -->\n")
             self.assertEqual(sorted(os.listdir(d)), ["new.md", "results.md"])
+
+
+class RtlConfig(unittest.TestCase):
+    """The loader of rtl/config/hrpp_configs.json on small hand-made files."""
+
+    LAT = {"hash_stages": 3, "lookup_stages": 4, "update_stages": 9, "decision_latency": 2}
+    BASE = {"variant": "improved", "precision": 6, "exp_bits": 3, "origin_bits": 5,
+            "dir_bits": 3, "combine": "concat", "sets": 128, "ways": 8, "nodes_per_entry": 2,
+            "node_id_width": 20, "tag_bits": 8, "id_width": 16, "pred_fifo_depth": 16,
+            "skip_fifo_depth": 8, "inject_fault": False}
+
+    def load(self, configs, latencies=None):
+        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
+            path = pathlib.Path(d) / "c.json"
+            path.write_text(json.dumps({"latencies": latencies or self.LAT,
+                                        "configurations": configs}))
+            return rtl_config.load(path)
+
+    def test_derived_latencies_and_a_base(self):
+        data = self.load({"default": self.BASE,
+                          "small": {"base": "default", "sets": 64, "variant": "faithful"}})
+        lat = data["latencies"]
+        self.assertEqual((lat["prediction_latency"], lat["update_write_latency"],
+                          lat["update_landing"]), (10, 11, 6))
+        small = rtl_config.config("small", data)
+        self.assertEqual((small["sets"], small["ways"], small["variant"]), (64, 8, "faithful"))
+        p = rtl_config.hrpp_top_params(small)
+        self.assertEqual((p["Variant"], p["Combine"], p["NumSets"], p["InjectFault"]),
+                         ("hrpp_pkg::HashFaithful", "hrpp_pkg::CombineConcat", 64, "1'b0"))
+        self.assertEqual(rtl_config.hrpp_top_params(small, enums="int")["Variant"], "1'b0")
+        self.assertEqual(rtl_config.predict_args(small, ("hash",)),
+                         ["--hash", "faithful", "--precision", "6", "--exp-bits", "3",
+                          "--combine", "concat"])
+
+    def test_errors(self):
+        bad = [({"small": self.BASE}, "no configuration named default"),
+               ({"default": {**self.BASE, "sets": 100}}, "sets must be a power of two"),
+               ({"default": {**self.BASE, "colour": 1}}, "unknown ['colour']"),
+               ({"default": {**self.BASE, "variant": "x"}}, "variant must be one of"),
+               ({"a": {"base": "default"}, "default": self.BASE}, "base default is not defined")]
+        for configs, message in bad:
+            with self.assertRaises(rtl_config.ConfigError) as e:
+                self.load(configs)
+            self.assertIn(message, str(e.exception))
+        with self.assertRaises(rtl_config.ConfigError):
+            self.load({"default": self.BASE}, {**self.LAT, "hash_stages": 0})
+        with self.assertRaises(rtl_config.ConfigError) as e:
+            rtl_config.config("nope", self.load({"default": self.BASE}))
+        self.assertIn("unknown configuration 'nope'", str(e.exception))
+
+    def test_the_project_file_loads(self):
+        self.assertIn("default", rtl_config.load()["configurations"])
+
+
+class Tools(unittest.TestCase):
+    def test_run_json_reads_the_report_or_raises_with_code_and_stderr(self):
+        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
+            out = pathlib.Path(d) / "r.json"
+            write = f"import json; json.dump({{'x': 1}}, open({str(out)!r}, 'w'))"
+            self.assertEqual(run_json([sys.executable, "-c", write], out), {"x": 1})
+            fail = "import sys; sys.stderr.write('bad input'); sys.exit(2)"
+            with self.assertRaises(ToolFailed) as e:
+                run_json([sys.executable, "-c", fail], pathlib.Path(d) / "none.json")
+            self.assertEqual(e.exception.returncode, 2)
+            self.assertTrue(str(e.exception).endswith(" exited 2:\nbad input"), str(e.exception))
 
 
 if __name__ == "__main__":

@@ -8,18 +8,16 @@ between the `<!-- BEGIN name -->` / `<!-- END name -->` markers of docs/results.
 """
 import argparse
 import concurrent.futures as cf
-import json
 import os
 import pathlib
-import subprocess
 import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
-sys.path.insert(0, str(ROOT / "rtl" / "config"))
+from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 from pyhrpp.docs import update_blocks  # noqa: E402
-import hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+from pyhrpp.tools import run_json  # noqa: E402
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.
@@ -61,10 +59,7 @@ def run_all(scenes, res, spp, jobs, out):
         cmd = [str(ROOT / "build" / "hrpp"), "predict", scene, "--res", res, "--spp", str(spp),
                "--json", str(path)] + RUNS[name]
         start = time.time()
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stderr}")
-        return task, json.loads(path.read_text()), time.time() - start
+        return task, run_json(cmd, path), time.time() - start
 
     with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
         futures = [ex.submit(one, t) for t in tasks]

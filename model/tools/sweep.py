@@ -114,7 +114,9 @@ def predict_args(cfg):
 
 
 def run_one(task):
-    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds)."""
+    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
+    Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
+    remote worker need not have the repository on its path."""
     index, hrpp, scene, cfg, res, timing, images = task
     t0 = time.time()
     with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:

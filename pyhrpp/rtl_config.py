@@ -1,0 +1,146 @@
+"""The hardware's configurations and latencies: the loader of rtl/config/hrpp_configs.json
+(rtl/config/README.md), for every script that needs them (rtl/syn/synth.py,
+model/tools/results.py, tb/slang_lint.py) and for the generator rtl/config/hrpp_config.py, which
+writes what the other languages read.
+
+load() gives the configurations and latencies; config() one configuration; hrpp_top_params()
+its top-level parameters, predict_options() / predict_args() the matching `hrpp predict` options.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+JSON_PATH = ROOT / "rtl" / "config" / "hrpp_configs.json"
+
+# Enumerations the configurations name: JSON value -> (SystemVerilog name, encoding, C++ name).
+VARIANTS = {"faithful": ("HashFaithful", 0, "HashVariant::kFaithful"),
+            "improved": ("HashImproved", 1, "HashVariant::kImproved")}
+COMBINES = {"xor": ("CombineXor", 0, "CombineMode::kXor"),
+            "concat": ("CombineConcat", 1, "CombineMode::kConcat")}
+
+# JSON field -> hrpp_top parameter, in hrpp_top's order.
+PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpBits"),
+          ("origin_bits", "OriginBits"), ("dir_bits", "DirBits"), ("combine", "Combine"),
+          ("sets", "NumSets"), ("ways", "NumWays"), ("nodes_per_entry", "NodesPerEntry"),
+          ("node_id_width", "NodeIdWidth"), ("tag_bits", "TagWidth"), ("id_width", "IdWidth"),
+          ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
+          ("inject_fault", "InjectFault")]
+FIELDS = [f for f, _ in PARAMS]
+LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
+
+
+class ConfigError(Exception):
+    pass
+
+
+def _pow2(n: int) -> bool:
+    return n >= 1 and n & (n - 1) == 0
+
+
+def _check(name: str, c: dict) -> None:
+    missing = [f for f in FIELDS if f not in c]
+    extra = [f for f in c if f not in FIELDS]
+    if missing or extra:
+        raise ConfigError(f"configuration {name}: missing {missing}, unknown {extra}")
+    if c["variant"] not in VARIANTS:
+        raise ConfigError(f"configuration {name}: variant must be one of {list(VARIANTS)}")
+    if c["combine"] not in COMBINES:
+        raise ConfigError(f"configuration {name}: combine must be one of {list(COMBINES)}")
+    if not isinstance(c["inject_fault"], bool):
+        raise ConfigError(f"configuration {name}: inject_fault must be true or false")
+    for f in FIELDS:
+        if f not in ("variant", "combine", "inject_fault") and (
+                not isinstance(c[f], int) or isinstance(c[f], bool) or c[f] < 0):
+            raise ConfigError(f"configuration {name}: {f} must be a non-negative integer")
+    for f in ("sets", "pred_fifo_depth", "skip_fifo_depth"):
+        if not _pow2(c[f]) or c[f] < 2:
+            raise ConfigError(f"configuration {name}: {f} must be a power of two >= 2")
+
+
+def load(path: Path = JSON_PATH) -> dict:
+    """{"latencies": {...} with the derived ones, "configurations": {name: {field: value}}}.
+    A configuration {"base": NAME, ...} is that configuration with the fields it names changed."""
+    try:
+        raw = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"{path}: {e}")
+    lat = dict(raw["latencies"])
+    if sorted(lat) != sorted(LATENCIES) or not all(isinstance(v, int) and v >= 1
+                                                  for v in lat.values()):
+        raise ConfigError(f"{path}: latencies must be positive integers {LATENCIES}")
+    # Derived (docs/microarchitecture.md, "Pipeline"): a ray accepted in cycle c is in the input
+    # registers A in c+1, the hash stages, the key registers B (the table's read), the lookup
+    # stages, and the prediction FIFO (pred_valid_o) prediction_latency cycles after c.
+    lat["prediction_latency"] = 1 + lat["hash_stages"] + 1 + lat["lookup_stages"] + 1
+    # A final outcome accepted in cycle t is in F0 in t+1, the update queue in t+2, then the
+    # update stages (T0 .. W): W writes the table update_write_latency cycles after t.
+    lat["update_write_latency"] = 2 + lat["update_stages"]
+    # The first ray whose lookup (in B, 2 + hash_stages cycles after its acceptance) sees that
+    # write is accepted update_landing cycles after the outcome (a lookup sees a write presented
+    # in the cycle of its read).
+    lat["update_landing"] = lat["update_write_latency"] - (2 + lat["hash_stages"])
+    cfgs: dict[str, dict] = {}
+    for name, c in raw["configurations"].items():
+        if "base" in c:
+            if c["base"] not in cfgs:
+                raise ConfigError(f"configuration {name}: base {c['base']} is not defined above it")
+            c = {**cfgs[c["base"]], **{k: v for k, v in c.items() if k != "base"}}
+        _check(name, c)
+        cfgs[name] = c
+    if "default" not in cfgs:
+        raise ConfigError(f"{path}: no configuration named default")
+    return {"latencies": lat, "configurations": cfgs}
+
+
+def config(name: str, data: dict | None = None) -> dict:
+    cfgs = (data or load())["configurations"]
+    if name not in cfgs:
+        raise ConfigError(f"unknown configuration {name!r} (known: {', '.join(cfgs)})")
+    return cfgs[name]
+
+
+def hrpp_top_params(c: dict, enums: str = "name") -> dict[str, int | str]:
+    """hrpp_top's parameters (one-bit ones as 1'bN). enums="name": the enumerations as
+    hrpp_pkg::Name (slang, Yosys); "int": as their encodings, 1'bN (Verilator's -G takes no enum
+    values: tb/hrpp_tb_top.sv casts)."""
+    out: dict[str, int | str] = {}
+    for f, p in PARAMS:
+        v = c[f]
+        if f in ("variant", "combine"):
+            sv, code, _ = (VARIANTS if f == "variant" else COMBINES)[v]
+            out[p] = f"hrpp_pkg::{sv}" if enums == "name" else f"1'b{code}"
+        elif f == "inject_fault":
+            out[p] = f"1'b{int(v)}"
+        else:
+            out[p] = int(v)
+    return out
+
+
+def predict_options(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> dict[str, str]:
+    """The `hrpp predict` options (without --) of a configuration's hash and/or table."""
+    o: dict[str, str] = {}
+    if "hash" in parts:
+        o["hash"] = c["variant"]
+        if c["variant"] == "faithful":
+            o["precision"], o["exp-bits"] = str(c["precision"]), str(c["exp_bits"])
+        else:
+            o["origin-bits"], o["dir-bits"] = str(c["origin_bits"]), str(c["dir_bits"])
+        o["combine"] = c["combine"]
+    if "table" in parts:
+        o["table"] = f"{c['sets']}x{c['ways']}"
+        o["nodes-per-entry"] = str(c["nodes_per_entry"])
+        o["tag-bits"] = str(c["tag_bits"])
+    return o
+
+
+def predict_args(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> list[str]:
+    return [x for k, v in predict_options(c, parts).items() for x in (f"--{k}", v)]
+
+
+def describe(c: dict) -> str:
+    h = (f"improved o{c['origin_bits']}/d{c['dir_bits']}" if c["variant"] == "improved"
+         else f"faithful P={c['precision']} E={c['exp_bits']}")
+    return (f"{c['sets']}x{c['ways']}x{c['nodes_per_entry']}, tag {c['tag_bits']}, {h} "
+            f"{c['combine']}")

