@@ -1,4 +1,4 @@
-// Fuzz target: the hash (model/src/hash.cc) on any six float32 bit patterns and any valid
+// Fuzz target: the hash (model/src/predictor/hash.cc) on any six float32 bit patterns and any valid
 // configuration, against the simple reference of model/test/hash_ref.h (fields from the
 // standard library's float classification and double arithmetic, packing and index folding
 // done on strings of binary digits).
@@ -10,7 +10,7 @@
 
 #include "fuzz_util.h"
 #include "hash_ref.h"
-#include "hrpp/hash.h"
+#include "hrpp/predictor/hash.h"
 
 using namespace hrpp;
 

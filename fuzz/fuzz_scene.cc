@@ -1,4 +1,4 @@
-// Fuzz target: the scene loader (model/src/scene.cc, tinygltf underneath) on any bytes, as a
+// Fuzz target: the scene loader (model/src/scene/scene.cc, tinygltf underneath) on any bytes, as a
 // .glb (bytes starting with "glTF") or a .gltf (anything else). Properties: it either returns a
 // consistent scene or throws a SceneError whose message names the input; a returned scene has
 // triangles, finite vertices, a material for every triangle, mesh ranges inside the triangle
@@ -7,8 +7,8 @@
 #include <string>
 
 #include "fuzz_util.h"
-#include "hrpp/bvh.h"
-#include "hrpp/scene.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/scene/scene.h"
 
 using namespace hrpp;
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "hrpp/ray_stream.h"
+#include "hrpp/workload/ray_stream.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// Fuzz target: the ray-stream reader (model/src/ray_stream.cc) on any bytes. Properties: it either
+// Fuzz target: the ray-stream reader (model/src/workload/ray_stream.cc) on any bytes. Properties: it either
 // reads every record the header announces or throws a StreamError whose message names the file;
 // every record it returns has finite origin, direction and tnear, a known kind and zero reserved
 // bytes; and what it read, written again with RayStreamWriter and read back, gives the same
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "fuzz_util.h"
-#include "hrpp/ray_stream.h"
+#include "hrpp/workload/ray_stream.h"
 
 using namespace hrpp;
 

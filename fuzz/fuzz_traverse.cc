@@ -1,7 +1,7 @@
-// Fuzz target: BVH build and traversal (model/src/bvh.cc, traverse.cc) on small random triangle
+// Fuzz target: BVH build and traversal (model/src/trace/bvh.cc, traverse.cc) on small random triangle
 // sets and rays, against brute force: the float brute force of the same watertight test (must
 // agree exactly: same hit/miss, same t, same triangle or an exact tie) and the double-precision
-// referee of model/src/crosscheck.cc (a triangle the referee shows to be hit well inside its
+// referee of model/src/reference/crosscheck.cc (a triangle the referee shows to be hit well inside its
 // edges must not be missed or passed over; a reported hit point must lie within the referee's
 // float tolerance of its triangle, measured in double).
 //
@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "fuzz_util.h"
-#include "hrpp/bvh.h"
-#include "hrpp/referee.h"
-#include "hrpp/traverse.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/trace/referee.h"
+#include "hrpp/trace/traverse.h"
 
 using namespace hrpp;
 

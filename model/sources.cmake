@@ -7,30 +7,30 @@
 #   hrpp_report     pictures (PNG writing with stb) and the speculative-image error, which
 #                   writes pictures.
 set(HRPP_MODEL_SOURCES
-  model/src/atomic_file.cc
-  model/src/bvh.cc
-  model/src/cost_model.cc
-  model/src/cycle_model.cc
-  model/src/engine_side.cc
-  model/src/hash.cc
-  model/src/pred_table.cc
-  model/src/predictor.cc
-  model/src/ray.cc
-  model/src/ray_generator.cc
-  model/src/ray_stream.cc
-  model/src/referee.cc
-  model/src/rtl_update_delay.cc
-  model/src/sampling.cc
-  model/src/scene.cc
-  model/src/tiled_predictor.cc
-  model/src/traverse.cc
-  model/src/workload_options.cc
+  model/src/util/atomic_file.cc
+  model/src/trace/bvh.cc
+  model/src/timing/cost_model.cc
+  model/src/hardware/cycle_model.cc
+  model/src/predictor/engine_side.cc
+  model/src/predictor/hash.cc
+  model/src/predictor/pred_table.cc
+  model/src/predictor/predictor.cc
+  model/src/trace/ray.cc
+  model/src/workload/ray_generator.cc
+  model/src/workload/ray_stream.cc
+  model/src/trace/referee.cc
+  model/src/hardware/rtl_update_delay.cc
+  model/src/workload/sampling.cc
+  model/src/scene/scene.cc
+  model/src/predictor/tiled_predictor.cc
+  model/src/trace/traverse.cc
+  model/src/workload/workload_options.cc
 )
 set(HRPP_REFERENCE_SOURCES
-  model/src/crosscheck.cc
-  model/src/embree_ref.cc
+  model/src/reference/crosscheck.cc
+  model/src/reference/embree_ref.cc
 )
 set(HRPP_REPORT_SOURCES
-  model/src/render.cc
-  model/src/spec_image.cc
+  model/src/report/render.cc
+  model/src/report/spec_image.cc
 )

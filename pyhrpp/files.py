@@ -1,6 +1,6 @@
 """Outputs written under a temporary name beside their target (PATH.tmp) and renamed into place
 when complete, so a killed or failed run never leaves a half-written file that looks complete
-(the convention of the C++ side too: model/include/hrpp/atomic_file.h)."""
+(the convention of the C++ side too: model/include/hrpp/util/atomic_file.h)."""
 import json
 import os
 from pathlib import Path

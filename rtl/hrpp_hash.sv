@@ -1,6 +1,6 @@
 `default_nettype none
 // HRPP hash unit: the key of a ray from the float32 bit patterns of its origin and direction,
-// exactly as docs/hash.md specifies (and model/src/hash.cc computes). Pipelined: key_o and
+// exactly as docs/hash.md specifies (and model/src/predictor/hash.cc computes). Pipelined: key_o and
 // invalid_o belong to the inputs of HashLatency (hrpp_pkg: 3) cycles earlier.
 //   stage 1 : canonicalize; shift amounts and trailing-zero counts of the significands
 //   stage 1b: shift direction, saturated shift amount

@@ -75,7 +75,7 @@ package hrpp_pkg;
     ActSkip   = 2'd2   // the predicted hit is the answer: no walk from the root
   } action_e;
 
-  // Ray kinds, as in the golden model (model/include/hrpp/ray.h): 0 primary, 1 shadow, 2 AO,
+  // Ray kinds, as in the golden model (model/include/hrpp/trace/ray.h): 0 primary, 1 shadow, 2 AO,
   // 3 reflection, 4 refraction, 5 diffuse.
   localparam logic [2:0] KindShadow = 3'd1;
   localparam logic [2:0] KindAo = 3'd2;

@@ -12,11 +12,11 @@
 #include <random>
 #include <vector>
 
-#include "hrpp/bvh.h"
-#include "hrpp/cycle_model.h"
-#include "hrpp/engine_side.h"
-#include "hrpp/predictor.h"
-#include "hrpp/workload.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/hardware/cycle_model.h"
+#include "hrpp/predictor/engine_side.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/workload/workload.h"
 
 namespace hrpp::tb {
 
@@ -87,7 +87,7 @@ class Engine {
  private:
   struct InFlight {
     size_t ray = 0;
-    EngineRay er;  // walks, outcome and statistics (hrpp/engine_side.h)
+    EngineRay er;  // walks, outcome and statistics (hrpp/predictor/engine_side.h)
   };
   struct Message {
     uint64_t ready_cycle;

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "hrpp/cycle_model.h"
+#include "hrpp/hardware/cycle_model.h"
 
 namespace hrpp::tb {
 

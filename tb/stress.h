@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/hash.h"
-#include "hrpp/scene.h"
-#include "hrpp/workload.h"
+#include "hrpp/predictor/hash.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/workload/workload.h"
 
 namespace hrpp::tb {
 

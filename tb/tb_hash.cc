@@ -1,4 +1,4 @@
-// tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/hash.cc) on every
+// tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/predictor/hash.cc) on every
 // special class of HARD_CASES H1-H8 and dense random vectors, for eight parameter sets and many
 // origin cell exponents. Prints "hash: N vectors x 8 configurations, M mismatches".
 #include <verilated.h>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "Vtb_hash_top.h"
-#include "hrpp/hash.h"
+#include "hrpp/predictor/hash.h"
 #include "hrpp/rtl_config_data.h"
 
 using namespace hrpp;

@@ -24,11 +24,11 @@
 #include "engine.h"
 #include "latency.h"
 #include "stress.h"
-#include "hrpp/cycle_model.h"
-#include "hrpp/rtl_config.h"
-#include "hrpp/ray_stream.h"
-#include "hrpp/scene.h"
-#include "hrpp/workload.h"
+#include "hrpp/hardware/cycle_model.h"
+#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/workload/workload.h"
 
 namespace hrpp::tb {
 namespace {

@@ -1,4 +1,4 @@
-// AtomicFile / write_file_atomic (hrpp/atomic_file.h): the output appears under its name only when
+// AtomicFile / write_file_atomic (hrpp/util/atomic_file.h): the output appears under its name only when
 // complete; every failure removes the temporary file and names the file and the reason.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "hrpp/atomic_file.h"
+#include "hrpp/util/atomic_file.h"
 #include "test_util.h"
 
 namespace hrpp {

@@ -5,9 +5,9 @@
 #include <bit>
 #include <cmath>
 
-#include "hrpp/bvh.h"
-#include "hrpp/rng.h"
-#include "hrpp/traverse.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/util/rng.h"
+#include "hrpp/trace/traverse.h"
 #include "test_util.h"
 
 namespace hrpp {

@@ -3,9 +3,9 @@
 // image error.
 #include <gtest/gtest.h>
 
-#include "hrpp/cost_model.h"
-#include "hrpp/rtl_update_delay.h"
-#include "hrpp/spec_image.h"
+#include "hrpp/timing/cost_model.h"
+#include "hrpp/hardware/rtl_update_delay.h"
+#include "hrpp/report/spec_image.h"
 #include "test_util.h"
 
 namespace hrpp {

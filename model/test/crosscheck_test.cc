@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "hrpp/crosscheck.h"
-#include "hrpp/traverse.h"
+#include "hrpp/reference/crosscheck.h"
+#include "hrpp/trace/traverse.h"
 #include "test_util.h"
 
 namespace hrpp {

@@ -6,12 +6,12 @@
 #include <cstring>
 #include <map>
 
-#include "hrpp/bvh.h"
-#include "hrpp/crosscheck.h"
-#include "hrpp/embree_ref.h"
-#include "hrpp/rng.h"
-#include "hrpp/traverse.h"
-#include "hrpp/workload.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/reference/crosscheck.h"
+#include "hrpp/reference/embree_ref.h"
+#include "hrpp/util/rng.h"
+#include "hrpp/trace/traverse.h"
+#include "hrpp/workload/workload.h"
 #include "test_util.h"
 
 namespace hrpp {

@@ -12,7 +12,7 @@
 #include <limits>
 #include <string>
 
-#include "hrpp/hash.h"
+#include "hrpp/predictor/hash.h"
 
 namespace hrpp::test {
 

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "hash_ref.h"
-#include "hrpp/hash.h"
+#include "hrpp/predictor/hash.h"
 
 namespace hrpp {
 namespace {

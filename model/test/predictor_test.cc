@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "hrpp/engine_side.h"
-#include "hrpp/predictor.h"
+#include "hrpp/predictor/engine_side.h"
+#include "hrpp/predictor/predictor.h"
 #include "test_util.h"
 
 namespace hrpp {

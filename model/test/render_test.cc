@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hrpp/render.h"
+#include "hrpp/report/render.h"
 #include "test_util.h"
 
 namespace hrpp {

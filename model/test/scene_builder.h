@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/geometry.h"
+#include "hrpp/scene/geometry.h"
 
 namespace hrpp::test {
 

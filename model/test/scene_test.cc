@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hrpp/scene.h"
+#include "hrpp/scene/scene.h"
 #include "test_util.h"
 
 namespace hrpp {

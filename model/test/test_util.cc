@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hrpp/rng.h"
+#include "hrpp/util/rng.h"
 
 namespace hrpp::test {
 namespace fs = std::filesystem;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/scene.h"
+#include "hrpp/scene/scene.h"
 
 namespace hrpp::test {
 

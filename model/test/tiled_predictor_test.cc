@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include "hrpp/tiled_predictor.h"
+#include "hrpp/predictor/tiled_predictor.h"
 #include "test_util.h"
 
 namespace hrpp {

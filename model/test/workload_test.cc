@@ -8,7 +8,7 @@
 #include <map>
 #include <tuple>
 
-#include "hrpp/workload.h"
+#include "hrpp/workload/workload.h"
 #include "scene_builder.h"
 #include "test_util.h"
 

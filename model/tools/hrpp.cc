@@ -8,17 +8,17 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "hrpp/atomic_file.h"
-#include "hrpp/bvh.h"
-#include "hrpp/cost_model.h"
-#include "hrpp/crosscheck.h"
-#include "hrpp/predictor.h"
-#include "hrpp/ray_stream.h"
-#include "hrpp/render.h"
-#include "hrpp/rtl_config.h"
-#include "hrpp/scene.h"
-#include "hrpp/tiled_predictor.h"
-#include "hrpp/workload.h"
+#include "hrpp/util/atomic_file.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/timing/cost_model.h"
+#include "hrpp/reference/crosscheck.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/report/render.h"
+#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/predictor/tiled_predictor.h"
+#include "hrpp/workload/workload.h"
 
 #include <array>
 #include <bit>

@@ -1,6 +1,6 @@
 # The hardware's configurations and latencies (rtl/config/hrpp_configs.json, rtl/config/README.md)
 # for the build, at configure time: rtl/config/hrpp_config.py writes
-#   ${HRPP_GENERATED_DIR}/hrpp/rtl_config_data.h  the C++ table (model/include/hrpp/rtl_config.h)
+#   ${HRPP_GENERATED_DIR}/hrpp/rtl_config_data.h  the C++ table (model/include/hrpp/hardware/rtl_config.h)
 #   ${HRPP_GENERATED_DIR}/hrpp_configs.cmake      HRPP_CONFIGS and each HRPP_CFG_<name>'s
 #                                                 Verilator -G flags (tb/CMakeLists.txt)
 # Editing the JSON file, the generator or its loader (pyhrpp/rtl_config.py) reconfigures the

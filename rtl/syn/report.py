@@ -92,7 +92,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
                  f"{r['transistors_logic']:,} | {r['generic_ff_bits']:,} |")
     L.append("")
     L.append("Storage (model) is the golden model's TableConfig::total_bits() "
-             "(model/src/pred_table.cc): sets x ways x (valid + tag + count + K x 20-bit node ids "
+             "(model/src/predictor/pred_table.cc): sets x ways x (valid + tag + count + K x 20-bit node ids "
              "+ age); the RTL keeps two copies (lookup and update RAMs), checked to be exactly "
              "2 x that many bits. Logic transistors: `stat -tech cmos` after `abc -g cmos2` of the "
              "generic netlist with the memories kept as $mem cells; it counts the combinational "

@@ -19,7 +19,7 @@ top-level parameters come from rtl/config/hrpp_configs.json). Per configuration:
     (sets) and as wide as one set row (the word hrpp_ram_1r1w stores), through the same flow;
   * iCE40 (`synth_ice40`) and Xilinx 7-series (`synth_xilinx -family xc7`) counts;
   * the table's storage in bits (the golden model's TableConfig::total_bits(),
-    model/src/pred_table.cc), checked against the table RAMs found in the synthesized design.
+    model/src/predictor/pred_table.cc), checked against the table RAMs found in the synthesized design.
 
 It fails loudly (exit 1) when a table RAM is not a DP16KD block RAM on ECP5, when Yosys or slang
 warns about an implicitly declared signal, when a tool fails or exceeds its time limit, or when
@@ -82,7 +82,7 @@ def read_configs() -> dict[str, dict[str, int]]:
 
 
 def table_geometry(p: dict[str, int]) -> dict[str, int]:
-    """The golden model's accounting (TableConfig::total_bits, model/src/pred_table.cc):
+    """The golden model's accounting (TableConfig::total_bits, model/src/predictor/pred_table.cc):
     sets * ways * (1 + tag_bits + ceil(log2(K+1)) + K * node_bits + ceil(log2 ways))."""
     sets, ways, k, tag = p["NumSets"], p["NumWays"], p["NodesPerEntry"], p["TagWidth"]
     node_bits = p["NodeIdWidth"]

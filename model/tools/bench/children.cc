@@ -14,15 +14,15 @@
 #include <thread>
 #include <vector>
 
-#include "hrpp/bvh.h"
-#include "hrpp/embree_ref.h"
-#include "hrpp/predictor.h"
-#include "hrpp/ray_stream.h"
-#include "hrpp/rtl_config.h"
-#include "hrpp/scene.h"
-#include "hrpp/tiled_predictor.h"
-#include "hrpp/traverse.h"
-#include "hrpp/workload.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/reference/embree_ref.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/predictor/tiled_predictor.h"
+#include "hrpp/trace/traverse.h"
+#include "hrpp/workload/workload.h"
 #include "timing.h"
 
 namespace hrpp::bench {

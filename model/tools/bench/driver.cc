@@ -16,11 +16,11 @@
 #include <vector>
 
 #include "children.h"
-#include "hrpp/bvh.h"
-#include "hrpp/ray_stream.h"
-#include "hrpp/rtl_config.h"
-#include "hrpp/scene.h"
-#include "hrpp/workload.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/workload/workload.h"
 #include "process.h"
 #include "report.h"
 

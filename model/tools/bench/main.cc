@@ -31,8 +31,8 @@
 
 #include "children.h"
 #include "driver.h"
-#include "hrpp/ray_stream.h"
-#include "hrpp/scene.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/scene/scene.h"
 
 int main(int argc, char** argv) {
   using namespace hrpp::bench;

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "hrpp/atomic_file.h"
+#include "hrpp/util/atomic_file.h"
 
 namespace hrpp::bench {
 

@@ -1,0 +1,161 @@
+// Cycle-accurate model of the RTL's interface behaviour (rtl/hrpp_top.sv,
+// docs/microarchitecture.md). It reuses the golden model's hash (hash.h) and table (pred_table.h):
+// the table's update pipeline forwards every hazard, so applying each update to a PredTable in
+// the cycle the RTL writes it reproduces the RTL's table, and a lookup sees every write presented
+// in the cycle of its read or earlier.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hrpp/predictor/engine_side.h"  // Action: the skip decisions
+#include "hrpp/predictor/hash.h"
+#include "hrpp/predictor/pred_table.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/rtl_config_data.h"
+
+namespace hrpp {
+
+struct CycleConfig {
+  HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
+  TableConfig table;  // finite; tag_bits = the RTL's TagWidth
+  PredictMode mode = PredictMode::kClosestExact;
+  int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
+  int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
+  int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
+  std::string validate() const;
+};
+
+/// The DUT's inputs in one cycle.
+struct DutIn {
+  bool ray_valid = false;
+  uint32_t ray_id = 0;
+  uint8_t ray_kind = 0;
+  std::array<uint32_t, 3> org{}, dir{};
+  bool pred_ready = false;
+  bool pw_valid = false;  // predicted-walk result
+  uint32_t pw_id = 0;
+  bool pw_hit = false;
+  uint32_t pw_node = 0;
+  bool outcome_valid = false;  // final outcome
+  uint32_t outcome_id = 0;
+  bool outcome_hit = false;
+  uint32_t outcome_node = 0;
+  bool skip_ready = false;
+};
+
+/// The DUT's outputs in one cycle (functions of the state only).
+struct DutOut {
+  bool ray_ready = false;
+  bool pred_valid = false;
+  uint32_t pred_id = 0;
+  bool pred_invalid = false;
+  uint32_t pred_count = 0;
+  std::array<uint32_t, kMaxNodesPerEntry> pred_nodes{};
+  bool pw_ready = false;
+  bool outcome_ready = false;
+  bool skip_valid = false;
+  uint32_t skip_id = 0;
+  Action skip_action = Action::kFull;
+};
+
+/// What the table saw (cumulative over resets; for the testbench's stress checks).
+struct CycleStats {
+  uint64_t updates = 0;           // rows written by updates (W)
+  uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
+  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
+  uint64_t resets = 0;            // reset() calls after construction (cycles in reset)
+};
+
+class CycleModel {
+ public:
+  explicit CycleModel(const CycleConfig& cfg);
+  /// rst_ni low for one cycle (call once per clock cycle of the reset): every register and FIFO
+  /// is cleared and the table clear starts again (the table's contents are lost). The key store
+  /// (distributed RAM without reset in the RTL) keeps its contents, as in the RTL; reading an
+  /// entry not written since the reset is a protocol error (error()).
+  void reset();
+  /// A protocol violation seen: a predicted-walk result or final outcome accepted for a ray id
+  /// whose key-store entry was not written since the last reset (it would read stale contents).
+  const std::string& error() const { return error_; }
+  const CycleStats& stats() const { return stats_; }
+  DutOut outputs() const;
+  /// One rising clock edge with these inputs.
+  void tick(const DutIn& in);
+  uint64_t cycle() const { return cycle_; }
+  const PredTable& table() const { return table_; }
+
+ private:
+  struct Pred {
+    uint32_t id = 0;
+    bool invalid = false;
+    uint32_t count = 0;
+    std::array<uint32_t, kMaxNodesPerEntry> nodes{};
+  };
+  struct Op {
+    uint32_t idx = 0;
+    uint64_t tag = 0;
+    uint32_t node = 0;
+  };
+  struct KeyEntry {
+    uint32_t idx = 0;
+    uint64_t tag = 0;
+    bool any_hit = false;
+  };
+  struct Msg {  // P0 or F0, with the ray's key read from the key store at acceptance
+    bool valid = false;
+    uint32_t id = 0;
+    bool hit = false;
+    uint32_t node = 0;
+    KeyEntry key;
+  };
+  struct Decision {  // what P0 and F0 do this cycle (combinational in the RTL)
+    Action action = Action::kFull;
+    bool f_req = false, p_req = false, up_ready = false, p_advance = false, f_advance = false;
+    std::optional<Op> update;  // the request on the table's update port
+  };
+  Decision decide() const;
+  DutOut outputs(const Decision& d) const;
+  int in_flight() const;
+  // outputs() and the decision it was computed from, valid until the state changes.
+  mutable bool cached_ = false;
+  mutable Decision cached_dec_;
+  mutable DutOut cached_out_;
+
+  CycleConfig cfg_;
+  PredTable table_;
+  uint64_t cycle_ = 0;
+  bool clearing_ = true;
+  uint32_t clear_idx_ = 0;
+  // Lookup path: A (input regs), H0..H2 (the hash's stages), B (key regs), D0..D3 (beside the
+  // table's lookup). The latencies are the RTL's declared ones (rtl/config/hrpp_configs.json).
+  static constexpr int kHashLatency = rtl::kHashStages;
+  std::optional<DutIn> a_;
+  std::array<std::optional<DutIn>, kHashLatency> h_;
+  struct B {
+    uint32_t id = 0, idx = 0;
+    uint64_t tag = 0;
+    bool invalid = false, any_hit = false;
+  };
+  std::optional<B> b_;
+  static constexpr int kLookupLatency = rtl::kLookupStages;
+  std::array<std::optional<Pred>, kLookupLatency> d_;
+  std::deque<Pred> pred_fifo_;
+  std::vector<KeyEntry> key_store_;     // no reset, as in the RTL
+  std::vector<bool> key_store_written_;  // since the last reset
+  std::string error_;
+  CycleStats stats_;
+  // Update path: P0 and F0, the update queue (U), then T0, T1, T2, C1, C2, C3, W.
+  Msg p0_, f0_;
+  static constexpr size_t kUpdateQueueDepth = 2;
+  std::deque<Op> update_queue_;
+  static constexpr int kUpdateStages = rtl::kUpdateStages;
+  std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [6] = W
+  std::deque<std::pair<uint32_t, Action>> skip_fifo_;
+};
+
+}  // namespace hrpp

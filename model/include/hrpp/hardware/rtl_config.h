@@ -1,0 +1,108 @@
+// The RTL's named configurations and pipeline latencies, from their one definition
+// (rtl/config/hrpp_configs.json; the build generates hrpp/rtl_config_data.h from it). The golden
+// model's own defaults (HashConfig, TableConfig) are not an RTL configuration: `hrpp predict`
+// without options runs the study's faithful hash on an unbounded table; `--preset rtl-NAME`
+// selects one of these.
+#pragma once
+
+#include <bit>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrpp/hardware/cycle_model.h"
+#include "hrpp/predictor/hash.h"
+#include "hrpp/predictor/pred_table.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/rtl_config_data.h"
+
+namespace hrpp {
+
+/// One RTL configuration: every hrpp_top parameter, as the golden model's pieces.
+struct RtlConfig {
+  std::string name;
+  /// The hash; origin_cell_exp is the scene's (cfg_cell_exp_i), left 0 here.
+  HashConfig hash;
+  /// The finite table; node_bits = the RTL's node-id width, key_bits = the hash's key width.
+  TableConfig table;
+  int node_id_width = 0;  // NodeIdWidth
+  int id_width = 0;       // IdWidth: ray ids
+  int pred_fifo_depth = 0, skip_fifo_depth = 0;
+  bool inject_fault = false;  // test only (the "mutant" configuration)
+
+  /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3").
+  std::string describe() const {
+    const std::string h = hash.variant == HashVariant::kImproved
+                              ? "improved hash " + std::to_string(hash.origin_bits) + "/" +
+                                    std::to_string(hash.dir_bits)
+                              : "faithful hash P=" + std::to_string(hash.precision) +
+                                    " E=" + std::to_string(hash.exp_bits);
+    return h + (hash.combine == CombineMode::kConcat ? " concat, " : " xor, ") +
+           std::to_string(table.sets) + "x" + std::to_string(table.ways) + " table, K=" +
+           std::to_string(table.nodes_per_entry) + ", " + std::to_string(table.tag_bits) +
+           "-bit tags";
+  }
+  /// The predictor of this configuration (go-up 0, closest-exact mode).
+  PredictorConfig predictor() const {
+    PredictorConfig p;
+    p.hash = hash;
+    p.table = table;
+    return p;
+  }
+  /// The cycle model of this configuration in `mode`.
+  CycleConfig cycle(PredictMode mode) const {
+    CycleConfig c;
+    c.hash = hash;
+    c.table = table;
+    c.mode = mode;
+    c.id_bits = id_width;
+    c.pred_fifo_depth = pred_fifo_depth;
+    c.skip_fifo_depth = skip_fifo_depth;
+    return c;
+  }
+};
+
+inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
+  RtlConfig c;
+  c.name = d.name;
+  c.hash.variant = d.variant;
+  c.hash.precision = d.precision;
+  c.hash.exp_bits = d.exp_bits;
+  c.hash.origin_bits = d.origin_bits;
+  c.hash.dir_bits = d.dir_bits;
+  c.hash.combine = d.combine;
+  c.hash.index_bits = std::countr_zero(d.sets);
+  c.table.sets = d.sets;
+  c.table.ways = d.ways;
+  c.table.nodes_per_entry = d.nodes_per_entry;
+  c.table.tag_bits = d.tag_bits;
+  c.table.node_bits = d.node_id_width;
+  c.table.key_bits = c.hash.key_bits();
+  c.node_id_width = d.node_id_width;
+  c.id_width = d.id_width;
+  c.pred_fifo_depth = d.pred_fifo_depth;
+  c.skip_fifo_depth = d.skip_fifo_depth;
+  c.inject_fault = d.inject_fault;
+  return c;
+}
+
+/// The names of the RTL configurations, in the file's order.
+inline std::vector<std::string> rtl_config_names() {
+  std::vector<std::string> names;
+  for (const rtl::ConfigData& d : rtl::kConfigs) names.emplace_back(d.name);
+  return names;
+}
+
+/// The named RTL configuration ("small", "default", "large", "mutant"); throws
+/// std::invalid_argument naming the known ones.
+inline RtlConfig rtl_config(std::string_view name) {
+  for (const rtl::ConfigData& d : rtl::kConfigs)
+    if (name == d.name) return make_rtl_config(d);
+  std::string known;
+  for (const std::string& n : rtl_config_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown RTL configuration '" + std::string(name) + "' (known: " +
+                              known + ")");
+}
+
+}  // namespace hrpp

@@ -1,0 +1,209 @@
+#include "hrpp/hardware/cycle_model.h"
+
+#include <bit>
+
+namespace hrpp {
+
+std::string CycleConfig::validate() const {
+  if (auto e = hash.validate(); !e.empty()) return e;
+  if (auto e = table.validate(); !e.empty()) return e;
+  if (table.unbounded) return "the RTL has a finite table";
+  if (table.sets < 2) return "the RTL needs at least 2 sets";
+  if (table.ways < 2) return "the RTL needs at least 2 ways";
+  if (hash.index_bits != std::countr_zero(table.sets)) return "index bits must be log2(sets)";
+  if (table.tag_bits < 1 || table.tag_bits > hash.tag_bits())
+    return "stored tag bits must be 1.." + std::to_string(hash.tag_bits());
+  if (id_bits < 1 || id_bits > 16) return "id bits must be 1..16";
+  return {};
+}
+
+CycleModel::CycleModel(const CycleConfig& cfg)
+    : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits) {
+  reset();
+  stats_ = CycleStats{};
+}
+
+void CycleModel::reset() {
+  ++stats_.resets;
+  table_.clear();
+  cycle_ = 0;
+  clearing_ = true;
+  clear_idx_ = 0;
+  a_.reset();
+  for (auto& h : h_) h.reset();
+  b_.reset();
+  for (auto& d : d_) d.reset();
+  pred_fifo_.clear();
+  update_queue_.clear();
+  key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
+  p0_ = Msg{};
+  f0_ = Msg{};
+  for (auto& u : up_) u.reset();
+  skip_fifo_.clear();
+  cached_ = false;
+}
+
+int CycleModel::in_flight() const {
+  int n = int(a_.has_value()) + int(b_.has_value());
+  for (const auto& h : h_) n += int(h.has_value());
+  for (const auto& d : d_) n += int(d.has_value());
+  return n;
+}
+
+CycleModel::Decision CycleModel::decide() const {
+  Decision d;
+  const KeyEntry& kp = p0_.key;
+  const KeyEntry& kf = f0_.key;
+  if (p0_.hit)
+    d.action = kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip
+                                                                    : Action::kShrink;
+  const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
+  const bool p_needs = d.action == Action::kSkip;
+  // The table port: a final outcome first.
+  d.f_req = f0_.valid && f0_.hit;
+  d.p_req = p0_.valid && p_needs && !fifo_full;
+  if (d.f_req) d.update = Op{kf.idx, kf.tag, f0_.node};
+  else if (d.p_req) d.update = Op{kp.idx, kp.tag, p0_.node};
+  // The update queue takes a request while it has room.
+  d.up_ready = update_queue_.size() < kUpdateQueueDepth;
+  d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);
+  d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.up_ready && !d.f_req));
+  return d;
+}
+
+DutOut CycleModel::outputs() const {
+  if (!cached_) {  // a function of the state: computed once per cycle
+    cached_dec_ = decide();
+    cached_out_ = outputs(cached_dec_);
+    cached_ = true;
+  }
+  return cached_out_;
+}
+
+DutOut CycleModel::outputs(const Decision& d) const {
+  DutOut o;
+  o.ray_ready = !clearing_ && in_flight() + int(pred_fifo_.size()) < cfg_.pred_fifo_depth;
+  if (!pred_fifo_.empty()) {
+    const Pred& p = pred_fifo_.front();
+    o.pred_valid = true;
+    o.pred_id = p.id;
+    o.pred_invalid = p.invalid;
+    o.pred_count = p.count;
+    o.pred_nodes = p.nodes;
+  }
+  o.pw_ready = !clearing_ && (!p0_.valid || d.p_advance);
+  o.outcome_ready = !clearing_ && (!f0_.valid || d.f_advance);
+  if (!skip_fifo_.empty()) {
+    o.skip_valid = true;
+    o.skip_id = skip_fifo_.front().first;
+    o.skip_action = skip_fifo_.front().second;
+  }
+  return o;
+}
+
+void CycleModel::tick(const DutIn& in) {
+  const DutOut o = outputs();
+  const Decision dec = cached_dec_;
+  cached_ = false;  // the state changes below
+
+  // The write presented in this cycle (W), then the lookup read presented in this cycle (B):
+  // the lookup sees the write (the RTL forwards a colliding write).
+  if (up_[kUpdateStages - 1]) {
+    const Op& w = *up_[kUpdateStages - 1];
+    bool hit = false, full = true;
+    for (uint32_t i = 0; i < cfg_.table.ways; ++i) {
+      const Way& way = table_.way(w.idx, i);
+      hit |= way.valid && way.tag == w.tag;
+      full &= way.valid;
+    }
+    stats_.updates++;
+    stats_.evictions += !hit && full;
+    table_.update(w.idx, w.tag, 0, w.node);
+  }
+  std::optional<Pred> looked_up;
+  if (b_) {
+    Pred p;
+    p.id = b_->id;
+    p.invalid = b_->invalid;
+    if (!b_->invalid) {
+      const Prediction pr = table_.lookup(b_->idx, b_->tag, 0);
+      p.count = pr.count;
+      p.nodes = pr.nodes;
+    }
+    looked_up = p;
+  }
+
+  // Prediction FIFO.
+  if (o.pred_valid && in.pred_ready) pred_fifo_.pop_front();
+  if (d_[kLookupLatency - 1]) pred_fifo_.push_back(*d_[kLookupLatency - 1]);
+
+  // The table takes the update queue's head unless it is of the set of an update accepted in
+  // either of the two previous cycles (T0, T1: the same-set interlock).
+  std::optional<Op> issued;
+  if (!clearing_ && !update_queue_.empty()) {
+    const uint32_t idx = update_queue_.front().idx;
+    if (!(up_[0] && up_[0]->idx == idx) && !(up_[1] && up_[1]->idx == idx)) {
+      issued = update_queue_.front();
+      update_queue_.pop_front();
+    } else {
+      stats_.interlock_cycles++;
+    }
+  }
+
+  // Skip controller.
+  if (dec.update && dec.up_ready) update_queue_.push_back(*dec.update);
+  if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
+  if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
+  auto check_key = [&](bool valid, uint32_t id, const char* what) {
+    if (valid && !key_store_written_[id] && error_.empty())
+      error_ = std::string(what) + " for ray id " + std::to_string(id) +
+               " whose key-store entry was not written since reset (stale contents)";
+  };
+  if (o.pw_ready) check_key(in.pw_valid, in.pw_id, "predicted-walk result accepted");
+  if (o.outcome_ready) check_key(in.outcome_valid, in.outcome_id, "final outcome accepted");
+  if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
+  if (o.outcome_ready)
+    f0_ = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
+              key_store_[in.outcome_id]};
+
+  // Key store write (B), after U0's read above.
+  if (b_) {
+    key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};
+    key_store_written_[b_->id] = true;
+  }
+
+  // Pipelines advance.
+  for (int i = kUpdateStages - 1; i > 0; --i) up_[i] = up_[i - 1];
+  up_[0] = issued;
+  for (int i = kLookupLatency - 1; i > 0; --i) d_[i] = d_[i - 1];
+  d_[0] = looked_up;
+  const std::optional<DutIn> hashed = h_[kHashLatency - 1];
+  for (int i = kHashLatency - 1; i > 0; --i) h_[i] = h_[i - 1];
+  h_[0] = a_;
+  if (hashed) {
+    const DutIn* a = &*hashed;
+    const HashKey k = split_key(
+        hash_key({a->org[0], a->org[1], a->org[2], a->dir[0], a->dir[1], a->dir[2]}, cfg_.hash),
+        cfg_.hash);
+    B b;
+    b.id = a->ray_id;
+    b.idx = k.index;
+    b.tag = table_.stored_tag(k.tag);
+    b.invalid = false;
+    for (uint32_t v : {a->org[0], a->org[1], a->org[2], a->dir[0], a->dir[1], a->dir[2]})
+      b.invalid |= ((v >> 23) & 0xFF) == 0xFF;
+    b.any_hit = is_any_hit(static_cast<RayKind>(a->ray_kind)) || cfg_.mode == PredictMode::kAnyHit;
+    b_ = b;
+  } else {
+    b_.reset();
+  }
+  if (in.ray_valid && o.ray_ready) {
+    a_ = in;
+  } else {
+    a_.reset();
+  }
+  if (clearing_ && ++clear_idx_ == cfg_.table.sets) clearing_ = false;
+  ++cycle_;
+}
+
+}  // namespace hrpp

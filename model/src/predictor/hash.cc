@@ -1,0 +1,162 @@
+#include "hrpp/predictor/hash.h"
+
+#include <bit>
+#include <cmath>
+
+namespace hrpp {
+
+const char* hash_variant_name(HashVariant v) {
+  return v == HashVariant::kFaithful ? "faithful" : "improved";
+}
+const char* combine_mode_name(CombineMode c) { return c == CombineMode::kXor ? "xor" : "concat"; }
+
+int HashConfig::origin_field_bits() const {
+  return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : origin_bits;
+}
+int HashConfig::dir_field_bits() const {
+  return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : dir_bits;
+}
+int HashConfig::key_bits() const {
+  const int o = 3 * origin_field_bits(), d = 3 * dir_field_bits();
+  return combine == CombineMode::kXor ? std::max(o, d) : o + d;
+}
+
+std::string HashConfig::validate() const {
+  if (variant == HashVariant::kFaithful) {
+    if (precision < 1 || precision > 23)
+      return "precision must be 1..23 (the float32 mantissa has 23 bits), got " +
+             std::to_string(precision);
+    if (exp_bits < 0 || exp_bits > 8)
+      return "exponent bits must be 0..8 (the float32 exponent has 8 bits), got " +
+             std::to_string(exp_bits);
+  } else {
+    if (origin_bits < 1 || origin_bits > 16)
+      return "origin grid bits must be 1..16, got " + std::to_string(origin_bits);
+    if (dir_bits < 1 || dir_bits > 16)
+      return "direction grid bits must be 1..16, got " + std::to_string(dir_bits);
+    if (origin_cell_exp < -149 || origin_cell_exp > 127)
+      return "origin cell exponent must be -149..127, got " + std::to_string(origin_cell_exp);
+  }
+  if (key_bits() > 64)
+    return "the key would have " + std::to_string(key_bits()) +
+           " bits; at most 64 are supported (use narrower fields or --combine xor)";
+  if (index_bits < 0 || index_bits > 24)
+    return "index bits must be 0..24, got " + std::to_string(index_bits);
+  if (index_bits > key_bits())
+    return "the table has 2^" + std::to_string(index_bits) + " sets but keys have only " +
+           std::to_string(key_bits()) + " bits";
+  return {};
+}
+
+int cell_exp_for(const Aabb& b, int origin_bits) {
+  const float ext = std::max(max_abs(b.extent()), 1e-30f);
+  // Smallest k with 2^k * 2^origin_bits >= extent.
+  return static_cast<int>(std::ceil(std::log2(static_cast<double>(ext)))) - origin_bits;
+}
+
+uint32_t canonical_bits(uint32_t b) {
+  const uint32_t exp = (b >> 23) & 0xFF, man = b & 0x7FFFFF;
+  if (exp == 0) return 0;                         // +-0 and denormals
+  if (exp == 0xFF && man != 0) return 0x7F800000;  // every NaN
+  return b;
+}
+
+uint32_t faithful_field(uint32_t bits, int exp_bits, int precision) {
+  const uint32_t b = canonical_bits(bits);
+  const uint32_t sign = b >> 31, exp = (b >> 23) & 0xFF, man = b & 0x7FFFFF;
+  const uint32_t e = exp_bits ? exp >> (8 - exp_bits) : 0;
+  const uint32_t m = man >> (23 - precision);
+  return (sign << (exp_bits + precision)) | (e << precision) | m;
+}
+
+namespace {
+inline uint32_t low_bits(uint64_t v, int n) {
+  return static_cast<uint32_t>(v & ((uint64_t{1} << n) - 1));
+}
+}  // namespace
+
+uint32_t grid_origin_field(uint32_t bits, int cell_exp, int field_bits) {
+  const uint32_t b = canonical_bits(bits);
+  const uint32_t sign = b >> 31, exp = (b >> 23) & 0xFF;
+  if (exp == 0xFF) return sign ? 1u << (field_bits - 1) : low_bits(~uint64_t{0}, field_bits);
+  if (exp == 0) return 0;
+  const uint64_t mant = (b & 0x7FFFFF) | 0x800000;  // value = mant * 2^(exp - 150)
+  const int sh = static_cast<int>(exp) - 150 - cell_exp;
+  uint64_t mag;  // |x| / 2^k, truncated, low bits only
+  bool frac = false;
+  if (sh >= 0) {
+    mag = sh >= 40 ? 0 : mant << sh;  // only the low field_bits (<= 16) matter
+  } else if (sh > -64) {
+    mag = mant >> -sh;
+    frac = (mant & ((uint64_t{1} << -sh) - 1)) != 0;
+  } else {
+    mag = 0;
+    frac = true;
+  }
+  // floor(): for negative values, -(trunc + 1) when a fraction was cut off.
+  const uint64_t v = sign ? ~(mag + (frac ? 1 : 0)) + 1 : mag;
+  return low_bits(v, field_bits);
+}
+
+uint32_t grid_dir_field(uint32_t bits, int field_bits) {
+  const uint32_t b = canonical_bits(bits);
+  const uint32_t sign = b >> 31, exp = (b >> 23) & 0xFF;
+  const int64_t hi = (int64_t{1} << (field_bits - 1)) - 1, lo = -(int64_t{1} << (field_bits - 1));
+  int64_t q;
+  if (exp == 0) {
+    q = 0;
+  } else if (exp >= 127) {  // |d| >= 1 (and inf / NaN): saturate
+    q = sign ? lo : hi;
+  } else {
+    const uint64_t mant = (b & 0x7FFFFF) | 0x800000;   // |d| = mant * 2^(exp - 150)
+    const int sh = 150 - static_cast<int>(exp) - (field_bits - 1);  // > 0 since exp <= 126
+    const uint64_t mag = sh >= 64 ? 0 : mant >> sh;
+    const bool frac = sh >= 64 ? true : (mant & ((uint64_t{1} << sh) - 1)) != 0;
+    q = sign ? -static_cast<int64_t>(mag + (frac ? 1 : 0)) : static_cast<int64_t>(mag);
+    q = std::min(std::max(q, lo), hi);
+  }
+  return low_bits(static_cast<uint64_t>(q), field_bits);
+}
+
+uint64_t hash_key(const std::array<uint32_t, 6>& bits, const HashConfig& cfg) {
+  const int fo = cfg.origin_field_bits(), fd = cfg.dir_field_bits();
+  uint64_t o = 0, d = 0;
+  // Origin packed x|y|z, direction z|y|x (x in the most significant field of the origin, z in
+  // that of the direction), so XOR pairs o.x^d.z, o.y^d.y, o.z^d.x as the study's simulator does.
+  for (int i = 0; i < 3; ++i) {
+    uint32_t of, df;
+    if (cfg.variant == HashVariant::kFaithful) {
+      of = faithful_field(bits[i], cfg.exp_bits, cfg.precision);
+      df = faithful_field(bits[5 - i], cfg.exp_bits, cfg.precision);
+    } else {
+      of = grid_origin_field(bits[i], cfg.origin_cell_exp, fo);
+      df = grid_dir_field(bits[5 - i], fd);
+    }
+    o = (o << fo) | of;
+    d = (d << fd) | df;
+  }
+  return cfg.combine == CombineMode::kXor ? o ^ d : (o << (3 * fd)) | d;
+}
+
+HashKey split_key(uint64_t key, const HashConfig& cfg) {
+  HashKey k;
+  k.key = key;
+  const int s = cfg.index_bits;
+  if (s == 0) {
+    k.tag = key;
+    return k;
+  }
+  for (uint64_t rest = key; rest; rest >>= s) k.index ^= low_bits(rest, s);
+  k.tag = s >= 64 ? 0 : key >> s;
+  return k;
+}
+
+HashKey hash_ray(const Ray& r, const HashConfig& cfg) {
+  const std::array<uint32_t, 6> bits = {
+      std::bit_cast<uint32_t>(r.org.x), std::bit_cast<uint32_t>(r.org.y),
+      std::bit_cast<uint32_t>(r.org.z), std::bit_cast<uint32_t>(r.dir.x),
+      std::bit_cast<uint32_t>(r.dir.y), std::bit_cast<uint32_t>(r.dir.z)};
+  return split_key(hash_key(bits, cfg), cfg);
+}
+
+}  // namespace hrpp
