@@ -41,8 +41,7 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
 bool check_workload_args(const char* cmd, const WorkloadArgs& a);
 
 /// The generation options for a scene; prints the error and returns false on a bad --effects.
-bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
-                   WorkloadOptions* wo);
+bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene, WorkloadOptions* wo);
 
 /// "512x512, 1 spp, seed 1, scanline order, depth 2"
 std::string workload_line(const WorkloadOptions& wo);
@@ -57,7 +56,7 @@ struct PredictorArgs {
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;
   int tag_bits = -1;
-  std::string preset;  // rtl-NAME: an RTL configuration's hash and table
+  std::string preset;                         // rtl-NAME: an RTL configuration's hash and table
   std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
 };
 

@@ -20,9 +20,10 @@ int main(int argc, char** argv) {
   CLI::App app{"HRPP: hash-based ray path prediction - golden model tool"};
   app.require_subcommand(1);
   // In this order in `hrpp --help`.
-  const std::vector<Subcommand> subcommands = {add_info(app),  add_check_embree(app),
-                                               add_predict(app), add_sweep(app),
-                                               add_trace(app), add_render(app)};
+  const std::vector<Subcommand> subcommands = {
+      add_info(app),  add_check_embree(app), add_predict(app),
+      add_sweep(app), add_trace(app),        add_render(app),
+  };
 
   try {
     app.parse(argc, argv);

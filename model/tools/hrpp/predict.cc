@@ -100,7 +100,7 @@ int configure_predict(const PredictArgs& a, PredictSetup* s) {
 
 /// The run's outcome beside the predictor's statistics.
 struct PredictRun {
-  double secs = 0;                       // wall-clock time of the run
+  double secs = 0;                        // wall-clock time of the run
   std::unique_ptr<SpecImage> spec_image;  // generated workloads with one thread
 };
 
@@ -142,9 +142,8 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
 }
 
 /// The JSON report; finishes the speculative image (writing --spec-images DIR's picture).
-nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a,
-                            const TiledPredictor& pred, const PredictRun& run,
-                            const CostModel& cost) {
+nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const TiledPredictor& pred,
+                            const PredictRun& run, const CostModel& cost) {
   const nlohmann::json& workload = s.workload;
   nlohmann::json j = pred.to_json();
   j["scene"] = s.scene.path;

@@ -1,10 +1,11 @@
 // hrpp sweep: the Python driver (model/tools/sweep.py) in the project's venv; its options are
 // sweep.py's (`hrpp sweep --help`).
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "subcommands.h"
@@ -14,8 +15,8 @@ namespace {
 
 /// Replaces this process with sweep.py, given hrpp's path and the arguments after `sweep`.
 int cmd_sweep(const std::vector<std::string>& remaining) {
-  std::vector<std::string> args = {HRPP_PYTHON, HRPP_SOURCE_DIR "/model/tools/sweep.py",
-                                   "--hrpp", "/proc/self/exe"};
+  std::vector<std::string> args = {HRPP_PYTHON, HRPP_SOURCE_DIR "/model/tools/sweep.py", "--hrpp",
+                                   "/proc/self/exe"};
   for (const std::string& e : remaining) args.push_back(e);
   char self[4096];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
@@ -32,8 +33,9 @@ int cmd_sweep(const std::vector<std::string>& remaining) {
 }  // namespace
 
 Subcommand add_sweep(CLI::App& app) {
-  auto* sw = app.add_subcommand("sweep", "Sweep predictor parameters over scenes: CSV, Pareto "
-                                         "fronts, plots (model/tools/sweep.py --help)");
+  auto* sw = app.add_subcommand("sweep",
+                                "Sweep predictor parameters over scenes: CSV, Pareto "
+                                "fronts, plots (model/tools/sweep.py --help)");
   sw->allow_extras();
   sw->prefix_command();
   sw->set_help_flag();
