@@ -1,0 +1,246 @@
+// hrpp CLI: the shared options and helpers (common.h).
+#include "common.h"
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+
+#include "hrpp/util/atomic_file.h"
+#include "hrpp/hardware/rtl_config.h"
+
+namespace hrpp::cli {
+
+bool write_json_file(const std::string& path, const nlohmann::json& j) {
+  try {
+    write_file_atomic(path, j.dump(2) + "\n");
+  } catch (const AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
+    return false;
+  }
+  return true;
+}
+
+/// Parses "WxH" into two positive integers.
+bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b) {
+  size_t x = s.find('x');
+  if (x == std::string::npos || x == 0 || x + 1 >= s.size()) return false;
+  try {
+    size_t p1, p2;
+    unsigned long va = std::stoul(s.substr(0, x), &p1), vb = std::stoul(s.substr(x + 1), &p2);
+    if (p1 != x || p2 != s.size() - x - 1 || va == 0 || vb == 0 || va > (1u << 24) ||
+        vb > (1u << 24))
+      return false;
+    *a = static_cast<uint32_t>(va);
+    *b = static_cast<uint32_t>(vb);
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+// ---- workload options (trace, predict, render) -----------------------------------------------
+
+/// Adds the workload options; returns them (so that --stream can exclude them).
+std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
+                                               const std::string& default_effects) {
+  a.effects = default_effects;
+  std::vector<CLI::Option*> o;
+  o.push_back(app->add_option("--effects", a.effects,
+                              "'auto' (what the scene's lights and materials call for), 'none', or "
+                              "a comma-separated list of shadow, ao, reflection, refraction, "
+                              "diffuse, auto (docs/workloads.md)")
+                  ->capture_default_str());
+  o.push_back(app->add_option("--res", a.res, "image resolution WxH (default: the camera's)"));
+  o.push_back(app->add_option("--spp", a.spp, "samples per pixel")->check(CLI::Range(1, 4096)));
+  o.push_back(app->add_option("--order", a.order, "ray issue order")
+                  ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--tile", a.tile, "tile edge in pixels (tiled and morton orders)")
+                  ->check(CLI::Range(1, 4096))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--depth", a.depth,
+                              "generations of reflection / refraction / diffuse rays")
+                  ->check(CLI::Range(0, 16))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
+  o.push_back(app->add_option("--ao-distance", a.ao_distance,
+                              "AO ray length (default or 0: 5% of the scene diagonal)")
+                  ->check(CLI::NonNegativeNumber));
+  return o;
+}
+
+/// Checks what can be checked before the scene is loaded.
+bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
+  uint32_t w, h;
+  if (!a.res.empty() && !parse_wxh(a.res, &w, &h)) {
+    std::fprintf(stderr, "hrpp %s: --res must be WIDTHxHEIGHT (e.g. 256x256), got '%s'\n", cmd,
+                 a.res.c_str());
+    return false;
+  }
+  if (!std::isfinite(a.ao_distance)) {  // CLI11's NonNegativeNumber lets NaN through
+    std::fprintf(stderr, "hrpp %s: --ao-distance must be a finite number >= 0, got %g\n", cmd,
+                 a.ao_distance);
+    return false;
+  }
+  return true;
+}
+
+/// The generation options for a scene; prints the error and returns false on a bad --effects.
+bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
+                   WorkloadOptions* wo) {
+  uint32_t w = 0, h = 0;
+  if (!a.res.empty()) parse_wxh(a.res, &w, &h);  // checked by check_workload_args
+  wo->width = static_cast<int>(w);
+  wo->height = static_cast<int>(h);
+  workload_resolution(scene, *wo, &wo->width, &wo->height);
+  wo->spp = a.spp;
+  wo->seed = a.seed;
+  wo->ao_distance = a.ao_distance;
+  wo->max_depth = a.depth;
+  wo->tile = a.tile;
+  parse_ray_order(a.order, &wo->order);  // checked by CLI11
+  const std::string err = apply_effects(a.effects, scene, wo);
+  if (!err.empty()) {
+    std::fprintf(stderr, "hrpp %s: --effects: %s\n", cmd, err.c_str());
+    return false;
+  }
+  wo->shadow = wo->shadow && a.shadow;
+  wo->ao = wo->ao && a.ao;
+  return true;
+}
+
+/// "512x512, 1 spp, seed 1, scanline order, depth 2"
+std::string workload_line(const WorkloadOptions& wo) {
+  std::string order(ray_order_name(wo.order));
+  if (wo.order != RayOrder::kScanline)
+    order += " (" + std::to_string(wo.tile) + "x" + std::to_string(wo.tile) + " tiles)";
+  return std::to_string(wo.width) + "x" + std::to_string(wo.height) + ", " +
+         std::to_string(wo.spp) + " spp, seed " + std::to_string(wo.seed) + ", " + order +
+         " order, depth " + std::to_string(wo.max_depth);
+}
+
+void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::string& spec) {
+  std::printf("effects (--effects %s):\n", spec.c_str());
+  for (const std::string& l : describe_effects(scene, wo, spec)) std::printf("  %s\n", l.c_str());
+}
+
+// ---- predictor options (predict, render) -----------------------------------------------------
+
+void add_predictor_options(CLI::App* app, PredictorArgs& a) {
+  std::vector<std::string> presets;
+  for (const std::string& n : rtl_config_names()) presets.push_back("rtl-" + n);
+  app->add_option("--preset", a.preset,
+                  "an RTL configuration's hash and table (rtl/config/hrpp_configs.json); the "
+                  "options below override it")
+      ->check(CLI::IsMember(presets));
+  app->add_option("--hash", a.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
+  app->add_option("--precision", a.precision, "faithful hash: mantissa bits per component (P)")
+      ->check(CLI::Range(1, 23));
+  app->add_option("--exp-bits", a.exp_bits, "faithful hash: top exponent bits per component (E)")
+      ->check(CLI::Range(0, 8));
+  app->add_option("--origin-bits", a.origin_bits, "improved hash: bits per origin axis")
+      ->check(CLI::Range(1, 16));
+  app->add_option("--dir-bits", a.dir_bits, "improved hash: bits per direction component")
+      ->check(CLI::Range(1, 16));
+  app->add_option("--combine", a.combine, "how origin and direction fields combine")
+      ->check(CLI::IsMember({"xor", "concat"}));
+  app->add_option("--go-up", a.go_up, "store the hit leaf's ancestor this many levels up")
+      ->check(CLI::Range(0u, 64u));
+  app->add_option("--table", a.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
+  app->add_option("--tag-bits", a.tag_bits,
+                  "stored tag bits (default: the full tag, so keys never alias; fewer bits save "
+                  "storage and let keys of one set alias)")
+      ->check(CLI::Range(0, 64));
+  app->add_option("--nodes-per-entry", a.nodes_per_entry, "node ids per table entry (K)")
+      ->check(CLI::Range(1, kMaxNodesPerEntry));
+  app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
+      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
+  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
+                        "--combine", "--table", "--tag-bits", "--nodes-per-entry"})
+    a.given[o] = app->get_option(o);
+}
+
+/// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
+void apply_preset(PredictorArgs& a) {
+  if (a.preset.empty()) return;
+  const RtlConfig rc = rtl_config(a.preset.substr(4));  // "rtl-"
+  const HashConfig& h = rc.hash;
+  const TableConfig& t = rc.table;
+  auto set = [&](const char* opt, auto* field, auto value) {
+    if (a.given.at(opt)->count() == 0) *field = value;
+  };
+  set("--hash", &a.hash,
+      std::string(h.variant == HashVariant::kFaithful ? "faithful" : "improved"));
+  set("--precision", &a.precision, h.precision);
+  set("--exp-bits", &a.exp_bits, h.exp_bits);
+  set("--origin-bits", &a.origin_bits, h.origin_bits);
+  set("--dir-bits", &a.dir_bits, h.dir_bits);
+  set("--combine", &a.combine, std::string(h.combine == CombineMode::kXor ? "xor" : "concat"));
+  set("--table", &a.table, std::to_string(t.sets) + "x" + std::to_string(t.ways));
+  set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
+  set("--tag-bits", &a.tag_bits, t.tag_bits);
+}
+
+/// The parts of the predictor configuration that need no scene; prints the error.
+bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg) {
+  HashConfig& h = cfg->hash;
+  h.variant = a.hash == "faithful" ? HashVariant::kFaithful : HashVariant::kImproved;
+  h.precision = a.precision;
+  h.exp_bits = a.exp_bits;
+  h.origin_bits = a.origin_bits;
+  h.dir_bits = a.dir_bits;
+  h.combine = a.combine == "xor" ? CombineMode::kXor : CombineMode::kConcat;
+  parse_predict_mode(a.mode, &cfg->mode);
+  cfg->go_up = a.go_up;
+  TableConfig& t = cfg->table;
+  t.nodes_per_entry = a.nodes_per_entry;
+  if (a.table == "unbounded") {
+    t.unbounded = true;
+  } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
+    std::fprintf(stderr, "hrpp %s: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
+                 cmd, a.table.c_str());
+    return false;
+  } else {
+    if (!std::has_single_bit(t.sets)) {
+      std::fprintf(stderr, "hrpp %s: --table %s: the number of sets must be a power of two\n",
+                   cmd, a.table.c_str());
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Completes the configuration for a scene and its BVH and validates it; prints the error.
+bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scene& scene,
+                             const Bvh& bvh, PredictorConfig* cfg) {
+  const std::string err =
+      resolve_for_scene(scene, bvh, cfg, {.tag_bits = a.tag_bits, .tag_bits_name = "--tag-bits"});
+  if (!err.empty()) {
+    std::fprintf(stderr, "hrpp %s: %s\n", cmd, err.c_str());
+    return false;
+  }
+  return true;
+}
+
+std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, uint64_t table_bytes,
+                           uint64_t table_entries) {
+  const HashConfig& h = cfg.hash;
+  const TableConfig& t = cfg.table;
+  char b[512];
+  const std::string hash =
+      h.variant == HashVariant::kFaithful
+          ? "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine
+          : "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
+                std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) +
+                " bits " + a.combine;
+  std::snprintf(b, sizeof b,
+                "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
+                "entries used), go-up %u, mode %s",
+                a.hash.c_str(), hash.c_str(), h.key_bits(),
+                t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
+                t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
+                (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
+  return b;
+}
+
+}  // namespace hrpp::cli

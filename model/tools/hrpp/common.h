@@ -1,0 +1,79 @@
+// hrpp CLI: what several subcommands share: JSON output, WxH parsing, the workload options
+// (trace, predict, render) and the predictor options (predict, render), each registered on a
+// CLI11 subcommand, checked and turned into the library's options, with their error messages.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hrpp/trace/bvh.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/workload/workload.h"
+
+namespace hrpp::cli {
+
+/// Writes j (indented, newline-terminated) to path atomically; prints the error and returns false.
+bool write_json_file(const std::string& path, const nlohmann::json& j);
+
+/// Parses "WxH" into two positive integers.
+bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b);
+
+// ---- workload options (trace, predict, render) -----------------------------------------------
+
+struct WorkloadArgs {
+  std::string effects, order = "scanline", res;
+  int spp = 1, depth = 2, tile = 8;
+  uint64_t seed = 1;
+  float ao_distance = 0.f;
+  bool shadow = true, ao = true;  // predict's --no-shadow / --no-ao
+};
+
+/// Adds the workload options; returns them (so that --stream can exclude them).
+std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
+                                               const std::string& default_effects);
+
+/// Checks what can be checked before the scene is loaded.
+bool check_workload_args(const char* cmd, const WorkloadArgs& a);
+
+/// The generation options for a scene; prints the error and returns false on a bad --effects.
+bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene, WorkloadOptions* wo);
+
+/// "512x512, 1 spp, seed 1, scanline order, depth 2"
+std::string workload_line(const WorkloadOptions& wo);
+
+/// "effects (--effects SPEC):" and one line per effect.
+void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::string& spec);
+
+// ---- predictor options (predict, render) -----------------------------------------------------
+
+struct PredictorArgs {
+  std::string hash = "faithful", table = "unbounded", mode = "closest-exact", combine = "xor";
+  int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
+  uint32_t go_up = 0, nodes_per_entry = 1;
+  int tag_bits = -1;
+  std::string preset;                         // rtl-NAME: an RTL configuration's hash and table
+  std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
+};
+
+void add_predictor_options(CLI::App* app, PredictorArgs& a);
+
+/// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
+void apply_preset(PredictorArgs& a);
+
+/// The parts of the predictor configuration that need no scene; prints the error.
+bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg);
+
+/// Completes the configuration for a scene and its BVH and validates it; prints the error.
+bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scene& scene,
+                             const Bvh& bvh, PredictorConfig* cfg);
+
+/// "hash faithful (P=6 E=3 xor), key ... bits, table ..., go-up 0, mode closest-exact"
+std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, uint64_t table_bytes,
+                           uint64_t table_entries);
+
+}  // namespace hrpp::cli

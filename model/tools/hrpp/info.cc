@@ -1,0 +1,116 @@
+// hrpp info: a scene's triangles, bounds, camera, lights, materials and BVH statistics.
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "common.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/scene/scene.h"
+#include "subcommands.h"
+
+namespace hrpp::cli {
+namespace {
+
+void print_vec(const char* label, const Vec3& v) {
+  std::printf("%s(%g, %g, %g)\n", label, v.x, v.y, v.z);
+}
+
+nlohmann::json bvh_json(const Bvh& bvh) {
+  const BvhStats& s = bvh.stats;
+  return {{"nodes", s.nodes},
+          {"interior", s.interior},
+          {"leaves", s.leaves},
+          {"max_depth", s.max_depth},
+          {"mean_leaf_depth", s.mean_leaf_depth},
+          {"leaf_size_histogram", s.leaf_size_histogram},
+          {"sah_cost", s.sah_cost},
+          {"build_seconds", s.build_seconds},
+          {"max_leaf_size", bvh.options.max_leaf_size},
+          {"memory_bytes", bvh.memory_bytes()}};
+}
+
+int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& json_path) {
+  Scene s = load_scene(path);
+  BvhBuildOptions bo;
+  bo.max_leaf_size = leaf_size;
+  Bvh bvh = build_bvh(s.triangles, bo);
+  std::printf("scene      %s\n", s.path.c_str());
+  std::printf("triangles  %zu (%u degenerate: kept, never hit)\n", s.triangles.size(),
+              s.degenerate_triangles);
+  std::printf("meshes     %zu\n", s.meshes.size());
+  print_vec("bounds     min ", s.bounds.lo);
+  print_vec("           max ", s.bounds.hi);
+  const Camera& c = s.camera;
+  std::printf("camera     %s\n", c.source.c_str());
+  print_vec("           eye ", c.eye);
+  print_vec("           target ", c.target);
+  print_vec("           up ", c.up);
+  std::printf("           fov_y %.4g deg, aspect %.4g, image %dx%d\n", c.fov_y_deg, c.aspect,
+              c.width, c.height);
+  std::printf("lights     %zu punctual, %zu emissive triangles\n", s.lights.size(),
+              s.emissive_triangles().size());
+  for (const Light& l : s.lights) {
+    std::printf("           %-12s %-11s intensity %g colour (%g, %g, %g)", l.name.c_str(),
+                light_type_name(l.type), l.intensity, l.color.x, l.color.y, l.color.z);
+    if (l.type == Light::Type::kDirectional)
+      std::printf(" direction (%g, %g, %g)\n", l.direction.x, l.direction.y, l.direction.z);
+    else
+      std::printf(" position (%g, %g, %g)\n", l.position.x, l.position.y, l.position.z);
+  }
+  std::printf("materials  %zu\n", s.materials.size());
+  std::vector<uint32_t> tri_count(s.materials.size(), 0);
+  for (uint32_t m : s.tri_material) tri_count[m]++;
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    std::printf("           %-18s base (%.3g, %.3g, %.3g) metallic %.3g roughness %.3g", m.name.c_str(),
+                m.base_color.r, m.base_color.g, m.base_color.b, m.metallic, m.roughness);
+    if (m.is_emissive())
+      std::printf(" emission (%.4g, %.4g, %.4g)", m.emission().x, m.emission().y, m.emission().z);
+    if (m.transmission > 0) std::printf(" transmission %.3g ior %.3g", m.transmission, m.ior);
+    std::printf(" %s, %u triangles\n", m.double_sided ? "double-sided" : "one-sided", tri_count[i]);
+  }
+  const BvhStats& st = bvh.stats;
+  std::printf("bvh        binned SAH, %u bins, max leaf %u: %u nodes (%u interior, %u leaves), "
+              "depth max %u mean-leaf %.1f, SAH cost %.2f, %.1f MB, built in %.3f s\n",
+              bvh.options.bins, bvh.options.max_leaf_size, st.nodes, st.interior, st.leaves,
+              st.max_depth, st.mean_leaf_depth, st.sah_cost, bvh.memory_bytes() / 1e6,
+              st.build_seconds);
+  std::printf("           leaf sizes:");
+  for (size_t k = 1; k < st.leaf_size_histogram.size(); ++k)
+    std::printf(" %zu:%u", k, st.leaf_size_histogram[k]);
+  std::printf("\n");
+  if (!json_path.empty()) {
+    nlohmann::json j = {{"scene", s.path},
+                        {"triangles", s.triangles.size()},
+                        {"degenerate_triangles", s.degenerate_triangles},
+                        {"bounds", {{"min", {s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z}},
+                                    {"max", {s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z}}}},
+                        {"camera", c.source},
+                        {"lights", s.lights.size()},
+                        {"emissive_triangles", s.emissive_triangles().size()},
+                        {"materials", s.materials.size()},
+                        {"bvh", bvh_json(bvh)}};
+    if (!write_json_file(json_path, j)) return 2;
+  }
+  return 0;
+}
+
+struct InfoArgs {
+  std::string scene, json_path;
+  uint32_t leaf_size = 4;
+};
+
+}  // namespace
+
+Subcommand add_info(CLI::App& app) {
+  auto a = std::make_shared<InfoArgs>();
+  auto* info = app.add_subcommand("info", "Print a scene's triangles, bounds, camera, lights, "
+                                          "materials and BVH statistics");
+  info->add_option("scene", a->scene, "glTF scene (.glb or .gltf)")->required();
+  info->add_option("--leaf-size", a->leaf_size, "maximum triangles per BVH leaf")
+      ->check(CLI::Range(1, 64));
+  info->add_option("--json", a->json_path, "also write the summary as JSON to this file");
+  return {info, [a] { return cmd_info(a->scene, a->leaf_size, a->json_path); }};
+}
+
+}  // namespace hrpp::cli

@@ -1,0 +1,51 @@
+// hrpp: the project's command-line tool. `hrpp --help` and `hrpp SUBCOMMAND --help` list options.
+// Each subcommand lives in its own file (subcommands.h); this file parses the command line, runs
+// the chosen subcommand and turns errors into exit codes.
+//
+// Exit codes: 0 success; 1 a check failed (e.g. check-embree found mismatches); 2 bad input
+// (bad option, unreadable or malformed scene or ray stream, unwritable output).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/report/render.h"
+#include "hrpp/scene/scene.h"
+#include "subcommands.h"
+
+int main(int argc, char** argv) {
+  using namespace hrpp;
+  using namespace hrpp::cli;
+  CLI::App app{"HRPP: hash-based ray path prediction - golden model tool"};
+  app.require_subcommand(1);
+  // In this order in `hrpp --help`.
+  const std::vector<Subcommand> subcommands = {
+      add_info(app),  add_check_embree(app), add_predict(app),
+      add_sweep(app), add_trace(app),        add_render(app),
+  };
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    for (const Subcommand& s : subcommands)
+      if (*s.app) return s.run();
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
+    return 2;
+  } catch (const StreamError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
+    return 2;
+  } catch (const RenderError& e) {
+    std::fprintf(stderr, "hrpp: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hrpp: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
