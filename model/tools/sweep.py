@@ -847,7 +847,7 @@ def doc_recommend(rows):
             if best is None:
                 return ("none saves anything" if u["saved_cycles"] <= 0
                         else f"none of the swept tables (unbounded {pct(u['saved_cycles'])})")
-            return (f"{best['table']}, {best['table_bytes'] / 1024:.1f} KB: "
+            return (f"{best['table']}, {best['table_bytes'] / 1e3:.1f} KB: "
                     f"{pct(best['saved_cycles'])} of {pct(u['saved_cycles'])}")
 
         for kk, by in rowkey.items():
