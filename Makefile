@@ -150,7 +150,8 @@ synth-check: build
 # What accuracy costs in time (docs/cost_model.md, model/tools/sweep.py): predictor parameters
 # swept over the shared scenes as Dask tasks (a local cluster of JOBS workers; SWEEP_SCHEDULER=
 # tcp://HOST:PORT for a remote one), CSVs in out/sweep/; `make report` adds the plots and
-# out/report.md. About 15 minutes on 2 cores at the default 256x256, 1 spp.
+# out/report.md, and rewrites the sweep-* blocks of docs/results.md. About 15 minutes on 2 cores
+# at the default 256x256, 1 spp.
 # ---------------------------------------------------------------------------------------------
 SWEEP_SCENES    ?= $(wildcard $(SHARED)/scenes/*.glb)
 SWEEP_RES       ?= 256x256
@@ -175,7 +176,8 @@ sweep: build
 report: sweep
 	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/grid.csv \
 	  $(OUT)/sweep/latency.csv $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots \
-	  --report $(OUT)/report.md --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
+	  --report $(OUT)/report.md --doc docs/results.md \
+	  --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
 
 # Benchmark (model/tools/bench/; not a test): our BVH build, traversal and predictor against
 # Embree on the same rays of every shared scene, the RTL co-simulation's throughput, peak memory,

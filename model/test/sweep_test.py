@@ -132,6 +132,66 @@ class Tiny(unittest.TestCase):
             self.assertIn("## Pipeline latency against the untimed model", report)
             self.assertIn("| cornell_box | all | default | 100 | 63 |", report)
 
+    def test_doc_blocks(self):
+        """--doc rewrites the sweep-* blocks of a copy of docs/results.md and nothing else."""
+        page = ROOT / "docs" / "results.md"
+        with tempfile.TemporaryDirectory() as d:
+            grid, lat, delay = (os.path.join(d, f"{n}.csv") for n in ("grid", "lat", "delay"))
+            common = [CORNELL, "--res", "32x32", "--no-dask", "--no-timing"]
+            for csv_, params in ((grid, ["precision=4,5", "table=16x2,unbounded",
+                                         "mode=closest-exact,closest-spec"]),
+                                 (lat, ["table=16x2", "mode=anyhit,closest-spec",
+                                        "latency=none,0"]),
+                                 (delay, ["table=16x2", "mode=anyhit,closest-spec",
+                                          "update_delay=0,16"])):
+                p = run_sweep(*common, *[a for v in params for a in ("--param", v)],
+                              "--csv", csv_)
+                self.assertEqual(p.returncode, 0, p.stderr)
+            doc = pathlib.Path(d, "results.md")
+            doc.write_text(page.read_text())
+            p = run_sweep("--from-csv", grid, lat, delay, "--doc", str(doc))
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("sweep: wrote sweep-pareto, sweep-latency, sweep-delay, sweep-spec, "
+                          "sweep-recommend blocks of", p.stderr)
+            old, new = page.read_text(), doc.read_text()
+
+            def split(text):  # (text outside the blocks, {name: body})
+                bodies = {}
+                for name in sweep.DOC_BLOCKS:
+                    begin, end = sweep.markers(name)
+                    head, rest = text.split(begin, 1)
+                    bodies[name], tail = rest.split(end, 1)
+                    text = head + begin + end + tail
+                return text, bodies
+
+            old_out, old_blocks = split(old)
+            new_out, new_blocks = split(new)
+            self.assertEqual(old_out, new_out)  # the hand-written text is left alone
+            for name in sweep.DOC_BLOCKS:
+                self.assertTrue(old_blocks[name] != new_blocks[name], f"{name} not rewritten")
+                self.assertIn("| cornell_box |", new_blocks[name], name)
+            self.assertIn("| cornell_box | all | closest-hit |", new_blocks["sweep-pareto"])
+            self.assertRegex(new_blocks["sweep-pareto"],
+                             r"P=4 16x2 closest-spec \(\d+, \d+\.\d\d%\)")
+            self.assertIn("no predictor (", new_blocks["sweep-pareto"])
+            self.assertIn("| scene | mode | precision: untimed / 16 rays |",
+                          new_blocks["sweep-latency"])
+            self.assertIn("| cornell_box | closest-spec |", new_blocks["sweep-latency"])
+            self.assertIn("recall at 0 / 16 rays of delay", new_blocks["sweep-delay"])
+            self.assertIn("| scene | mode | P = 4 | P = 5 |", new_blocks["sweep-recommend"])
+            self.assertIn("- one more bit of precision (P to P+1):", new_blocks["sweep-recommend"])
+            # The same rows give the same page.
+            p = run_sweep("--from-csv", grid, lat, delay, "--doc", str(doc))
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(doc.read_text(), new)
+            # A page without the blocks is an error, and is left as it was.
+            bare = pathlib.Path(d, "bare.md")
+            bare.write_text("# no blocks\n")
+            p = run_sweep("--from-csv", grid, "--doc", str(bare))
+            self.assertEqual(p.returncode, 2)
+            self.assertIn("no sweep-pareto, sweep-latency", p.stderr)
+            self.assertEqual(bare.read_text(), "# no blocks\n")
+
 
 class Errors(unittest.TestCase):
     def test_bad_input(self):

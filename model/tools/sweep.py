@@ -29,6 +29,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import markers, update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
 
 # Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
@@ -552,11 +553,17 @@ def latency_section(rows, varied):
     return out + [""]
 
 
+def spec_best(rows):
+    """(scene, its closest-spec row of all rays with the most saved cycles), by scene."""
+    spec = [r for r in rows if r["kind"] == "all" and r["mode"] == "closest-spec"]
+    return [(s, max((r for r in spec if r["scene"] == s), key=lambda r: r["saved_cycles"]))
+            for s in sorted({r["scene"] for r in spec})]
+
+
 def spec_section(rows, varied, path):
     """Per scene, the closest-spec configuration that saves the most cycles: its wrong answers and
     image error, with its exact | speculative | difference picture when the sweep wrote one."""
-    spec = [r for r in rows if r["kind"] == "all" and r["mode"] == "closest-spec"]
-    if not spec:
+    if not spec_best(rows):
         return []
     out = ["## Speculative closest hits at the configuration that saves the most time", "",
            "Image error of the primary rays' picture (base colour under a light at the eye; "
@@ -565,8 +572,7 @@ def spec_section(rows, varied, path):
            "| scene | configuration | saved cycles | wrong answers (all rays) | MAE | pixels "
            "differ | picture |", "|---|---|---|---|---|---|---|"]
     pics = []
-    for s in sorted({r["scene"] for r in spec}):
-        best = max((r for r in spec if r["scene"] == s), key=lambda r: r["saved_cycles"])
+    for s, best in spec_best(rows):
         pic = best.get("spec_image", "")
         link = "-"
         if pic:
@@ -579,35 +585,33 @@ def spec_section(rows, varied, path):
     return out + [""] + [p + "\n" for p in pics]
 
 
-def recommend(rows, varied):
-    """The smallest finite table keeping 90% of the unbounded table's cycle savings (same other
-    parameters), and what one more bit of precision or one more way buys."""
-    out = []
+def smallest_tables(rows, varied):
+    """Per unbounded-table configuration of all rays (sorted by scene): (its other parameters as
+    {name: value}, the unbounded row, the smallest finite table's row keeping 90% of its saved
+    cycles with the same other parameters, or None)."""
     allrows = [r for r in rows if r["kind"] == "all"]
     others = [n for n in varied if n != "table"]
 
-    def key(r, skip):
-        return tuple(r[n] for n in others if n not in skip) + (r["scene"],)
+    def key(r):
+        return tuple(r[n] for n in others) + (r["scene"],)
 
-    unb = {key(r, ()): r for r in allrows if r["table"] == "unbounded"}
-    if unb:
-        out += ["Smallest table keeping 90% of the unbounded table's saved cycles (same other "
-                "parameters):", "", "| scene | other parameters | unbounded saves | smallest "
-                "table | its bytes | it saves |", "|---|---|---|---|---|---|"]
-        for kk, u in sorted(unb.items(), key=lambda x: x[0][::-1]):
-            cands = sorted((r for r in allrows if r["table"] != "unbounded" and key(r, ()) == kk),
-                           key=lambda r: r["table_bytes"])
-            best = next((r for r in cands if u["saved_cycles"] > 0
-                         and r["saved_cycles"] >= 0.9 * u["saved_cycles"]), None)
-            oth = " ".join(f"{n}={u[n]}" for n in others) or "-"
-            if best is None:
-                msg = ("none saves anything" if u["saved_cycles"] <= 0
-                       else "none of the swept tables")
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {msg} | - | - |")
-            else:
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {best['table']} "
-                           f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
-        out.append("")
+    out = []
+    unb = {key(r): r for r in allrows if r["table"] == "unbounded"}
+    for kk, u in sorted(unb.items(), key=lambda x: x[0][::-1]):
+        cands = sorted((r for r in allrows if r["table"] != "unbounded" and key(r) == kk),
+                       key=lambda r: r["table_bytes"])
+        best = next((r for r in cands if u["saved_cycles"] > 0
+                     and r["saved_cycles"] >= 0.9 * u["saved_cycles"]), None)
+        out.append(({n: u[n] for n in others}, u, best))
+    return out
+
+
+def deltas(rows):
+    """What one more bit of precision (or origin or direction bit) or the next number of ways buys:
+    the mean, min and max difference in saved cycles (all rays) over every pair of configurations
+    of a scene that differ only there. [(what, [differences])], the swept ones only."""
+    allrows = [r for r in rows if r["kind"] == "all"]
+    out = []
 
     def delta(param, step_ok, what):
         d = []
@@ -620,8 +624,7 @@ def recommend(rows, varied):
                 if step_ok(a[param], b[param]):
                     d.append(b["saved_cycles"] - a["saved_cycles"])
         if d:
-            out.append(f"- {what}: {100 * sum(d) / len(d):+.2f} points of saved cycles on average "
-                       f"(min {100 * min(d):+.2f}, max {100 * max(d):+.2f}; {len(d)} pairs)")
+            out.append((what, d))
 
     def int_step(a, b):
         return a.isdigit() and b.isdigit() and int(b) == int(a) + 1
@@ -641,10 +644,244 @@ def recommend(rows, varied):
         return sa == sb and larger and wb == larger[0]
 
     delta("table", more_ways, "the next number of ways (same sets)")
+    return out
+
+
+def delta_lines(rows):
+    return [f"- {what}: {100 * sum(d) / len(d):+.2f} points of saved cycles on average "
+            f"(min {100 * min(d):+.2f}, max {100 * max(d):+.2f}; {len(d)} pairs)"
+            for what, d in deltas(rows)]
+
+
+def recommend(rows, varied):
+    """The smallest finite table keeping 90% of the unbounded table's cycle savings (same other
+    parameters), and what one more bit of precision or one more way buys."""
+    out = []
+    smallest = smallest_tables(rows, varied)
+    if smallest:
+        out += ["Smallest table keeping 90% of the unbounded table's saved cycles (same other "
+                "parameters):", "", "| scene | other parameters | unbounded saves | smallest "
+                "table | its bytes | it saves |", "|---|---|---|---|---|---|"]
+        for oth, u, best in smallest:
+            oth = " ".join(f"{n}={v}" for n, v in oth.items()) or "-"
+            if best is None:
+                msg = ("none saves anything" if u["saved_cycles"] <= 0
+                       else "none of the swept tables")
+                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {msg} | - | - |")
+            else:
+                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {best['table']} "
+                           f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
+        out.append("")
+    out += delta_lines(rows)
     if not out:
         out.append("(sweep `table` with `unbounded` and finite sizes, or `precision`, to get a "
                    "recommendation)")
     return out
+
+
+# ---- docs/results.md's generated blocks ----------------------------------------------------------
+# Summaries of the report's sections, between `<!-- BEGIN sweep-NAME -->` and `<!-- END
+# sweep-NAME -->` in the page (--doc); the page's method and reading stay around them.
+
+DOC_BLOCKS = ("sweep-pareto", "sweep-latency", "sweep-delay", "sweep-spec", "sweep-recommend")
+
+
+def short_label(r):
+    """A configuration in a few words: `P=p SxW MODE` (faithful hash), `improved o/d SxW Tt MODE`,
+    with `lat C` (at the RTL pipeline's update delay for an engine latency of C cycles) or
+    `delay N` (N rays of update delay); `no predictor` for the baseline walk."""
+    if r.get("baseline"):
+        return "no predictor"
+    words = [f"improved {r['origin_bits']}/{r['dir_bits']}" if r["hash"] == "improved"
+             else f"P={r['precision']}", r["table"]]
+    if r["tag_bits"] != "full":
+        words.append(f"T{r['tag_bits']}")
+    words.append(r["mode"])
+    if r["spp"] != PARAMS["spp"][1]:
+        words.append(f"{r['spp']} spp")
+    if r["latency"] != "none":
+        words.append(f"lat {r['latency']}")
+    elif r["update_delay"] != PARAMS["update_delay"][1]:
+        words.append(f"delay {r['update_delay']}")
+    return " ".join(words)
+
+
+def doc_pareto(rows):
+    """One row per scene, ray kind and query: the baseline and the Pareto front, equal points
+    merged (`+N ties`), fronts of more than six points shortened to the fastest three and the
+    most accurate two."""
+    out = ["| scene | kind | query | baseline cycles/ray | Pareto front: configuration "
+           "(cycles/ray, correct answers) |", "|---|---|---|---|---|"]
+    for (s, k, q), pts in sorted(groups(rows, by_query=True).items(),
+                                 key=lambda x: (x[0][0], KIND_ORDER.index(x[0][1]), x[0][2])):
+        pts = with_baselines(pts)
+        entries = []  # [point, ties]
+        for i in pareto_front(pts, ["hrpp_cycles_per_ray"], ["accuracy"]):
+            p = pts[i]
+            if entries and all(entries[-1][0][m] == p[m]
+                               for m in ("hrpp_cycles_per_ray", "accuracy")):
+                entries[-1][1] += 1
+                continue
+            entries.append([p, 0])
+        cells = [f"{short_label(p)}{f' +{n} ties' if n else ''} "
+                 f"({p['hrpp_cycles_per_ray']:.0f}, {pct(p['accuracy'])})" for p, n in entries]
+        if len(cells) > 6:
+            cells = cells[:3] + [f"... {len(cells) - 5} more ..."] + cells[-2:]
+        base = " / ".join(f"{b:.0f}" for b in sorted({p["baseline_cycles_per_ray"] for p in pts}))
+        out.append(f"| {s} | {k} | {q} | {base} | {'; '.join(cells)} |")
+    return out
+
+
+def swept_against(rows, param, fixed):
+    """Rows of all rays whose FIXED parameters have their defaults, grouped by scene and the other
+    parameters, where PARAM takes more than one value: ({(scene, others): [rows]}, the other
+    parameters that vary between the groups)."""
+    sel = [r for r in rows if r["kind"] == "all"
+           and all(r[n] == PARAMS[n][1] for n in fixed)]
+    names = [n for n in PARAMS if n != param]
+    g = {}
+    for r in sel:
+        g.setdefault((r["scene"], tuple(r[n] for n in names)), []).append(r)
+    g = {kk: v for kk, v in g.items() if len({r[param] for r in v}) > 1}
+    vary = [n for i, n in enumerate(names)
+            if len({o[i] for (_, o) in g}) > 1]
+    # By scene, then in the order of the sweep that varied PARAM (its first row off the default).
+    first = {}
+    for i, r in enumerate(rows):
+        if r[param] != PARAMS[param][1]:
+            first.setdefault((r["scene"], tuple(r[n] for n in names)), i)
+    return dict(sorted(g.items(), key=lambda x: (x[0][0], first.get(x[0], -1)))), vary
+
+
+def config_cell(r, vary):
+    return r["mode"] if vary == ["mode"] else " ".join(f"{n}={r[n]}" for n in vary) or "default"
+
+
+def doc_latency(rows):
+    """The untimed model against the RTL pipeline's update delays (latency sweep), all rays."""
+    g, vary = swept_against(rows, "latency", ["update_delay"])
+    if not g:
+        return []
+    lats = sorted({r["latency"] for v in g.values() for r in v},
+                  key=lambda c: -1 if c == "none" else int(c))
+
+    def head(c):
+        if c == "none":
+            return "untimed"
+        d = {int(r["update_delay_rays"]) for v in g.values() for r in v if r["latency"] == c}
+        return f"{d.pop()} rays" if len(d) == 1 else f"latency {c}"
+
+    heads = " / ".join(head(c) for c in lats)
+    out = [f"| scene | {'mode' if vary == ['mode'] else 'configuration'} | precision: {heads} | "
+           "recall | skipped interior tests | saved cycles |", "|---|---|---|---|---|---|"]
+    for (s, _), pts in g.items():
+        by = {r["latency"]: r for r in pts}
+
+        def cells(f):
+            return " / ".join(f(by[c]) if c in by else "-" for c in lats)
+
+        out.append(f"| {s} | {config_cell(pts[0], vary)} | "
+                   f"{cells(lambda r: format(r['pred_precision'], '.3f'))} | "
+                   f"{cells(lambda r: format(r['pred_recall'], '.3f'))} | "
+                   f"{cells(lambda r: format(100 * r['skipped_interior'], '.1f') + '%')} | "
+                   f"{cells(lambda r: format(100 * r['saved_cycles'], '.1f') + '%')} |")
+    return out
+
+
+def doc_delay(rows):
+    """Recall and saved cycles against the update delay in rays (untimed otherwise), all rays."""
+    g, vary = swept_against(rows, "update_delay", ["latency"])
+    if not g:
+        return []
+    delays = sorted({r["update_delay"] for v in g.values() for r in v}, key=int)
+    heads = " / ".join(delays)
+    out = [f"| scene | {'mode' if vary == ['mode'] else 'configuration'} | recall at {heads} "
+           f"rays of delay | saved cycles at {heads} |", "|---|---|---|---|"]
+    for (s, _), pts in g.items():
+        by = {r["update_delay"]: r for r in pts}
+
+        def cells(f):
+            return " / ".join(f(by[d]) if d in by else "-" for d in delays)
+
+        out.append(f"| {s} | {config_cell(pts[0], vary)} | "
+                   f"{cells(lambda r: format(r['pred_recall'], '.3f'))} | "
+                   f"{cells(lambda r: format(100 * r['saved_cycles'], '.1f') + '%')} |")
+    return out
+
+
+def doc_spec(rows):
+    """Per scene, the closest-spec configuration that saves the most cycles (spec_section's
+    choice; the report names it): its wrong answers and image error."""
+    best = spec_best(rows)
+    if not best:
+        return []
+    out = ["| scene | saved cycles | wrong answers (all rays) | mean absolute error (0..1) | "
+           "pixels that differ |", "|---|---|---|---|---|"]
+    for s, b in best:
+        out.append(f"| {s} | {pct(b['saved_cycles'])} | "
+                   f"{pct(b['wrong_fraction'])} | {b['image_mae']:.5f} | "
+                   f"{pct(b['image_differ'])} |")
+    return out
+
+
+def doc_recommend(rows):
+    """The smallest table keeping 90% of the unbounded table's saved cycles, one column per
+    precision when it was swept, and what one more bit or way buys."""
+    varied = varied_params(rows)
+    smallest = smallest_tables(rows, varied)
+    out = []
+    if smallest:
+        col = "precision" if "precision" in varied else None
+        cols = sorted({o[col] for o, _, _ in smallest}, key=int) if col else [None]
+        rest = [n for n in smallest[0][0] if n != col
+                and len({o[n] for o, _, _ in smallest}) > 1]
+        rowkey = {}
+        for o, u, best in smallest:
+            rowkey.setdefault((u["scene"],) + tuple(o[n] for n in rest), {})[o.get(col)] = (u, best)
+        what = "mode" if rest == ["mode"] else "configuration"
+        heads = " | ".join(f"P = {c}" for c in cols) if col else "smallest table"
+        out += [f"| scene | {what} | {heads} |", "|---|---|" + "---|" * len(cols)]
+
+        def cell(ub):
+            if ub is None:
+                return "-"
+            u, best = ub
+            if best is None:
+                return ("none saves anything" if u["saved_cycles"] <= 0
+                        else f"none of the swept tables (unbounded {pct(u['saved_cycles'])})")
+            return (f"{best['table']}, {best['table_bytes'] / 1e3:.1f} KB: "
+                    f"{pct(best['saved_cycles'])} of {pct(u['saved_cycles'])}")
+
+        for kk, by in rowkey.items():
+            out.append(f"| {kk[0]} | {' '.join(kk[1:]) or '-'} | "
+                       + " | ".join(cell(by.get(c)) for c in cols) + " |")
+        out.append("")
+    out += delta_lines(rows)
+    return out
+
+
+def doc_blocks(rows):
+    """The page's generated blocks (name -> Markdown) that these rows can fill."""
+    blocks = {"sweep-pareto": doc_pareto(rows), "sweep-latency": doc_latency(rows),
+              "sweep-delay": doc_delay(rows), "sweep-spec": doc_spec(rows),
+              "sweep-recommend": doc_recommend(rows)}
+    return {n: "\n".join(b) for n, b in blocks.items() if b}
+
+
+def write_doc(path, rows):
+    """Rewrites the sweep-* blocks of the page PATH that ROWS fill; every block must be marked in
+    it. Returns the names of the blocks written."""
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise BadInput(f"--doc {path}: no such file")
+    text = path.read_text()
+    missing = [n for n in DOC_BLOCKS if any(m not in text for m in markers(n))]
+    if missing:
+        raise BadInput(f"--doc {path}: no {', '.join(missing)} block (<!-- BEGIN NAME --> ... "
+                       "<!-- END NAME -->)")
+    blocks = doc_blocks(rows)
+    update_blocks(path, blocks)
+    return list(blocks)
 
 
 def main():
@@ -658,6 +895,8 @@ def main():
     ap.add_argument("--csv", help="CSV file to write (required unless --from-csv)")
     ap.add_argument("--plots", help="directory for the PNG plots")
     ap.add_argument("--report", help="markdown report to write (plots need --plots)")
+    ap.add_argument("--doc", help="rewrite the sweep-* blocks of this page (docs/results.md) "
+                                  "with summaries of the report's tables")
     ap.add_argument("--images", help="directory for each closest-spec run's exact | speculative | "
                                      "difference picture")
     ap.add_argument("--from-csv", nargs="+", help="plot and report these CSVs; run nothing")
@@ -710,6 +949,13 @@ def main():
     if args.report:
         report(rows, plots, args.report, command)
         print(f"sweep: wrote {args.report}", file=sys.stderr)
+    if args.doc:
+        try:
+            names = write_doc(args.doc, rows)
+        except BadInput as e:
+            print(f"hrpp sweep: {e}", file=sys.stderr)
+            return 2
+        print(f"sweep: wrote {', '.join(names) or 'no'} blocks of {args.doc}", file=sys.stderr)
     return 0
 
 
