@@ -16,6 +16,8 @@
 #include "hrpp/predictor/predictor.h"
 #include "hrpp/workload/ray_stream.h"
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/hardware/rtl_update_delay.h"
+#include "hrpp/report/spec_image.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/predictor/tiled_predictor.h"
 #include "hrpp/workload/workload.h"

@@ -1,7 +1,7 @@
 // What accuracy costs in time (docs/cost_model.md): a cycle cost model of a ray-tracing unit
-// applied to the predictor's work counters. The table update delay of the RTL pipeline
-// (rtl_update_delay.h) and the image error of speculative closest hits (spec_image.h, in the
-// report library hrpp_report) are included here for the tools that use all three.
+// applied to the predictor's work counters. The table update delay of the RTL pipeline is in
+// hrpp/hardware/rtl_update_delay.h, the image error of speculative closest hits in
+// hrpp/report/spec_image.h (the report library hrpp_report).
 #pragma once
 
 #include <cstdint>
@@ -9,8 +9,6 @@
 
 #include "hrpp/predictor/predictor.h"
 #include "hrpp/rtl_config_data.h"
-#include "hrpp/hardware/rtl_update_delay.h"
-#include "hrpp/report/spec_image.h"
 
 namespace hrpp {
 
