@@ -1,0 +1,71 @@
+// tb_hrpp: the RTL parity testbench (tb/README.md). The golden model generates real ray streams
+// and plays the traversal engine; every cycle every DUT output is compared with the cycle model.
+//
+//   tb_hrpp --scene SCENE|--stream FILE|--latency [--rays N] [--config small|default|large|mutant]
+//           [--mode anyhit|closest-exact|closest-spec] [--seed S] [--trace FILE.vcd]
+//           [--reset-every N] [--stall-gap G --stall-max M] [--stress KIND] [+verilator+...]
+//
+// The coordinator: the options (tb_options.h), the configuration (tb_config.h; the Verilated
+// models tb_dut.h), the rays (tb_rays.h), the runs (tb_run.h; --latency: tb_latency_check.h) and
+// the report (tb_report.h).
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <exception>
+#include <filesystem>
+
+#include "hrpp/hardware/rtl_config.h"
+#include "stress.h"
+#include "tb_config.h"
+#include "tb_latency_check.h"
+#include "tb_options.h"
+#include "tb_rays.h"
+#include "tb_report.h"
+#include "tb_run.h"
+
+namespace hrpp::tb {
+namespace {
+
+int main_impl(int argc, char** argv) {
+  TbOptions o;
+  if (const std::optional<int> exit_code = parse_options(argc, argv, &o)) return *exit_code;
+  if (o.latency) return check_latencies(rtl_config(o.config), o.eo.mode);
+
+  if (o.skip_missing && !o.scene_path.empty() && !std::filesystem::exists(o.scene_path)) {
+    std::printf("SKIP: %s is absent\n", o.scene_path.c_str());
+    return 77;
+  }
+  const RtlConfig spec = rtl_config(o.config);  // rtl/config/hrpp_configs.json
+  TbRays rays;
+  if (const int rc = load_rays(o, &rays)) return rc;
+  CycleConfig cc;
+  if (const int rc = configure_for_scene(spec, o.eo.mode, rays.scene, rays.bvh, &cc)) return rc;
+  o.eo.id_bits = cc.id_bits;
+  StressKind stress_kind{};
+  if (!o.stress.empty())
+    if (const int rc = make_stress_rays(o, spec, cc, &stress_kind, &rays)) return rc;
+  print_header(spec, cc, o, rays);
+
+  const auto t_sim = std::chrono::steady_clock::now();
+  const std::clock_t cpu_sim = std::clock();
+  const Run r = run_lockstep(o.config, cc, rays.bvh, rays.rays, o.eo, o.ro, o.trace);
+  print_parity(r, t_sim, cpu_sim);
+  if (const int rc = report_lockstep(r, o, spec, stress_kind, rays.rays.size())) return rc;
+
+  // The same closed loop with the cycle model alone must give the same statistics.
+  const Run m = run_model(cc, rays.bvh, rays.rays, o.eo, o.ro);
+  const PredictStats untimed = run_untimed(cc, rays.bvh, rays.rays, o.go_up, o.eo.mode);
+  return report_statistics(r, m, untimed, o);
+}
+
+}  // namespace
+}  // namespace hrpp::tb
+
+int main(int argc, char** argv) {
+  try {
+    return hrpp::tb::main_impl(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tb_hrpp: %s\n", e.what());
+    return 2;
+  }
+}

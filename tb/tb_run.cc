@@ -1,0 +1,251 @@
+#include "tb_run.h"
+
+#include <verilated_vcd_c.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "tb_dut.h"
+
+namespace hrpp::tb {
+namespace {
+
+// Compares every output; payloads are compared while their valid is set (a FIFO's head is
+// undefined while it is empty). Returns a description of the first difference, or "".
+std::string compare(const DutOut& exp, const DutOut& act, uint32_t k) {
+  char buf[256];
+  auto diff = [&](const char* sig, uint64_t e, uint64_t a, uint32_t id) {
+    std::snprintf(buf, sizeof buf, "signal %s: expected 0x%llx, actual 0x%llx (ray id %u)", sig,
+                  (unsigned long long)e, (unsigned long long)a, id);
+    return std::string(buf);
+  };
+  if (exp.ray_ready != act.ray_ready) return diff("ray_ready_o", exp.ray_ready, act.ray_ready, 0);
+  if (exp.pw_ready != act.pw_ready) return diff("pw_ready_o", exp.pw_ready, act.pw_ready, 0);
+  if (exp.outcome_ready != act.outcome_ready)
+    return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
+  if (exp.pred_valid != act.pred_valid)
+    return diff("pred_valid_o", exp.pred_valid, act.pred_valid, exp.pred_id);
+  if (exp.pred_valid) {
+    if (exp.pred_id != act.pred_id) return diff("pred_id_o", exp.pred_id, act.pred_id, exp.pred_id);
+    if (exp.pred_invalid != act.pred_invalid)
+      return diff("pred_invalid_o", exp.pred_invalid, act.pred_invalid, exp.pred_id);
+    if (exp.pred_count != act.pred_count)
+      return diff("pred_count_o", exp.pred_count, act.pred_count, exp.pred_id);
+    for (uint32_t i = 0; i < k; ++i)
+      if (exp.pred_nodes[i] != act.pred_nodes[i])
+        return diff(("pred_nodes_o[" + std::to_string(i) + "]").c_str(), exp.pred_nodes[i],
+                    act.pred_nodes[i], exp.pred_id);
+  }
+  if (exp.skip_valid != act.skip_valid)
+    return diff("skip_valid_o", exp.skip_valid, act.skip_valid, exp.skip_id);
+  if (exp.skip_valid) {
+    if (exp.skip_id != act.skip_id) return diff("skip_id_o", exp.skip_id, act.skip_id, exp.skip_id);
+    if (exp.skip_action != act.skip_action)
+      return diff("skip_action_o", uint64_t(exp.skip_action), uint64_t(act.skip_action), exp.skip_id);
+  }
+  return {};
+}
+
+constexpr uint64_t kMaxCyclesPerRay = 200;
+
+// A reset begins: the engine drops the rays in flight (it offers them again); counted in `run`.
+void begin_reset(Engine& eng, Run& run) {
+  const uint64_t d = eng.reset();
+  run.resets++;
+  run.dropped += d;
+  run.resets_with_rays += d > 0;
+}
+
+// Resets in the middle of the stream: the first after `every` cycles on average (uniform in
+// [every/2, 3*every/2]), each 1..max_len cycles long, the next `every` cycles (again uniform)
+// after the previous one ends. Seeded, so the DUT run and the cycle-model run reset at the same
+// cycles.
+class ResetSchedule {
+ public:
+  ResetSchedule(uint64_t every, uint64_t max_len, uint64_t seed)
+      : every_(every), max_len_(std::max<uint64_t>(1, max_len)), rng_(seed ^ 0x5245'5345'54ull) {
+    if (every_) next_ = gap();
+  }
+  /// Whether rst_ni is low in this cycle; *starts: a reset begins in this cycle.
+  bool step(uint64_t cycle, bool* starts) {
+    *starts = false;
+    if (!every_) return false;
+    if (cycle == next_) {
+      *starts = true;
+      end_ = cycle + std::uniform_int_distribution<uint64_t>(1, max_len_)(rng_);
+    }
+    if (cycle >= next_ && cycle < end_) return true;
+    if (cycle == end_) next_ = end_ + gap();
+    return false;
+  }
+  uint64_t max_len() const { return max_len_; }
+
+ private:
+  uint64_t gap() {
+    return std::uniform_int_distribution<uint64_t>(every_ / 2, every_ * 3 / 2)(rng_);
+  }
+  uint64_t every_, max_len_;
+  std::mt19937_64 rng_;
+  uint64_t next_ = ~0ull, end_ = ~0ull;
+};
+
+// The cycle limit of a run: a budget per ray, per ray dropped by a reset, per reset, per stall.
+uint64_t cycle_limit(const CycleConfig& cc, size_t rays, const Run& run, const EngineOptions& eo,
+                     uint64_t reset_max_len) {
+  return cc.table.sets + kMaxCyclesPerRay * (rays + 10 + run.dropped) +
+         run.resets * (cc.table.sets + reset_max_len) + 8 * eo.stall_max;
+}
+
+// DUT and cycle model in lockstep.
+template <typename M>
+Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+            const EngineOptions& eo, const RunOptions& ro, const std::string& trace_path) {
+  auto ctx = std::make_unique<VerilatedContext>();
+  // +verilator+rand+reset+2 +verilator+seed+N: random values in every variable without a reset
+  // (they must be given before the model is constructed).
+  std::vector<const char*> args{"tb_hrpp"};
+  for (const std::string& a : ro.plusargs) args.push_back(a.c_str());
+  ctx->commandArgs(int(args.size()), args.data());
+  if (!ro.plusargs.empty())
+    std::printf("verilator: rand-reset %d, seed %d (uninitialised state %s)\n", ctx->randReset(),
+                ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
+  ctx->traceEverOn(!trace_path.empty());
+  auto dut = std::make_unique<M>(ctx.get());
+  std::unique_ptr<VerilatedVcdC> vcd;
+  if (!trace_path.empty()) {
+    vcd = std::make_unique<VerilatedVcdC>();
+    dut->trace(vcd.get(), 99);
+    vcd->open(trace_path.c_str());
+  }
+  CycleModel model(cc);
+  Engine eng(bvh, rays, eo);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
+  Run run;
+  uint64_t time = 0;
+  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
+  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
+  apply(dut.get(), DutIn{});
+  dut->rst_ni = 0;
+  for (int i = 0; i < 4; ++i) {
+    dut->clk_i = i & 1;
+    dut->eval();
+    if (vcd) vcd->dump(time++);
+  }
+  dut->clk_i = 0;
+  dut->rst_ni = 1;
+  dut->eval();
+  for (uint64_t cycle = 0; !eng.done(); ++cycle) {
+    if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
+      std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
+                  (unsigned long long)eng.rays_finished(), rays.size(), (unsigned long long)cycle);
+      run.ok = false;
+      break;
+    }
+    // Reset: rst_ni goes low (asynchronously, with the clock low) at the start of the cycle and
+    // rises at the start of the cycle after the last one; the cycle model is reset in every
+    // cycle of it, the engine once as it begins.
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) begin_reset(eng, run);
+    if (in_reset) {
+      run.reset_cycles++;
+      model.reset();
+    }
+    dut->rst_ni = !in_reset;
+    DutIn in;
+    eng.drive(cycle, &in);
+    apply(dut.get(), in);
+    dut->clk_i = 0;
+    dut->eval();
+    if (vcd) vcd->dump(time++);
+    const DutOut act = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
+    const DutOut exp = model.outputs();
+    const std::string d = compare(exp, act, cc.table.nodes_per_entry);
+    if (!d.empty()) {
+      std::printf("MISMATCH at cycle %llu: %s\n", (unsigned long long)cycle, d.c_str());
+      run.mismatches++;
+      run.cycles = cycle;
+      break;  // the first mismatch stops the run
+    }
+    eng.observe(cycle, in, act);
+    if (!eng.error().empty()) {
+      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, eng.error().c_str());
+      run.ok = false;
+      break;
+    }
+    dut->clk_i = 1;
+    dut->eval();
+    if (vcd) vcd->dump(time++);
+    if (!in_reset) model.tick(in);
+    if (!model.error().empty()) {
+      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
+      run.ok = false;
+      break;
+    }
+    run.cycles = cycle + 1;
+    if (ctx->gotFinish()) {
+      std::printf("FAIL: the simulation finished early (an assertion?) at cycle %llu\n",
+                  (unsigned long long)cycle);
+      run.ok = false;
+      break;
+    }
+  }
+  dut->final();
+  if (vcd) vcd->close();
+  run.stats = eng.stats();
+  run.exactly_once = eng.check_exactly_once();
+  for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = eng.stall_stats(p);
+  run.table = model.stats();
+  run.table_used = model.table().entries_used();
+  return run;
+}
+
+}  // namespace
+
+Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
+                 const std::vector<RayRecord>& rays, const EngineOptions& eo,
+                 const RunOptions& ro, const std::string& trace) {
+  return with_model(config,
+                    [&]<typename M>() { return run_dut<M>(cc, bvh, rays, eo, ro, trace); });
+}
+
+// The cycle model alone in the same closed loop.
+Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+              const EngineOptions& eo, const RunOptions& ro) {
+  CycleModel model(cc);
+  Engine eng(bvh, rays, eo);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
+  Run run;
+  for (uint64_t cycle = 0;
+       !eng.done() && cycle <= cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len); ++cycle) {
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) begin_reset(eng, run);
+    if (in_reset) model.reset();
+    DutIn in;
+    eng.drive(cycle, &in);
+    eng.observe(cycle, in, model.outputs());
+    if (!in_reset) model.tick(in);
+    run.cycles = cycle + 1;
+  }
+  run.ok = eng.done() && eng.error().empty() && model.error().empty();
+  run.stats = eng.stats();
+  run.exactly_once = eng.check_exactly_once();
+  return run;
+}
+
+PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh,
+                         const std::vector<RayRecord>& rays, uint32_t go_up, PredictMode mode) {
+  PredictorConfig pc;
+  pc.hash = cc.hash;
+  pc.table = cc.table;
+  pc.go_up = go_up;
+  pc.mode = mode;
+  Predictor untimed(bvh, pc);
+  for (const RayRecord& ray : rays) untimed.process(ray);
+  return untimed.total();
+}
+
+}  // namespace hrpp::tb
