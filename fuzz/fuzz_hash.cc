@@ -42,8 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (key != ref)
     fuzz::violated("hash_key " + std::to_string(key) + " != reference " + std::to_string(ref) +
                    " (" + hash_variant_name(cfg.variant) + ")");
-  if (cfg.key_bits() < 64 && key >> cfg.key_bits())
-    fuzz::violated("key wider than key_bits()");
+  if (cfg.key_bits() < 64 && key >> cfg.key_bits()) fuzz::violated("key wider than key_bits()");
   const HashKey k = split_key(key, cfg);
   if (k.index != test::ref_index(key, cfg.index_bits))
     fuzz::violated("split_key index " + std::to_string(k.index) + " != reference " +

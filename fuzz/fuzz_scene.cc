@@ -7,14 +7,16 @@
 #include <string>
 
 #include "fuzz_util.h"
-#include "hrpp/trace/bvh.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 
 using namespace hrpp;
 
 namespace {
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 }  // namespace
 

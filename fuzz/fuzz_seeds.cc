@@ -84,17 +84,23 @@ void scene_seeds(const fs::path& dir, const fs::path& source_dir) {
   write_file(dir / "quad_bin.glb", glb(j, true));
   // Transforms, a camera, lights and material extensions.
   nlohmann::json k = j;
-  k["nodes"] = {{{"name", "parent"}, {"children", {1}}, {"translation", {1, 2, 3}},
-                 {"rotation", {0, 0.7071068, 0, 0.7071068}}, {"scale", {2, 2, 2}}},
-                {{"name", "child"}, {"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -1, 1}}},
+  k["nodes"] = {{{"name", "parent"},
+                 {"children", {1}},
+                 {"translation", {1, 2, 3}},
+                 {"rotation", {0, 0.7071068, 0, 0.7071068}},
+                 {"scale", {2, 2, 2}}},
+                {{"name", "child"},
+                 {"mesh", 0},
+                 {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -1, 1}}},
                 {{"name", "cam"}, {"camera", 0}, {"translation", {0.5, 0.5, 4}}},
                 {{"name", "lamp"}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}};
   k["scenes"] = {{{"nodes", {0, 2, 3}}}};
   k["cameras"] = {{{"type", "perspective"},
                    {"perspective", {{"yfov", 0.8}, {"aspectRatio", 1.5}, {"znear", 0.01}}}}};
   k["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior"};
-  k["extensions"] = {{"KHR_lights_punctual",
-                      {{"lights", {{{"type", "spot"}, {"intensity", 5}, {"color", {1, 0.5, 0.2}}}}}}}};
+  k["extensions"] = {
+      {"KHR_lights_punctual",
+       {{"lights", {{{"type", "spot"}, {"intensity", 5}, {"color", {1, 0.5, 0.2}}}}}}}};
   k["materials"][0]["emissiveFactor"] = {1, 1, 1};
   k["materials"][0]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
                                      {"KHR_materials_ior", {{"ior", 1.33}}}};
@@ -150,8 +156,8 @@ void hash_seeds(const fs::path& dir) {
     for (int v = 0; v < 3; ++v) {
       std::string s;
       s += static_cast<char>(b0);
-      s += static_cast<char>(5 + v * 7);  // precision / origin bits
-      s += static_cast<char>(3 + v);      // exponent / direction bits
+      s += static_cast<char>(5 + v * 7);     // precision / origin bits
+      s += static_cast<char>(3 + v);         // exponent / direction bits
       s += static_cast<char>(146 + v * 10);  // cell exponent -3, 7, 17
       for (int c = 0; c < 6; ++c) put32(s, specials[(n + c * (v + 1)) % 10]);
       write_file(dir / ("h" + std::to_string(n++)), s);
@@ -162,9 +168,9 @@ void traverse_seeds(const fs::path& dir) {
   // Grid mode: two triangles sharing an edge (a quad at z = 0), rays down the z axis through
   // the shared edge, a vertex and the interior.
   std::string g;
-  g += static_cast<char>(1);   // 2 triangles
-  g += static_cast<char>(3);   // 4 rays
-  g += static_cast<char>(0);   // grid, leaf 1
+  g += static_cast<char>(1);  // 2 triangles
+  g += static_cast<char>(3);  // 4 rays
+  g += static_cast<char>(0);  // grid, leaf 1
   const int8_t quad[] = {0, 0, 0, 16, 0, 0, 16, 16, 0, 0, 0, 0, 16, 16, 0, 0, 16, 0};
   for (int8_t c : quad) g += static_cast<char>(c);
   const int8_t rays[][7] = {{8, 8, 16, 0, 0, -16, 0},   // through the shared diagonal

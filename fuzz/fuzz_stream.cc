@@ -1,8 +1,8 @@
-// Fuzz target: the ray-stream reader (model/src/workload/ray_stream.cc) on any bytes. Properties: it either
-// reads every record the header announces or throws a StreamError whose message names the file;
-// every record it returns has finite origin, direction and tnear, a known kind and zero reserved
-// bytes; and what it read, written again with RayStreamWriter and read back, gives the same
-// records bit for bit.
+// Fuzz target: the ray-stream reader (model/src/workload/ray_stream.cc) on any bytes. Properties:
+// it either reads every record the header announces or throws a StreamError whose message names the
+// file; every record it returns has finite origin, direction and tnear, a known kind and zero
+// reserved bytes; and what it read, written again with RayStreamWriter and read back, gives the
+// same records bit for bit.
 #include <unistd.h>
 
 #include <bit>
@@ -20,8 +20,8 @@ namespace {
 
 std::string temp_path(const char* what) {
   const char* dir = std::getenv("TMPDIR");
-  return std::string(dir && *dir ? dir : "/tmp") + "/hrpp-fuzz-stream-" +
-         std::to_string(getpid()) + what;
+  return std::string(dir && *dir ? dir : "/tmp") + "/hrpp-fuzz-stream-" + std::to_string(getpid()) +
+         what;
 }
 
 bool same(const RayRecord& a, const RayRecord& b) {

@@ -1,9 +1,9 @@
-// Fuzz target: BVH build and traversal (model/src/trace/bvh.cc, traverse.cc) on small random triangle
-// sets and rays, against brute force: the float brute force of the same watertight test (must
-// agree exactly: same hit/miss, same t, same triangle or an exact tie) and the double-precision
-// referee of model/src/reference/crosscheck.cc (a triangle the referee shows to be hit well inside its
-// edges must not be missed or passed over; a reported hit point must lie within the referee's
-// float tolerance of its triangle, measured in double).
+// Fuzz target: BVH build and traversal (model/src/trace/bvh.cc, traverse.cc) on small random
+// triangle sets and rays, against brute force: the float brute force of the same watertight test
+// (must agree exactly: same hit/miss, same t, same triangle or an exact tie) and the
+// double-precision referee of model/src/reference/crosscheck.cc (a triangle the referee shows to be
+// hit well inside its edges must not be missed or passed over; a reported hit point must lie within
+// the referee's float tolerance of its triangle, measured in double).
 //
 // Input: byte 0 triangle count (1..24), byte 1 ray count (1..8), byte 2 leaf size (1..8) and the
 // coordinate mode (bit 7: raw float32 of magnitude 2^-40..1e6 or 0, else a grid of 1/16 in
@@ -55,7 +55,8 @@ DVec3 closest_point(const DVec3& p, const Triangle& tri) {
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
   const double denom = va + vb + vc;
   if (denom == 0) return a;  // degenerate: never hit
   return a + ab * (vb / denom) + ac * (vc / denom);
@@ -129,7 +130,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!intersect_triangle(RayPre(r), tris[a.prim], r.tnear, kInf, &t, &u, &v) || t != b.t)
           fuzz::violated("closest_hit found another triangle, not a tie: " + describe(r));
       }
-      if (a.t < r.tnear || a.t > r.tfar) fuzz::violated("hit outside [tnear, tfar]: " + describe(r));
+      if (a.t < r.tnear || a.t > r.tfar)
+        fuzz::violated("hit outside [tnear, tfar]: " + describe(r));
     }
     const Hit any = any_hit(bvh, r, &c);
     if (any.hit() && !b.hit()) fuzz::violated("any_hit hits, brute force misses: " + describe(r));
@@ -150,8 +152,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (dist > delta)
         fuzz::violated("reported hit (triangle " + std::to_string(a.prim) + ", t " +
                        std::to_string(a.t) + ") lies " + std::to_string(dist) +
-                       " from its triangle (tolerance " + std::to_string(delta) + "): " +
-                       describe(r));
+                       " from its triangle (tolerance " + std::to_string(delta) +
+                       "): " + describe(r));
       if (h.cos_theta > 1e-3 && std::fabs(double(a.t) - h.t) > t_tolerance(r, t, a.t))
         fuzz::violated("reported t " + std::to_string(a.t) + " is off the referee's " +
                        std::to_string(h.t) + ": " + describe(r));

@@ -6,16 +6,16 @@
 
 #include <array>
 #include <cstdint>
-#include <string>
 #include <deque>
 #include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/hardware/cycle_model.h"
 #include "hrpp/predictor/engine_side.h"
 #include "hrpp/predictor/predictor.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 
 namespace hrpp::tb {
@@ -25,12 +25,12 @@ struct EngineOptions {
   uint32_t go_up = 0;
   int id_bits = 6;
   uint64_t seed = 1;
-  double p_ray = 0.9;          // probability of offering a ray in a cycle
-  double p_pred_ready = 0.8;   // probability of accepting a prediction
-  double p_skip_ready = 0.8;   // probability of accepting a skip decision
+  double p_ray = 0.9;                     // probability of offering a ray in a cycle
+  double p_pred_ready = 0.8;              // probability of accepting a prediction
+  double p_skip_ready = 0.8;              // probability of accepting a skip decision
   int min_latency = 1, max_latency = 12;  // cycles from a prediction (decision) to its outcome
-  uint64_t stall_every = 0;    // every so many cycles, stall all ready outputs ...
-  uint64_t stall_length = 0;   // ... for this many cycles (0: never)
+  uint64_t stall_every = 0;               // every so many cycles, stall all ready outputs ...
+  uint64_t stall_length = 0;              // ... for this many cycles (0: never)
   // Random stalls on every interface (0: none): on each of the five interfaces independently,
   // a stall of 1..stall_max cycles starts with probability 1/stall_gap in a cycle without one.
   // Inputs (rays, predicted-walk results, final outcomes): no new message is offered (one
@@ -50,10 +50,10 @@ inline const char* stall_port_name(int p) {
   return names[p];
 }
 struct StallStats {
-  uint64_t stalls = 0;          // stalls started
-  uint64_t cycles = 0;          // cycles stalled
-  uint64_t longest = 0;         // longest stall (cycles)
-  uint64_t blocked = 0;         // stalled cycles in which a handshake was otherwise possible
+  uint64_t stalls = 0;   // stalls started
+  uint64_t cycles = 0;   // cycles stalled
+  uint64_t longest = 0;  // longest stall (cycles)
+  uint64_t blocked = 0;  // stalled cycles in which a handshake was otherwise possible
 };
 
 class Engine {
@@ -114,7 +114,7 @@ class Engine {
   EngineOptions opt_;
   std::mt19937_64 rng_;
   size_t next_ray_ = 0;
-  std::deque<size_t> redo_;       // rays dropped by a reset, to be offered again
+  std::deque<size_t> redo_;  // rays dropped by a reset, to be offered again
   uint64_t finished_ = 0;
   uint64_t reoffered_ = 0;
   std::vector<uint32_t> reports_;  // per ray of the stream: final results reported

@@ -43,10 +43,14 @@ float flip_low_bits(float v, std::mt19937_64& rng, int bits) {
 }  // namespace
 
 bool parse_stress(const std::string& name, StressKind* kind) {
-  if (name == "set-burst") *kind = StressKind::kSetBurst;
-  else if (name == "one-key") *kind = StressKind::kOneKey;
-  else if (name == "evict") *kind = StressKind::kEvict;
-  else return false;
+  if (name == "set-burst")
+    *kind = StressKind::kSetBurst;
+  else if (name == "one-key")
+    *kind = StressKind::kOneKey;
+  else if (name == "evict")
+    *kind = StressKind::kEvict;
+  else
+    return false;
   return true;
 }
 

@@ -21,13 +21,13 @@ bool parse_stress(const std::string& name, StressKind* kind);
 
 struct StressStream {
   std::vector<RayRecord> rays;
-  uint64_t distinct_rays = 0;      // distinct (origin, direction) bit patterns
+  uint64_t distinct_rays = 0;  // distinct (origin, direction) bit patterns
   uint64_t distinct_keys = 0;
   uint64_t distinct_sets = 0;
-  uint32_t target_set = 0;         // set-burst: the set of the bursts
-  uint64_t target_set_rays = 0;    // ... rays of that set
-  uint64_t target_set_keys = 0;    // ... distinct keys among them
-  uint64_t longest_set_run = 0;    // longest run of consecutive rays of one set
+  uint32_t target_set = 0;       // set-burst: the set of the bursts
+  uint64_t target_set_rays = 0;  // ... rays of that set
+  uint64_t target_set_keys = 0;  // ... distinct keys among them
+  uint64_t longest_set_run = 0;  // longest run of consecutive rays of one set
 };
 
 /// n rays aimed at random points of the scene's triangles from random origins in (1.5 times)

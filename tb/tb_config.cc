@@ -5,8 +5,8 @@
 
 namespace hrpp::tb {
 
-int configure_for_scene(const RtlConfig& spec, PredictMode mode, const Scene& scene,
-                        const Bvh& bvh, CycleConfig* cc) {
+int configure_for_scene(const RtlConfig& spec, PredictMode mode, const Scene& scene, const Bvh& bvh,
+                        CycleConfig* cc) {
   *cc = spec.cycle(mode);
   std::string cfg_err =
       resolve_for_scene(scene, bvh, &cc->hash, &cc->table,

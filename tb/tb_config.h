@@ -3,17 +3,17 @@
 // configuration: tb/tb_dut.h.
 #pragma once
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/hardware/cycle_model.h"
-#include "hrpp/predictor/predictor.h"
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/predictor/predictor.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 
 namespace hrpp::tb {
 
 /// The cycle model of `spec` in `mode` for the scene (its cell exponent; the RTL's node-id and
 /// tag widths checked against the BVH). Returns 0, or 2 after printing why it does not fit.
-int configure_for_scene(const RtlConfig& spec, PredictMode mode, const Scene& scene,
-                        const Bvh& bvh, CycleConfig* cc);
+int configure_for_scene(const RtlConfig& spec, PredictMode mode, const Scene& scene, const Bvh& bvh,
+                        CycleConfig* cc);
 
 }  // namespace hrpp::tb

@@ -1,12 +1,12 @@
-// tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/predictor/hash.cc) on every
-// special class of HARD_CASES H1-H8 and dense random vectors, for eight parameter sets and many
-// origin cell exponents. Prints "hash: N vectors x 8 configurations, M mismatches".
+// tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/predictor/hash.cc)
+// on every special class of HARD_CASES H1-H8 and dense random vectors, for eight parameter sets and
+// many origin cell exponents. Prints "hash: N vectors x 8 configurations, M mismatches".
 #include <verilated.h>
 
 #include <bit>
 #include <cstdio>
-#include <memory>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <random>
 #include <vector>
@@ -50,12 +50,33 @@ int main(int argc, char** argv) {
   auto ctx = std::make_unique<VerilatedContext>();
   auto dut = std::make_unique<Vtb_hash_top>(ctx.get());
   // Every special class of H1-H8 and the values around them.
-  const std::vector<uint32_t> special = {
-      0x00000000, 0x80000000, 0x00000001, 0x007FFFFF, 0x80000001, 0x807FFFFF, 0x00800000,
-      0x80800000, 0x3F800000, 0x3F7FFFFF, 0xBF800000, 0xBF7FFFFF, 0x7F7FFFFF, 0xFF7FFFFF,
-      0x7F800000, 0xFF800000, 0x7FC00000, 0xFFC00000, 0x7F800001, 0x7FC12345, 0xFFFFFFFF,
-      std::bit_cast<uint32_t>(1e30f), std::bit_cast<uint32_t>(-1e30f),
-      std::bit_cast<uint32_t>(0.5f), std::bit_cast<uint32_t>(-0.5f), 0x3F000000, 0x3EFFFFFF};
+  const std::vector<uint32_t> special = {0x00000000,
+                                         0x80000000,
+                                         0x00000001,
+                                         0x007FFFFF,
+                                         0x80000001,
+                                         0x807FFFFF,
+                                         0x00800000,
+                                         0x80800000,
+                                         0x3F800000,
+                                         0x3F7FFFFF,
+                                         0xBF800000,
+                                         0xBF7FFFFF,
+                                         0x7F7FFFFF,
+                                         0xFF7FFFFF,
+                                         0x7F800000,
+                                         0xFF800000,
+                                         0x7FC00000,
+                                         0xFFC00000,
+                                         0x7F800001,
+                                         0x7FC12345,
+                                         0xFFFFFFFF,
+                                         std::bit_cast<uint32_t>(1e30f),
+                                         std::bit_cast<uint32_t>(-1e30f),
+                                         std::bit_cast<uint32_t>(0.5f),
+                                         std::bit_cast<uint32_t>(-0.5f),
+                                         0x3F000000,
+                                         0x3EFFFFFF};
   const int cell_exps[] = {-149, -60, -20, -7, -3, 0, 3, 12, 40, 127};
   std::mt19937_64 rng(12345);
   uint64_t vectors = 0, mismatches = 0;
@@ -80,10 +101,11 @@ int main(int argc, char** argv) {
       const bool act_inv = (dut->invalid_o >> c) & 1;
       if (exp != act || invalid != act_inv) {
         if (mismatches++ < 10)
-          std::printf("MISMATCH config %d, cell exp %d, bits %08x %08x %08x %08x %08x %08x: "
-                      "expected key %llx invalid %d, actual %llx invalid %d\n",
-                      c, k, b[0], b[1], b[2], b[3], b[4], b[5], (unsigned long long)exp, invalid,
-                      (unsigned long long)act, act_inv);
+          std::printf(
+              "MISMATCH config %d, cell exp %d, bits %08x %08x %08x %08x %08x %08x: "
+              "expected key %llx invalid %d, actual %llx invalid %d\n",
+              c, k, b[0], b[1], b[2], b[3], b[4], b[5], (unsigned long long)exp, invalid,
+              (unsigned long long)act, act_inv);
       }
     }
     ++vectors;

@@ -48,9 +48,8 @@ Latencies measure_dut_latencies(const CycleConfig& cc, std::string* error) {
 int check_latencies(const RtlConfig& rc, PredictMode mode) {
   const CycleConfig cc = rc.cycle(mode);
   std::string dut_error, model_error;
-  const Latencies dut = with_model(rc.name, [&]<typename M>() {
-    return measure_dut_latencies<M>(cc, &dut_error);
-  });
+  const Latencies dut =
+      with_model(rc.name, [&]<typename M>() { return measure_dut_latencies<M>(cc, &dut_error); });
   CycleModel cm(cc);
   const CycleFn model_cycle = [&](const DutIn& in) {
     const DutOut o = cm.outputs();
@@ -60,10 +59,11 @@ int check_latencies(const RtlConfig& rc, PredictMode mode) {
   Latencies model;
   model_error = measure_latencies(model_cycle, cc.id_bits, cc.table.sets, &model);
   const Latencies declared = declared_latencies();
-  std::printf("latency: config %s (cycles: ray accepted to pred_valid_o, predicted-walk result "
-              "accepted to skip_valid_o, final outcome accepted to the first ray seeing its "
-              "write)\n",
-              rc.name.c_str());
+  std::printf(
+      "latency: config %s (cycles: ray accepted to pred_valid_o, predicted-walk result "
+      "accepted to skip_valid_o, final outcome accepted to the first ray seeing its "
+      "write)\n",
+      rc.name.c_str());
   auto line = [](const char* who, const Latencies& l) {
     std::printf("  %-12s prediction %d, decision %d, update landing %d\n", who, l.prediction,
                 l.decision, l.landing);
@@ -71,11 +71,12 @@ int check_latencies(const RtlConfig& rc, PredictMode mode) {
   line("declared", declared);
   line("DUT", dut);
   line("cycle model", model);
-  std::string e = !dut_error.empty() ? "DUT: " + dut_error
+  std::string e = !dut_error.empty()     ? "DUT: " + dut_error
                   : !model_error.empty() ? "cycle model: " + model_error
                                          : "";
   if (e.empty()) {
-    if (std::string d = compare_latencies(dut, declared); !d.empty()) e = "DUT: " + d;
+    if (std::string d = compare_latencies(dut, declared); !d.empty())
+      e = "DUT: " + d;
     else if (std::string m = compare_latencies(model, declared); !m.empty())
       e = "cycle model: " + m;
   }

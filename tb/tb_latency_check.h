@@ -3,8 +3,8 @@
 // the declared ones (rtl/config/hrpp_configs.json).
 #pragma once
 
-#include "hrpp/predictor/predictor.h"
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/predictor/predictor.h"
 
 namespace hrpp::tb {
 

@@ -32,7 +32,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
       ->check(CLI::Range(0.01, 1.0));
   app.add_option("--min-latency", eo.min_latency, "smallest engine latency in cycles")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--p-ready", eo.p_pred_ready, "probability the engine accepts an output in a cycle")
+  app.add_option("--p-ready", eo.p_pred_ready,
+                 "probability the engine accepts an output in a cycle")
       ->check(CLI::Range(0.01, 1.0));
   app.add_option("--stall-every", eo.stall_every, "stall every output this often (cycles)");
   app.add_option("--stall-length", eo.stall_length, "... for this many cycles");
@@ -62,8 +63,10 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   // +verilator+... arguments go to the VerilatedContext, the rest to the options above.
   std::vector<char*> cli_args;
   for (int i = 0; i < argc; ++i) {
-    if (i > 0 && argv[i][0] == '+') ro.plusargs.push_back(argv[i]);
-    else cli_args.push_back(argv[i]);
+    if (i > 0 && argv[i][0] == '+')
+      ro.plusargs.push_back(argv[i]);
+    else
+      cli_args.push_back(argv[i]);
   }
   try {
     app.parse(int(cli_args.size()), cli_args.data());

@@ -65,13 +65,13 @@ int make_stress_rays(const TbOptions& o, const RtlConfig& spec, const CycleConfi
   // what it claims.
   parse_stress(stress, kind);
   StressStream ss = make_stress_stream(*kind, r->scene, cc.hash, o.nrays, o.seed);
-  std::printf("stress %s: %zu rays (%llu distinct), %llu distinct keys in %llu sets; "
-              "set %u: %llu rays, %llu keys; longest run of one set %llu rays\n",
-              stress.c_str(), ss.rays.size(), (unsigned long long)ss.distinct_rays,
-              (unsigned long long)ss.distinct_keys,
-              (unsigned long long)ss.distinct_sets, ss.target_set,
-              (unsigned long long)ss.target_set_rays, (unsigned long long)ss.target_set_keys,
-              (unsigned long long)ss.longest_set_run);
+  std::printf(
+      "stress %s: %zu rays (%llu distinct), %llu distinct keys in %llu sets; "
+      "set %u: %llu rays, %llu keys; longest run of one set %llu rays\n",
+      stress.c_str(), ss.rays.size(), (unsigned long long)ss.distinct_rays,
+      (unsigned long long)ss.distinct_keys, (unsigned long long)ss.distinct_sets, ss.target_set,
+      (unsigned long long)ss.target_set_rays, (unsigned long long)ss.target_set_keys,
+      (unsigned long long)ss.longest_set_run);
   const std::string e = check_stress_stream(*kind, ss, spec.table.sets, spec.table.ways);
   if (!e.empty()) {
     std::printf("FAIL: the %s stream is not what it claims: %s\n", stress.c_str(), e.c_str());

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/hardware/cycle_model.h"
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 #include "stress.h"
 #include "tb_options.h"

@@ -8,13 +8,14 @@ namespace hrpp::tb {
 namespace {
 
 void print_stats(const char* who, const PredictStats& s) {
-  std::printf("  %-22s rays %llu, predictions %llu, verified %llu, skipped walks %llu, "
-              "interior tests %llu / baseline %llu (skipped %.2f%%), wrong %llu, exact-mismatch %llu\n",
-              who, (unsigned long long)s.rays, (unsigned long long)(s.true_positive + s.false_positive),
-              (unsigned long long)s.true_positive, (unsigned long long)s.skipped_walks,
-              (unsigned long long)s.hrpp.interior_tests, (unsigned long long)s.baseline.interior_tests,
-              100 * s.skipped_interior_fraction(), (unsigned long long)s.wrong_results,
-              (unsigned long long)s.exact_mismatches);
+  std::printf(
+      "  %-22s rays %llu, predictions %llu, verified %llu, skipped walks %llu, "
+      "interior tests %llu / baseline %llu (skipped %.2f%%), wrong %llu, exact-mismatch %llu\n",
+      who, (unsigned long long)s.rays, (unsigned long long)(s.true_positive + s.false_positive),
+      (unsigned long long)s.true_positive, (unsigned long long)s.skipped_walks,
+      (unsigned long long)s.hrpp.interior_tests, (unsigned long long)s.baseline.interior_tests,
+      100 * s.skipped_interior_fraction(), (unsigned long long)s.wrong_results,
+      (unsigned long long)s.exact_mismatches);
 }
 
 bool same_stats(const PredictStats& a, const PredictStats& b) {
@@ -31,14 +32,14 @@ void print_header(const RtlConfig& spec, const CycleConfig& cc, const TbOptions&
                   const TbRays& rays) {
   const uint64_t invalid = rays.invalid;
   const std::string& stream_path = o.stream_path;
-  std::printf("tb_hrpp: config %s (%s hash, %u sets x %u ways x %u nodes, %d-bit tags, %d-bit ids), "
-              "mode %s, %zu rays of %s%s, seed %llu\n",
-              spec.name.c_str(), hash_variant_name(cc.hash.variant), spec.table.sets,
-              spec.table.ways, spec.table.nodes_per_entry, spec.table.tag_bits, spec.id_width,
-              o.mode.c_str(), rays.rays.size(),
-              !stream_path.empty() ? stream_path.c_str() : rays.scene_file.c_str(),
-              invalid ? (" (" + std::to_string(invalid) + " invalid rays not issued)").c_str() : "",
-              (unsigned long long)o.seed);
+  std::printf(
+      "tb_hrpp: config %s (%s hash, %u sets x %u ways x %u nodes, %d-bit tags, %d-bit ids), "
+      "mode %s, %zu rays of %s%s, seed %llu\n",
+      spec.name.c_str(), hash_variant_name(cc.hash.variant), spec.table.sets, spec.table.ways,
+      spec.table.nodes_per_entry, spec.table.tag_bits, spec.id_width, o.mode.c_str(),
+      rays.rays.size(), !stream_path.empty() ? stream_path.c_str() : rays.scene_file.c_str(),
+      invalid ? (" (" + std::to_string(invalid) + " invalid rays not issued)").c_str() : "",
+      (unsigned long long)o.seed);
 }
 
 void print_parity(const Run& r, std::chrono::steady_clock::time_point t_sim, std::clock_t cpu_sim) {
@@ -50,22 +51,24 @@ void print_parity(const Run& r, std::chrono::steady_clock::time_point t_sim, std
   const double sim_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sim).count();
   const double cpu_s = double(std::clock() - cpu_sim) / CLOCKS_PER_SEC;
-  std::printf("timing: lockstep run %.3f s (CPU %.3f s): %.0f rays/s, %.0f cycles/s of CPU time "
-              "with parity checking\n",
-              sim_s, cpu_s, finished / std::max(cpu_s, 1e-9), r.cycles / std::max(cpu_s, 1e-9));
+  std::printf(
+      "timing: lockstep run %.3f s (CPU %.3f s): %.0f rays/s, %.0f cycles/s of CPU time "
+      "with parity checking\n",
+      sim_s, cpu_s, finished / std::max(cpu_s, 1e-9), r.cycles / std::max(cpu_s, 1e-9));
 }
 
-int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec,
-                    StressKind stress_kind, size_t nrays) {
+int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec, StressKind stress_kind,
+                    size_t nrays) {
   const RunOptions& ro = o.ro;
   const EngineOptions& eo = o.eo;
   const std::string& stress = o.stress;
   if (r.mismatches || !r.ok) return 1;
   if (ro.reset_every)
-    std::printf("resets: %llu (%llu cycles in reset), %llu hit rays in flight: %llu rays dropped "
-                "and offered again\n",
-                (unsigned long long)r.resets, (unsigned long long)r.reset_cycles,
-                (unsigned long long)r.resets_with_rays, (unsigned long long)r.dropped);
+    std::printf(
+        "resets: %llu (%llu cycles in reset), %llu hit rays in flight: %llu rays dropped "
+        "and offered again\n",
+        (unsigned long long)r.resets, (unsigned long long)r.reset_cycles,
+        (unsigned long long)r.resets_with_rays, (unsigned long long)r.dropped);
   if (eo.stall_gap) {
     std::printf("stalls (count, cycles, longest, cycles a handshake was held back):");
     for (int p = 0; p < kNumStallPorts; ++p)
@@ -74,11 +77,12 @@ int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec,
                   (unsigned long long)r.stalls[p].longest, (unsigned long long)r.stalls[p].blocked);
     std::printf("\n");
   }
-  std::printf("table: %llu updates, %llu evictions, %llu cycles of same-set interlock, %llu of %u "
-              "entries valid at the end\n",
-              (unsigned long long)r.table.updates, (unsigned long long)r.table.evictions,
-              (unsigned long long)r.table.interlock_cycles, (unsigned long long)r.table_used,
-              spec.table.sets * spec.table.ways);
+  std::printf(
+      "table: %llu updates, %llu evictions, %llu cycles of same-set interlock, %llu of %u "
+      "entries valid at the end\n",
+      (unsigned long long)r.table.updates, (unsigned long long)r.table.evictions,
+      (unsigned long long)r.table.interlock_cycles, (unsigned long long)r.table_used,
+      spec.table.sets * spec.table.ways);
   // Every ray of the stream got exactly one final result, resets or not.
   if (!r.exactly_once.empty()) {
     std::printf("FAIL: not every ray got exactly one final result: %s\n", r.exactly_once.c_str());
@@ -119,21 +123,22 @@ int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec,
   return 0;
 }
 
-int report_statistics(const Run& r, const Run& m, const PredictStats& untimed,
-                      const TbOptions& o) {
+int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, const TbOptions& o) {
   const uint64_t finished = r.stats.rays;
   std::printf("statistics:\n");
   print_stats("DUT run", r.stats);
   print_stats("cycle model alone", m.stats);
   print_stats("untimed model", untimed);
-  std::printf("  throughput: %.3f rays per cycle; pipeline latency costs %.2f points of skipped "
-              "interior tests against the untimed model\n",
-              double(finished) / std::max<uint64_t>(1, r.cycles),
-              100 * (untimed.skipped_interior_fraction() - r.stats.skipped_interior_fraction()));
+  std::printf(
+      "  throughput: %.3f rays per cycle; pipeline latency costs %.2f points of skipped "
+      "interior tests against the untimed model\n",
+      double(finished) / std::max<uint64_t>(1, r.cycles),
+      100 * (untimed.skipped_interior_fraction() - r.stats.skipped_interior_fraction()));
   if (!m.ok || !same_stats(r.stats, m.stats) || m.cycles != r.cycles || m.resets != r.resets ||
       m.dropped != r.dropped || !m.exactly_once.empty()) {
-    std::printf("FAIL: the cycle model alone gives different statistics or cycle count (%llu cycles)\n",
-                (unsigned long long)m.cycles);
+    std::printf(
+        "FAIL: the cycle model alone gives different statistics or cycle count (%llu cycles)\n",
+        (unsigned long long)m.cycles);
     return 1;
   }
   const double throughput = double(finished) / std::max<uint64_t>(1, r.cycles);

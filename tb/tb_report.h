@@ -8,8 +8,8 @@
 #include <ctime>
 
 #include "hrpp/hardware/cycle_model.h"
-#include "hrpp/predictor/predictor.h"
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/predictor/predictor.h"
 #include "stress.h"
 #include "tb_options.h"
 #include "tb_rays.h"
@@ -28,13 +28,12 @@ void print_parity(const Run& r, std::chrono::steady_clock::time_point t_sim, std
 /// The rest of the lockstep run's report and its checks: parity, exactly once, and that the
 /// resets, stalls and stress stream (`stress_kind` when o.stress is set) the options ask for
 /// happened. Returns 0, or 1 after printing FAIL.
-int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec,
-                    StressKind stress_kind, size_t nrays);
+int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec, StressKind stress_kind,
+                    size_t nrays);
 
 /// The statistics of the DUT run `r`, the cycle model alone `m` and the untimed model; the cycle
 /// model alone must agree with the DUT run, the throughput reach --min-throughput, exact modes
 /// give the baseline's answers. Returns 0 after printing PASS, or 1 after printing FAIL.
-int report_statistics(const Run& r, const Run& m, const PredictStats& untimed,
-                      const TbOptions& o);
+int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, const TbOptions& o);
 
 }  // namespace hrpp::tb

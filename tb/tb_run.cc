@@ -43,7 +43,8 @@ std::string compare(const DutOut& exp, const DutOut& act, uint32_t k) {
   if (exp.skip_valid) {
     if (exp.skip_id != act.skip_id) return diff("skip_id_o", exp.skip_id, act.skip_id, exp.skip_id);
     if (exp.skip_action != act.skip_action)
-      return diff("skip_action_o", uint64_t(exp.skip_action), uint64_t(act.skip_action), exp.skip_id);
+      return diff("skip_action_o", uint64_t(exp.skip_action), uint64_t(act.skip_action),
+                  exp.skip_id);
   }
   return {};
 }
@@ -205,10 +206,9 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
 }  // namespace
 
 Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
-                 const std::vector<RayRecord>& rays, const EngineOptions& eo,
-                 const RunOptions& ro, const std::string& trace) {
-  return with_model(config,
-                    [&]<typename M>() { return run_dut<M>(cc, bvh, rays, eo, ro, trace); });
+                 const std::vector<RayRecord>& rays, const EngineOptions& eo, const RunOptions& ro,
+                 const std::string& trace) {
+  return with_model(config, [&]<typename M>() { return run_dut<M>(cc, bvh, rays, eo, ro, trace); });
 }
 
 // The cycle model alone in the same closed loop.
@@ -236,8 +236,8 @@ Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord
   return run;
 }
 
-PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh,
-                         const std::vector<RayRecord>& rays, uint32_t go_up, PredictMode mode) {
+PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                         uint32_t go_up, PredictMode mode) {
   PredictorConfig pc;
   pc.hash = cc.hash;
   pc.table = cc.table;

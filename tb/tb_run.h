@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "engine.h"
-#include "hrpp/trace/bvh.h"
 #include "hrpp/hardware/cycle_model.h"
 #include "hrpp/predictor/predictor.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 
 namespace hrpp::tb {
@@ -25,8 +25,8 @@ struct Run {
   uint64_t resets_with_rays = 0;  // resets that hit at least one ray in flight
   std::string exactly_once;       // Engine::check_exactly_once()
   std::array<StallStats, kNumStallPorts> stalls{};
-  CycleStats table;               // the cycle model's table statistics
-  uint64_t table_used = 0;        // valid entries at the end
+  CycleStats table;         // the cycle model's table statistics
+  uint64_t table_used = 0;  // valid entries at the end
 };
 
 struct RunOptions {
@@ -38,15 +38,15 @@ struct RunOptions {
 /// A mismatch, a protocol error or an early finish is printed and stops the run; `trace`: a VCD
 /// file to write, or "".
 Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
-                 const std::vector<RayRecord>& rays, const EngineOptions& eo,
-                 const RunOptions& ro, const std::string& trace);
+                 const std::vector<RayRecord>& rays, const EngineOptions& eo, const RunOptions& ro,
+                 const std::string& trace);
 
 /// The cycle model alone in the same closed loop.
 Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
               const EngineOptions& eo, const RunOptions& ro);
 
 /// The untimed golden model on the same rays in the same order (no pipeline latency).
-PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh,
-                         const std::vector<RayRecord>& rays, uint32_t go_up, PredictMode mode);
+PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                         uint32_t go_up, PredictMode mode);
 
 }  // namespace hrpp::tb

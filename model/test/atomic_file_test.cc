@@ -1,12 +1,13 @@
-// AtomicFile / write_file_atomic (hrpp/util/atomic_file.h): the output appears under its name only when
-// complete; every failure removes the temporary file and names the file and the reason.
+// AtomicFile / write_file_atomic (hrpp/util/atomic_file.h): the output appears under its name only
+// when complete; every failure removes the temporary file and names the file and the reason.
+#include "hrpp/util/atomic_file.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
-#include "hrpp/util/atomic_file.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -63,7 +64,8 @@ TEST(AtomicFile, ErrorsNameTheFileAndTheReason) {
     FAIL() << "no error";
   } catch (const AtomicFileError& e) {
     EXPECT_STREQ(e.what(), (dir + "/no/such/dir/out.json.tmp: cannot open for writing: No such "
-                                  "file or directory").c_str());
+                                  "file or directory")
+                               .c_str());
   }
   // A non-empty directory cannot be replaced by a file: the rename fails.
   const std::string target = dir + "/taken";

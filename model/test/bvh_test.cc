@@ -1,13 +1,14 @@
 // BVH invariants and traversal against brute force.
+#include "hrpp/trace/bvh.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <bit>
 #include <cmath>
 
-#include "hrpp/trace/bvh.h"
-#include "hrpp/util/rng.h"
 #include "hrpp/trace/traverse.h"
+#include "hrpp/util/rng.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -105,8 +106,7 @@ TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
         if (a.prim != b.prim) {  // only acceptable as an exact tie
           RayPre pre(r);
           float t, u, v;
-          EXPECT_TRUE(intersect_triangle(pre, tris[a.prim], r.tnear, kInf, &t, &u, &v) &&
-                      t == b.t);
+          EXPECT_TRUE(intersect_triangle(pre, tris[a.prim], r.tnear, kInf, &t, &u, &v) && t == b.t);
         }
         EXPECT_NE(a.leaf, kNoNode);
         EXPECT_TRUE(bvh.nodes[a.leaf].is_leaf());

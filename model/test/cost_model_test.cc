@@ -1,9 +1,10 @@
 // The cost of accuracy (docs/cost_model.md): the cycle cost model on hand-made counters, the
 // predictor's update delay, the RTL's update delay from the cycle model, and the speculative
 // image error.
+#include "hrpp/timing/cost_model.h"
+
 #include <gtest/gtest.h>
 
-#include "hrpp/timing/cost_model.h"
 #include "hrpp/hardware/rtl_update_delay.h"
 #include "hrpp/report/spec_image.h"
 #include "test_util.h"
@@ -51,8 +52,7 @@ PredictorConfig small_config(const Scene& s, const Bvh& bvh, uint32_t delay) {
 // The same ray, again and again: with delay D the first D + 1 rays find nothing; every later
 // one finds the first ray's write.
 TEST(CostModel, UpdateDelayHidesRecentWrites) {
-  Scene s = test::scene_from_triangles(
-      {{Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(0, 1, 0)}});
+  Scene s = test::scene_from_triangles({{Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(0, 1, 0)}});
   Bvh bvh = build_bvh(s.triangles);
   RayRecord r;
   r.ray.org = Vec3(0, 0, -1);
@@ -90,15 +90,14 @@ TEST(CostModel, MeasureTimeFillsTheTimes) {
 // lands, until the 64 ray ids of the default configuration are all in flight.
 TEST(CostModel, RtlUpdateDelayFollowsTheWalkLatency) {
   const uint32_t d0 = rtl_update_delay(0);
-  EXPECT_GT(d0, 6u);   // at least the lookup path (A, H1, H2, B, L2, L3)
+  EXPECT_GT(d0, 6u);  // at least the lookup path (A, H1, H2, B, L2, L3)
   EXPECT_LT(d0, 40u);
   for (uint32_t l : {1u, 7u, 20u}) EXPECT_EQ(rtl_update_delay(l), std::min(63u, d0 + l)) << l;
   EXPECT_EQ(rtl_update_delay(500), 63u);
 }
 
 TEST(CostModel, SpecImageCountsDifferingPixels) {
-  Scene s = test::scene_from_triangles(
-      {{Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(0, 1, 0)}});
+  Scene s = test::scene_from_triangles({{Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(0, 1, 0)}});
   SpecImage img(s, 4, 2, 1);
   RayRecord r;
   r.ray.org = Vec3(0, 0, -1);

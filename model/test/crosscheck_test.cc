@@ -1,9 +1,10 @@
 // The Embree cross-check on every shared scene and on the project's own scenes.
+#include "hrpp/reference/crosscheck.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "hrpp/reference/crosscheck.h"
 #include "hrpp/trace/traverse.h"
 #include "test_util.h"
 
@@ -25,11 +26,12 @@ void check_scene(const std::string& path, uint64_t rays) {
   EXPECT_EQ(r.total.prim_mismatches, 0u);
   EXPECT_GE(r.by_kind[int(RayKind::kPrimary)].compared, rays * 9 / 10);
   EXPECT_GT(r.total.hits, 0u);
-  std::printf("%s: %llu rays compared (%llu primary, %llu shadow, %llu ao), %llu grazes, %llu ties\n",
-              std::filesystem::path(path).filename().c_str(), (unsigned long long)r.total.compared,
-              (unsigned long long)r.by_kind[0].compared, (unsigned long long)r.by_kind[1].compared,
-              (unsigned long long)r.by_kind[2].compared, (unsigned long long)r.total.grazes,
-              (unsigned long long)r.total.ties);
+  std::printf(
+      "%s: %llu rays compared (%llu primary, %llu shadow, %llu ao), %llu grazes, %llu ties\n",
+      std::filesystem::path(path).filename().c_str(), (unsigned long long)r.total.compared,
+      (unsigned long long)r.by_kind[0].compared, (unsigned long long)r.by_kind[1].compared,
+      (unsigned long long)r.by_kind[2].compared, (unsigned long long)r.total.grazes,
+      (unsigned long long)r.total.ties);
 }
 
 class SharedScene : public ::testing::TestWithParam<const char*> {};

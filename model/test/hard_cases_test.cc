@@ -6,11 +6,11 @@
 #include <cstring>
 #include <map>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/reference/crosscheck.h"
 #include "hrpp/reference/embree_ref.h"
-#include "hrpp/util/rng.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/trace/traverse.h"
+#include "hrpp/util/rng.h"
 #include "hrpp/workload/workload.h"
 #include "test_util.h"
 
@@ -259,7 +259,7 @@ TEST(HardCases, T16_DegenerateTrianglesAreNeverHit) {
   };
   Tracer tr(tris);
   EXPECT_EQ(test::scene_from_triangles(tris).degenerate_triangles, 3u);
-  const Vec3 targets[] = {{0.5f, 0.5f, 1}, {1, 1, 1}, {0, 0, 1},  {-1, 0, 1},
+  const Vec3 targets[] = {{0.5f, 0.5f, 1},  {1, 1, 1}, {0, 0, 1}, {-1, 0, 1},
                           {-1.5f, 0.5f, 1}, {3, 3, 1}, {2, 2, 1}};
   for (const Vec3& t : targets)
     for (const Vec3& o : {Vec3(t.x, t.y, 0), Vec3(t.x + 0.3f, t.y - 0.2f, -1)}) {
@@ -274,8 +274,8 @@ TEST(HardCases, T16_DegenerateTrianglesAreNeverHit) {
 // An icosphere: a closed, watertight mesh (shared vertices bit-identical).
 std::vector<Triangle> icosphere(int subdiv, Vec3 centre, float radius) {
   const float t = (1.f + std::sqrt(5.f)) / 2.f;
-  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Vec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -404,8 +404,8 @@ TEST(ValidRange, LargeTrianglesInsideTheRangeAreHit) {
   for (float h : {g, g / 2, 1e6f, 1.f})
     for (float z : {-g, 0.f, g}) {
       auto tris = square(Vec3(g - h, h - g, z), h);
-      for (const Vec3& org : {Vec3(0, 0, o), Vec3(o, o, o), Vec3(-o, o, -o), Vec3(o, -o, 0),
-                              Vec3(g, -g, z + 1e3f)}) {
+      for (const Vec3& org :
+           {Vec3(0, 0, o), Vec3(o, o, o), Vec3(-o, o, -o), Vec3(o, -o, 0), Vec3(g, -g, z + 1e3f)}) {
         int traced;
         EXPECT_EQ(silent_misses(tris, org, &traced), 0)
             << "half-size " << h << " at z " << z << " from " << org.x << "," << org.y << ","

@@ -74,9 +74,9 @@ inline uint64_t ref_hash_key(const std::array<float, 6>& c, const HashConfig& cf
                            : ref_grid_origin(c[a], cfg.origin_cell_exp, fo),
                   fo);
   for (int a = 2; a >= 0; --a)
-    d += ref_bits(faithful ? ref_faithful(c[3 + a], cfg.exp_bits, cfg.precision)
-                           : ref_grid_dir(c[3 + a], fd),
-                  fd);
+    d += ref_bits(
+        faithful ? ref_faithful(c[3 + a], cfg.exp_bits, cfg.precision) : ref_grid_dir(c[3 + a], fd),
+        fd);
   std::string key;
   if (cfg.combine == CombineMode::kConcat) {
     key = o + d;

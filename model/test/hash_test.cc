@@ -1,17 +1,18 @@
 // The hash test vectors H1-H8 of ../shared/HARD_CASES.md, key folding, and an exhaustive sweep of
 // all 2^32 patterns of one component against deliberately simple reference implementations.
+#include "hrpp/predictor/hash.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <map>
 #include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include "hash_ref.h"
-#include "hrpp/predictor/hash.h"
 
 namespace hrpp {
 namespace {
@@ -176,7 +177,7 @@ TEST(Hash, ConfigValidation) {
 }
 
 TEST(Hash, CellExponentCoversTheScene) {
-  Aabb b{{-3, 0, 0}, {5, 1, 2}};  // extent 8
+  Aabb b{{-3, 0, 0}, {5, 1, 2}};         // extent 8
   EXPECT_EQ(cell_exp_for(b, 5), 3 - 5);  // 32 cells of 0.25
   Aabb c{{0, 0, 0}, {1000, 9, 9}};
   EXPECT_EQ(cell_exp_for(c, 4), 10 - 4);
@@ -229,8 +230,8 @@ void exhaustive(const Sweep& s) {
       mismatches += bad;
     });
   for (auto& th : threads) th.join();
-  EXPECT_EQ(mismatches.load(), 0u) << s.name << ": first mismatch at 0x" << std::hex
-                                   << first_bad.load();
+  EXPECT_EQ(mismatches.load(), 0u)
+      << s.name << ": first mismatch at 0x" << std::hex << first_bad.load();
 }
 
 TEST(Hash, H8_ExhaustiveFaithfulField) {
@@ -250,9 +251,10 @@ TEST(Hash, H8_ExhaustiveGridDirField) {
 
 TEST(Hash, H8_DenseRandomOverManyConfigurations) {
   // Every parameter set the RTL supports, on random patterns plus every special class.
-  std::vector<uint32_t> pats = {0, 0x80000000, 1, 0x807FFFFF, 0x00800000, 0x3F800000,
-                                0x3F7FFFFF, 0x7F7FFFFF, 0xFF7FFFFF, 0x7F800000, 0xFF800000,
-                                0x7FC00000, 0xFFC00000, 0x7F800001, bits(1e30f), bits(-1e-30f)};
+  std::vector<uint32_t> pats = {0,          0x80000000, 1,           0x807FFFFF,
+                                0x00800000, 0x3F800000, 0x3F7FFFFF,  0x7F7FFFFF,
+                                0xFF7FFFFF, 0x7F800000, 0xFF800000,  0x7FC00000,
+                                0xFFC00000, 0x7F800001, bits(1e30f), bits(-1e-30f)};
   uint64_t z = 12345;
   for (int i = 0; i < 20000; ++i) {
     z = z * 6364136223846793005ull + 1442695040888963407ull;

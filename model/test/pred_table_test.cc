@@ -1,8 +1,9 @@
 // Predictor table behaviour on small hand-built cases whose expected outcome is written here.
+#include "hrpp/predictor/pred_table.h"
+
 #include <gtest/gtest.h>
 
 #include "hrpp/trace/bvh.h"
-#include "hrpp/predictor/pred_table.h"
 #include "test_util.h"
 
 namespace hrpp {

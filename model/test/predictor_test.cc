@@ -1,12 +1,13 @@
 // The predictor: exact modes give the baseline's answers on every ray of every shared scene, the
 // speculative mode's wrong answers are counted, invalid rays never reach the hash. The engine's
 // side (engine_side.h) piece by piece, and the resolution of a configuration for a scene.
+#include "hrpp/predictor/predictor.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "hrpp/predictor/engine_side.h"
-#include "hrpp/predictor/predictor.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -28,8 +29,8 @@ PredictorConfig config(const Scene& s, const Bvh& bvh, PredictMode mode, bool un
 }
 
 // Runs every ray of a 96x96 workload; checks each answer against an independent baseline walk.
-PredictStats run_and_check(const std::string& path, PredictMode mode, bool unbounded,
-                           HashVariant v, uint64_t* differing) {
+PredictStats run_and_check(const std::string& path, PredictMode mode, bool unbounded, HashVariant v,
+                           uint64_t* differing) {
   Scene s = load_scene(path);
   Bvh bvh = build_bvh(s.triangles);
   Predictor pred(bvh, config(s, bvh, mode, unbounded, v));
@@ -41,8 +42,8 @@ PredictStats run_and_check(const std::string& path, PredictMode mode, bool unbou
     Counters c;
     const bool any = is_any_hit(r.kind) || mode == PredictMode::kAnyHit;
     const Hit base = any ? any_hit(bvh, r.ray, &c) : closest_hit(bvh, r.ray, &c);
-    const bool same = any ? res.answer.hit() == base.hit()
-                          : same_answer(bvh, r.ray, res.answer, base);
+    const bool same =
+        any ? res.answer.hit() == base.hit() : same_answer(bvh, r.ray, res.answer, base);
     *differing += !same;
   });
   return pred.total();
@@ -126,14 +127,13 @@ TEST(Predictor, UpdateStoresTheGoUpAncestorAndRefreshesVerifiedNodes) {
 TEST(Predictor, StatisticsAddUp) {
   uint64_t differing;
   std::string path = std::string(HRPP_SOURCE_DIR) + "/scenes/spd_tetra.glb";
-  PredictStats st = run_and_check(path, PredictMode::kClosestExact, false,
-                                  HashVariant::kImproved, &differing);
+  PredictStats st =
+      run_and_check(path, PredictMode::kClosestExact, false, HashVariant::kImproved, &differing);
   EXPECT_EQ(st.true_positive + st.false_positive + st.false_negative + st.true_negative,
             st.rays - st.invalid_rays);
   EXPECT_LE(st.wasted.interior_tests, st.predicted.interior_tests);
   EXPECT_LE(st.predicted.interior_tests, st.hrpp.interior_tests);
 }
-
 
 TEST(ResolveForScene, FillsThePerSceneFields) {
   Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb");

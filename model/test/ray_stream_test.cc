@@ -1,6 +1,9 @@
 // Ray-stream files (docs/ray_stream.md): round trip, byte-identical determinism, every malformed
 // file named with its record number, and the command-line errors of trace / predict / render.
+#include "hrpp/workload/ray_stream.h"
+
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -8,9 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
-#include "hrpp/workload/ray_stream.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -18,7 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string own(const std::string& name) { return std::string(HRPP_SOURCE_DIR) + "/scenes/" + name; }
+std::string own(const std::string& name) {
+  return std::string(HRPP_SOURCE_DIR) + "/scenes/" + name;
+}
 
 std::vector<char> read_bytes(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -29,7 +32,8 @@ void write_bytes(const std::string& path, const std::vector<char>& b) {
 }
 
 /// Writes a scene's workload to PATH; returns the records.
-std::vector<RayRecord> write_stream(const Scene& s, const WorkloadOptions& wo, const std::string& path) {
+std::vector<RayRecord> write_stream(const Scene& s, const WorkloadOptions& wo,
+                                    const std::string& path) {
   Bvh bvh = build_bvh(s.triangles);
   StreamHeader h;
   h.scene_fingerprint = scene_fingerprint(s);
@@ -166,8 +170,9 @@ TEST_F(Stream, RayCountMustMatchTheFileLength) {
   auto b = bytes_;
   b.insert(b.end(), 64, 0);  // one record more than the header says
   write_bytes(dir_ + "/x.rays", b);
-  EXPECT_NE(read_error(dir_ + "/x.rays").find("64 bytes after the " + std::to_string(rays_.size()) +
-                                              " records the header announces"),
+  EXPECT_NE(read_error(dir_ + "/x.rays")
+                .find("64 bytes after the " + std::to_string(rays_.size()) +
+                      " records the header announces"),
             std::string::npos);
   b = bytes_;
   b.push_back(0);
@@ -208,7 +213,8 @@ TEST_F(Stream, BadKindAndReservedBytes) {
   b = bytes_;
   b[header_len_ + 64 * 4 + 35] = 1;
   write_bytes(dir_ + "/r.rays", b);
-  EXPECT_EQ(read_error(dir_ + "/r.rays"), dir_ + "/r.rays: record 4: reserved bytes 34-35 are not zero");
+  EXPECT_EQ(read_error(dir_ + "/r.rays"),
+            dir_ + "/r.rays: record 4: reserved bytes 34-35 are not zero");
 }
 
 TEST_F(Stream, WriterNeverLeavesAHalfWrittenFile) {
@@ -260,13 +266,17 @@ TEST_F(Stream, ToolErrors) {
   expect_error("trace " + scene + " --res 0x5 --out " + out, "--res must be WIDTHxHEIGHT");
   expect_error("trace " + scene + " --res 64 --out " + out, "--res must be WIDTHxHEIGHT");
   expect_error("trace " + scene, "--out is required");
-  expect_error("trace " + scene + " --res 8x8 --out " + dir_ + "/nodir/o.rays", "cannot open for writing");
-  expect_error("render " + scene + " --res 8x8 --out " + path_, "cannot create the output directory");
-  expect_error("render " + scene + " --res 8x8 --effects ao,bogus --out " + dir_ + "/r", "unknown effect 'bogus'");
+  expect_error("trace " + scene + " --res 8x8 --out " + dir_ + "/nodir/o.rays",
+               "cannot open for writing");
+  expect_error("render " + scene + " --res 8x8 --out " + path_,
+               "cannot create the output directory");
+  expect_error("render " + scene + " --res 8x8 --effects ao,bogus --out " + dir_ + "/r",
+               "unknown effect 'bogus'");
   expect_error("predict " + scene + " --stream " + dir_ + "/none.rays", "cannot open");
   expect_error("predict " + scene + " --stream " + scene, "not a ray stream (bad magic)");
   expect_error("predict " + scene + " --stream " + path_, "was generated from another scene");
-  expect_error("predict " + own("glass_spheres.glb") + " --stream " + path_ + " --spp 2", "excludes");
+  expect_error("predict " + own("glass_spheres.glb") + " --stream " + path_ + " --spp 2",
+               "excludes");
   auto b = bytes_;
   b.resize(header_len_ + 64 * 5 + 3);
   write_bytes(dir_ + "/cut.rays", b);
@@ -282,7 +292,8 @@ TEST_F(Stream, PredictFromAStreamEqualsPredictOnTheGeneratedRays) {
   const std::string w = " --res 40x30 --spp 2 --effects auto,ao --order morton --tile 4";
   RunResult t = run("trace " + scene + w + " --out " + rays + " --json " + dir_ + "/trace.json");
   ASSERT_EQ(t.code, 0) << t.output;
-  EXPECT_NE(t.output.find("refraction  on   derived: material 'glass'"), std::string::npos) << t.output;
+  EXPECT_NE(t.output.find("refraction  on   derived: material 'glass'"), std::string::npos)
+      << t.output;
   RunResult a = run("predict " + scene + w + " --json " + dir_ + "/a.json");
   RunResult b = run("predict " + scene + " --stream " + rays + " --json " + dir_ + "/b.json");
   ASSERT_EQ(a.code, 0) << a.output;

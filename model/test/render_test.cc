@@ -1,5 +1,7 @@
 // Pictures (hrpp render): the PNG files, the direct-lighting image's lit and unlit parts, the
 // heat maps' values, colours and legend.
+#include "hrpp/report/render.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,13 +9,14 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hrpp/report/render.h"
 #include "test_util.h"
 
 namespace hrpp {
 namespace {
 
-std::string own(const std::string& name) { return std::string(HRPP_SOURCE_DIR) + "/scenes/" + name; }
+std::string own(const std::string& name) {
+  return std::string(HRPP_SOURCE_DIR) + "/scenes/" + name;
+}
 
 /// Width and height from a PNG's IHDR chunk; false when the file is not a PNG.
 bool png_size(const std::string& path, int* w, int* h) {
@@ -74,8 +77,8 @@ TEST(Render, ShadedImageShowsLitAndShadowedSurfaces) {
   ShadeInfo info;
   const Image img = shade(s, bvh, wo, &info);
   EXPECT_GT(info.exposure, 0);
-  EXPECT_GT(info.lit_fraction, 0.3);  // the ceiling light reaches most of the box ...
-  EXPECT_LT(info.lit_fraction, 0.95); // ... but not the ceiling itself nor the blocks' shadows
+  EXPECT_GT(info.lit_fraction, 0.3);   // the ceiling light reaches most of the box ...
+  EXPECT_LT(info.lit_fraction, 0.95);  // ... but not the ceiling itself nor the blocks' shadows
   EXPECT_GT(info.emitter_samples, 0u);
   // The light (top centre) is drawn in its own colour, brighter than the ceiling beside it.
   float brightest = 0;

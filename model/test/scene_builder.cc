@@ -22,16 +22,16 @@ SceneBuilder::SceneBuilder() {
 }
 
 int SceneBuilder::material(const MaterialSpec& m) {
-  nlohmann::json mj = {
-      {"name", m.name},
-      {"pbrMetallicRoughness",
-       {{"baseColorFactor", {m.base.x, m.base.y, m.base.z, 1.0}},
-        {"metallicFactor", m.metallic},
-        {"roughnessFactor", m.roughness}}},
-      {"emissiveFactor", {m.emissive.x, m.emissive.y, m.emissive.z}},
-      {"doubleSided", m.double_sided}};
+  nlohmann::json mj = {{"name", m.name},
+                       {"pbrMetallicRoughness",
+                        {{"baseColorFactor", {m.base.x, m.base.y, m.base.z, 1.0}},
+                         {"metallicFactor", m.metallic},
+                         {"roughnessFactor", m.roughness}}},
+                       {"emissiveFactor", {m.emissive.x, m.emissive.y, m.emissive.z}},
+                       {"doubleSided", m.double_sided}};
   if (m.emissive_strength != 1.f)
-    mj["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", m.emissive_strength}};
+    mj["extensions"]["KHR_materials_emissive_strength"] = {
+        {"emissiveStrength", m.emissive_strength}};
   if (m.transmission > 0) {
     mj["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", m.transmission}};
     mj["extensions"]["KHR_materials_ior"] = {{"ior", m.ior}};
@@ -67,10 +67,8 @@ uint32_t SceneBuilder::mesh(const std::string& name, const std::vector<Vec3>& ve
   j_["accessors"].push_back(
       {{"bufferView", iv}, {"componentType", 5125}, {"count", indices.size()}, {"type", "SCALAR"}});
   const int ia = static_cast<int>(j_["accessors"].size()) - 1;
-  nlohmann::json prim = {{"attributes", {{"POSITION", pa}}},
-                         {"indices", ia},
-                         {"mode", 4},
-                         {"material", material}};
+  nlohmann::json prim = {
+      {"attributes", {{"POSITION", pa}}}, {"indices", ia}, {"mode", 4}, {"material", material}};
   nlohmann::json m;
   m["primitives"] = nlohmann::json::array({prim});
   j_["meshes"].push_back(m);
@@ -134,21 +132,19 @@ uint32_t SceneBuilder::box(const std::string& name, Vec3 lo, Vec3 hi, int materi
 
 void SceneBuilder::point_light(const std::string& name, Vec3 pos, float intensity) {
   auto& lights = j_["extensions"]["KHR_lights_punctual"]["lights"];
-  lights.push_back({{"type", "point"}, {"name", name}, {"intensity", intensity},
-                    {"color", {1.0, 1.0, 1.0}}});
-  j_["nodes"].push_back({{"name", name},
-                         {"translation", {pos.x, pos.y, pos.z}},
-                         {"extensions", {{"KHR_lights_punctual", {{"light", lights.size() - 1}}}}}});
+  lights.push_back(
+      {{"type", "point"}, {"name", name}, {"intensity", intensity}, {"color", {1.0, 1.0, 1.0}}});
+  j_["nodes"].push_back(
+      {{"name", name},
+       {"translation", {pos.x, pos.y, pos.z}},
+       {"extensions", {{"KHR_lights_punctual", {{"light", lights.size() - 1}}}}}});
   j_["scenes"][0]["nodes"].push_back(j_["nodes"].size() - 1);
 }
 
 void SceneBuilder::camera(Vec3 eye, Vec3 target, Vec3 up, float fov_y_deg, int width, int height) {
-  camera_ = {{"eye", {eye.x, eye.y, eye.z}},
-             {"target", {target.x, target.y, target.z}},
-             {"up", {up.x, up.y, up.z}},
-             {"fov_y_deg", fov_y_deg},
-             {"aspect", double(width) / height},
-             {"image_size", {width, height}}};
+  camera_ = {{"eye", {eye.x, eye.y, eye.z}},     {"target", {target.x, target.y, target.z}},
+             {"up", {up.x, up.y, up.z}},         {"fov_y_deg", fov_y_deg},
+             {"aspect", double(width) / height}, {"image_size", {width, height}}};
 }
 
 std::string SceneBuilder::write(const std::string& dir, const std::string& name) const {

@@ -31,8 +31,8 @@ class SceneBuilder {
   /// A quad with corners c, c+a, c+a+b, c+b, wound so that its normal points along `facing`.
   uint32_t quad(const std::string& name, Vec3 c, Vec3 a, Vec3 b, Vec3 facing, int material);
   /// A UV sphere (triangles wound outwards); returns the first triangle.
-  uint32_t sphere(const std::string& name, Vec3 centre, float radius, int material,
-                  int stacks = 12, int slices = 24);
+  uint32_t sphere(const std::string& name, Vec3 centre, float radius, int material, int stacks = 12,
+                  int slices = 24);
   /// An axis-aligned box (triangles wound outwards).
   uint32_t box(const std::string& name, Vec3 lo, Vec3 hi, int material);
   void point_light(const std::string& name, Vec3 pos, float intensity);

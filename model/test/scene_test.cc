@@ -1,4 +1,6 @@
 // Scene loading: real scenes load with the expected contents; malformed files give clear errors.
+#include "hrpp/scene/scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hrpp/scene/scene.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -22,17 +23,17 @@ TEST(Scene, SharedScenesLoadWithPublishedCounts) {
     bool area_light;
   };
   // Triangle counts from ../shared/scenes/SOURCES.md ("all mesh nodes together").
-  const Expect expect[] = {{"bunny.glb", 69485, 1, true},       {"teapot.glb", 2360, 1, true},
-                           {"killeroo.glb", 66852, 0, true},    {"happy_buddha.glb", 98601, 1, false},
-                           {"sponza.glb", 66454, 1, false},     {"cornell_box.glb", 32, 0, true}};
+  const Expect expect[] = {{"bunny.glb", 69485, 1, true},    {"teapot.glb", 2360, 1, true},
+                           {"killeroo.glb", 66852, 0, true}, {"happy_buddha.glb", 98601, 1, false},
+                           {"sponza.glb", 66454, 1, false},  {"cornell_box.glb", 32, 0, true}};
   if (test::shared_scenes().empty()) GTEST_SKIP() << "../shared/scenes absent";
   for (const auto& e : expect) {
     Scene s = load_scene(test::shared_scene(e.file));
     EXPECT_EQ(s.triangles.size(), e.triangles) << e.file;
     EXPECT_EQ(s.lights.size(), e.punctual_lights) << e.file;
     EXPECT_EQ(!s.emissive_triangles().empty(), e.area_light) << e.file;
-    EXPECT_EQ(s.camera.source, "sidecar " + std::string(e.file).substr(0, std::strlen(e.file) - 4) +
-                                   ".camera.json");
+    EXPECT_EQ(s.camera.source,
+              "sidecar " + std::string(e.file).substr(0, std::strlen(e.file) - 4) + ".camera.json");
     EXPECT_FALSE(s.bounds.empty());
   }
   // SOURCES.md: exactly one zero-area triangle in the whole set, in sponza.
@@ -68,7 +69,9 @@ TEST(Scene, OwnScenesLoad) {
 
 class Malformed : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name()); }
+  void SetUp() override {
+    dir_ = test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
   // Writes the glTF JSON and expects load_scene to throw a SceneError containing every needle.
   void expect_error(const nlohmann::json& j, std::vector<std::string> needles,
                     const std::string& name = "scene.gltf") {
@@ -268,8 +271,8 @@ TEST_F(Malformed, GeometryOutsideTheValidRangeIsRejected) {
         Case{1e17f, 1e6f, "-9.99999984e+16"}, Case{1e19f, 0, "-9.99999998e+18"}}) {
     auto j = test::minimal_gltf(square(c.h, c.z), {0, 1, 2, 0, 2, 3});
     j["nodes"][0]["name"] = "far";
-    expect_error(j, {"node 0 (far) mesh 0 primitive 0: vertex 0 has the world coordinate",
-                     c.value, "outside the traceable range |x| <= 1.37438953e+11"});
+    expect_error(j, {"node 0 (far) mesh 0 primitive 0: vertex 0 has the world coordinate", c.value,
+                     "outside the traceable range |x| <= 1.37438953e+11"});
   }
   // The node transform counts: in range in the file, out of range in the world.
   auto t = test::minimal_gltf(square(1, 0), {0, 1, 2, 0, 2, 3});
@@ -288,9 +291,9 @@ TEST_F(Malformed, TheValidRangeIsAccepted) {
   EXPECT_EQ(s.camera.source, "computed default");
   EXPECT_LE(max_abs(s.camera.eye), kMaxRayOrigin);
   EXPECT_GT(max_abs(s.camera.eye), 4.6f * g);
-  expect_error(test::minimal_gltf(square(std::nextafter(kMaxSceneCoordinate, kInf), 0),
-                                  {0, 1, 2, 0, 2, 3}),
-               {"vertex 0", "outside the traceable range"});
+  expect_error(
+      test::minimal_gltf(square(std::nextafter(kMaxSceneCoordinate, kInf), 0), {0, 1, 2, 0, 2, 3}),
+      {"vertex 0", "outside the traceable range"});
 }
 
 TEST_F(Malformed, TrianglesBelowTheSmallestAreaAreRejected) {
@@ -302,7 +305,8 @@ TEST_F(Malformed, TrianglesBelowTheSmallestAreaAreRejected) {
                    "below the smallest traceable 7.88860905e-31"});
   std::string path = dir_ + "/flat.gltf";
   test::write_text(path, test::minimal_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 0, 5, 5, 0, 6, 6, 0},
-                                            {0, 1, 2, 3, 4, 5}).dump());
+                                            {0, 1, 2, 3, 4, 5})
+                             .dump());
   EXPECT_EQ(load_scene(path).degenerate_triangles, 1u);
 }
 
@@ -317,8 +321,8 @@ TEST_F(Malformed, CamerasAndLightsOutsideTheValidRangeAreRejected) {
   auto j = good();
   j["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"name", "far"}}};
   j["extensionsUsed"] = {"KHR_lights_punctual"};
-  j["nodes"].push_back({{"translation", {0, -3e12, 0}},
-                        {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  j["nodes"].push_back(
+      {{"translation", {0, -3e12, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   j["scenes"][0]["nodes"].push_back(1);
   expect_error(j, {"node 1: light 'far' has the position coordinate -3.00000005e+12", "outside"});
 }

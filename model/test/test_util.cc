@@ -92,25 +92,23 @@ nlohmann::json minimal_gltf(const std::vector<float>& positions,
   j["scene"] = 0;
   j["scenes"] = {{{"nodes", {0}}}};
   j["nodes"] = {{{"mesh", 0}, {"name", "tri"}}};
-  j["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1},
-                                   {"mode", 4}, {"material", 0}}}}}};
+  j["meshes"] = {
+      {{"primitives",
+        {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"mode", 4}, {"material", 0}}}}}};
   j["materials"] = {{{"name", "m"}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}}};
   j["buffers"] = {{{"byteLength", bytes.size()},
                    {"uri", "data:application/octet-stream;base64," + base64(bytes)}}};
-  j["bufferViews"] = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positions.size() * 4}},
-                      {{"buffer", 0},
-                       {"byteOffset", positions.size() * 4},
-                       {"byteLength", indices.size() * 4}}};
-  j["accessors"] = {{{"bufferView", 0},
-                     {"componentType", 5126},
-                     {"count", positions.size() / 3},
-                     {"type", "VEC3"},
-                     {"min", lo},
-                     {"max", hi}},
-                    {{"bufferView", 1},
-                     {"componentType", 5125},
-                     {"count", indices.size()},
-                     {"type", "SCALAR"}}};
+  j["bufferViews"] = {
+      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positions.size() * 4}},
+      {{"buffer", 0}, {"byteOffset", positions.size() * 4}, {"byteLength", indices.size() * 4}}};
+  j["accessors"] = {
+      {{"bufferView", 0},
+       {"componentType", 5126},
+       {"count", positions.size() / 3},
+       {"type", "VEC3"},
+       {"min", lo},
+       {"max", hi}},
+      {{"bufferView", 1}, {"componentType", 5125}, {"count", indices.size()}, {"type", "SCALAR"}}};
   return j;
 }
 

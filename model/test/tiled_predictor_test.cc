@@ -1,13 +1,14 @@
 // The predictor on several cores (TiledPredictor): the statistics depend on the number of cores
 // (each owns its table) but never on the number of threads that run them, and one core is the
 // plain Predictor ray for ray.
+#include "hrpp/predictor/tiled_predictor.h"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
 
-#include "hrpp/predictor/tiled_predictor.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -131,12 +132,13 @@ TEST(TiledPredictor, ToolGivesTheSameStatisticsForAnyThreadCount) {
   const std::string dir = test::temp_dir("tiled_tool");
   const std::string scene = std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb";
   std::string out;
-  ASSERT_EQ(tool("trace " + scene + " --effects shadow,ao --res 192x144 --order morton --out " + dir +
-                     "/s.rays",
+  ASSERT_EQ(tool("trace " + scene + " --effects shadow,ao --res 192x144 --order morton --out " +
+                     dir + "/s.rays",
                  &out),
             0)
       << out;
-  const std::string base = "predict " + scene + " --stream " + dir + "/s.rays --table 64x4 --cores 4";
+  const std::string base =
+      "predict " + scene + " --stream " + dir + "/s.rays --table 64x4 --cores 4";
   ASSERT_EQ(tool(base + " --threads 1 --json " + dir + "/1.json", &out), 0) << out;
   ASSERT_EQ(tool(base + " --threads 3 --json " + dir + "/3.json", &out), 0) << out;
   const nlohmann::json one = read_json(dir + "/1.json"), three = read_json(dir + "/3.json");

@@ -1,6 +1,8 @@
 // Ray workloads (docs/workloads.md): effects derived from hand-made glTF scenes, the geometry of
 // reflection, refraction and area-light rays, 0 self-hits on every scene, and ray orders that
 // permute one and the same multiset of rays.
+#include "hrpp/workload/workload.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 #include <map>
 #include <tuple>
 
-#include "hrpp/workload/workload.h"
 #include "scene_builder.h"
 #include "test_util.h"
 
@@ -39,7 +40,8 @@ struct Spheres {
 Spheres spheres_scene(const std::string& name, bool light) {
   test::SceneBuilder b;
   const int matte = b.material({.name = "matte"});
-  const int metal = b.material({.name = "mirror", .base = Vec3(0.9f), .metallic = 1, .roughness = 0});
+  const int metal =
+      b.material({.name = "mirror", .base = Vec3(0.9f), .metallic = 1, .roughness = 0});
   Spheres s;
   s.floor = b.quad("floor", Vec3(-4, 0, -4), Vec3(8, 0, 0), Vec3(0, 0, 8), Vec3(0, 1, 0), matte);
   s.mirror = b.sphere("mirror_sphere", Vec3(-1, 1, 0), 0.9f, metal);
@@ -112,11 +114,14 @@ TEST(Effects, OneMetallicSphereGivesReflectionRaysOnlyFromIt) {
 TEST(Effects, EmissiveQuadGivesAreaLightSamplesOnIt) {
   test::SceneBuilder b;
   const int matte = b.material({});
-  const int emitter = b.material({.name = "panel", .base = Vec3(0), .emissive = Vec3(1),
-                                  .emissive_strength = 10, .double_sided = false});
+  const int emitter = b.material({.name = "panel",
+                                  .base = Vec3(0),
+                                  .emissive = Vec3(1),
+                                  .emissive_strength = 10,
+                                  .double_sided = false});
   b.quad("floor", Vec3(-4, 0, -4), Vec3(8, 0, 0), Vec3(0, 0, 8), Vec3(0, 1, 0), matte);
-  const uint32_t panel = b.quad("panel", Vec3(-0.5f, 3, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1),
-                                Vec3(0, -1, 0), emitter);
+  const uint32_t panel =
+      b.quad("panel", Vec3(-0.5f, 3, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(0, -1, 0), emitter);
   b.box("block", Vec3(-0.5f, 0, -0.5f), Vec3(0.5f, 1, 0.5f), matte);
   Scene s = load_scene(b.write(test::temp_dir("workload_area"), "area"));
   const EffectChoice c = derive_effects(s);
@@ -153,8 +158,12 @@ TEST(Effects, EmissiveQuadGivesAreaLightSamplesOnIt) {
 TEST(Effects, RefractionFollowsSnellAndTotalInternalReflectionReflects) {
   test::SceneBuilder b;
   const int matte = b.material({});
-  const int glass = b.material({.name = "glass", .base = Vec3(1), .roughness = 0,
-                                .transmission = 1, .ior = 1.5f, .double_sided = false});
+  const int glass = b.material({.name = "glass",
+                                .base = Vec3(1),
+                                .roughness = 0,
+                                .transmission = 1,
+                                .ior = 1.5f,
+                                .double_sided = false});
   b.quad("floor", Vec3(-4, 0, -4), Vec3(8, 0, 0), Vec3(0, 0, 8), Vec3(0, 1, 0), matte);
   const uint32_t g0 = b.box("glass_block", Vec3(-1, 0.01f, -1), Vec3(1, 1.5f, 1), glass);
   b.point_light("lamp", Vec3(2, 5, 4), 40);
@@ -188,7 +197,8 @@ TEST(Effects, RefractionFollowsSnellAndTotalInternalReflectionReflects) {
       EXPECT_GT(r.depth, 0);
     } else {
       ++tir;
-      EXPECT_GT(eta * sin_i, 1.f - 1e-5f) << "a reflection from glass only on total internal reflection";
+      EXPECT_GT(eta * sin_i, 1.f - 1e-5f)
+          << "a reflection from glass only on total internal reflection";
       EXPECT_LT(glm::length(r.ray.dir - (d - 2.f * glm::dot(d, n) * n)), 1e-5f);
       EXPECT_FALSE(entering);
     }
@@ -308,8 +318,10 @@ TEST(Workload, OrdersIssueTilesThenKinds) {
   auto rays = collect(s, bvh, wo);
   uint32_t last_primary_pixel = 0;
   for (const RayRecord& r : rays) {
-    if (r.kind == RayKind::kPrimary) last_primary_pixel = r.pixel;
-    else ASSERT_EQ(r.pixel, last_primary_pixel);
+    if (r.kind == RayKind::kPrimary)
+      last_primary_pixel = r.pixel;
+    else
+      ASSERT_EQ(r.pixel, last_primary_pixel);
   }
 
   // Tiled: the 64 primary rays of tile (0, 0) first, in scanline order inside the tile, then

@@ -55,15 +55,17 @@ CycleModel::Decision CycleModel::decide() const {
   const KeyEntry& kp = p0_.key;
   const KeyEntry& kf = f0_.key;
   if (p0_.hit)
-    d.action = kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip
-                                                                    : Action::kShrink;
+    d.action =
+        kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip : Action::kShrink;
   const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
   const bool p_needs = d.action == Action::kSkip;
   // The table port: a final outcome first.
   d.f_req = f0_.valid && f0_.hit;
   d.p_req = p0_.valid && p_needs && !fifo_full;
-  if (d.f_req) d.update = Op{kf.idx, kf.tag, f0_.node};
-  else if (d.p_req) d.update = Op{kp.idx, kp.tag, p0_.node};
+  if (d.f_req)
+    d.update = Op{kf.idx, kf.tag, f0_.node};
+  else if (d.p_req)
+    d.update = Op{kp.idx, kp.tag, p0_.node};
   // The update queue takes a request while it has room.
   d.up_ready = update_queue_.size() < kUpdateQueueDepth;
   d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);

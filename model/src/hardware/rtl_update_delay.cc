@@ -88,8 +88,10 @@ uint32_t rtl_update_delay(uint32_t walk_latency) {
   while (!second_ray_sees_write(cfg, hi, walk_latency)) hi *= 2;
   while (lo < hi) {
     const uint32_t mid = lo + (hi - lo) / 2;
-    if (second_ray_sees_write(cfg, mid, walk_latency)) hi = mid;
-    else lo = mid + 1;
+    if (second_ray_sees_write(cfg, mid, walk_latency))
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   // At one ray per cycle, gap - 1 rays are looked up in between; but no more rays than there
   // are ray ids can be in flight.

@@ -16,8 +16,7 @@ void walk_from_root(const Bvh& bvh, const Ray& ray, Action action, EngineRay* er
   if (action != Action::kShrink) {
     baseline_walk(bvh, ray, er);
   } else if (!er->any && er->best.hit()) {
-    closest_hit_pair(bvh, ray, er->best.t, &er->baseline, &er->base, &er->shrunk,
-                     &er->shrunk_work);
+    closest_hit_pair(bvh, ray, er->best.t, &er->baseline, &er->base, &er->shrunk, &er->shrunk_work);
   } else {  // not a closest-hit walk bounded by a hit (only a faulty decision asks for it)
     baseline_walk(bvh, ray, er);
     shrunk_walk(bvh, ray, er);

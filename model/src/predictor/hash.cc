@@ -56,7 +56,7 @@ int cell_exp_for(const Aabb& b, int origin_bits) {
 
 uint32_t canonical_bits(uint32_t b) {
   const uint32_t exp = (b >> 23) & 0xFF, man = b & 0x7FFFFF;
-  if (exp == 0) return 0;                         // +-0 and denormals
+  if (exp == 0) return 0;                          // +-0 and denormals
   if (exp == 0xFF && man != 0) return 0x7F800000;  // every NaN
   return b;
 }
@@ -108,7 +108,7 @@ uint32_t grid_dir_field(uint32_t bits, int field_bits) {
   } else if (exp >= 127) {  // |d| >= 1 (and inf / NaN): saturate
     q = sign ? lo : hi;
   } else {
-    const uint64_t mant = (b & 0x7FFFFF) | 0x800000;   // |d| = mant * 2^(exp - 150)
+    const uint64_t mant = (b & 0x7FFFFF) | 0x800000;                // |d| = mant * 2^(exp - 150)
     const int sh = 150 - static_cast<int>(exp) - (field_bits - 1);  // > 0 since exp <= 126
     const uint64_t mag = sh >= 64 ? 0 : mant >> sh;
     const bool frac = sh >= 64 ? true : (mant & ((uint64_t{1} << sh) - 1)) != 0;

@@ -27,9 +27,7 @@ int TableConfig::entry_bits() const {
   const int id = unbounded ? key_bits : 1 + tag_bits;
   return id + count_bits() + static_cast<int>(nodes_per_entry) * node_bits;
 }
-uint64_t TableConfig::set_bits() const {
-  return uint64_t{ways} * (entry_bits() + age_bits());
-}
+uint64_t TableConfig::set_bits() const { return uint64_t{ways} * (entry_bits() + age_bits()); }
 uint64_t TableConfig::total_bits(uint64_t unbounded_entries) const {
   return unbounded ? unbounded_entries * entry_bits() : uint64_t{sets} * set_bits();
 }

@@ -9,15 +9,19 @@ namespace hrpp {
 
 const char* predict_mode_name(PredictMode m) {
   switch (m) {
-    case PredictMode::kAnyHit: return "anyhit";
-    case PredictMode::kClosestExact: return "closest-exact";
-    case PredictMode::kClosestSpec: return "closest-spec";
+    case PredictMode::kAnyHit:
+      return "anyhit";
+    case PredictMode::kClosestExact:
+      return "closest-exact";
+    case PredictMode::kClosestSpec:
+      return "closest-spec";
   }
   return "?";
 }
 
 bool parse_predict_mode(const std::string& s, PredictMode* out) {
-  for (PredictMode m : {PredictMode::kAnyHit, PredictMode::kClosestExact, PredictMode::kClosestSpec})
+  for (PredictMode m :
+       {PredictMode::kAnyHit, PredictMode::kClosestExact, PredictMode::kClosestSpec})
     if (s == predict_mode_name(m)) {
       *out = m;
       return true;
@@ -157,7 +161,8 @@ RayResult Predictor::process(const RayRecord& rec) {
   using Clock = std::chrono::steady_clock;
   const bool timed = cfg_.measure_time;
   auto ns_since = [](Clock::time_point t0) {
-    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+    return uint64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
   };
   const Ray& ray = rec.ray;
   if (validate_ray(ray) != RayError::kNone) {  // never hashed
@@ -202,8 +207,8 @@ RayResult Predictor::process(const RayRecord& rec) {
     if (cfg_.update_delay == 0)
       table_.update(res.key.index, res.key.tag, res.key.key, res.update_node);
     else
-      pending_.push_back({ray_no + 1 + cfg_.update_delay, res.key.index, res.key.tag,
-                          res.key.key, res.update_node});
+      pending_.push_back({ray_no + 1 + cfg_.update_delay, res.key.index, res.key.tag, res.key.key,
+                          res.update_node});
   }
   if (timed) {
     s.hrpp_ns += hrpp_ns + lookup_ns + ns_since(t0);
@@ -239,8 +244,7 @@ nlohmann::json Predictor::to_json() const {
       {"dir_bits", h.dir_bits},
       {"combine", combine_mode_name(h.combine)},
       {"key_bits", h.key_bits()},
-      {"table", t.unbounded ? "unbounded"
-                            : std::to_string(t.sets) + "x" + std::to_string(t.ways)},
+      {"table", t.unbounded ? "unbounded" : std::to_string(t.sets) + "x" + std::to_string(t.ways)},
       {"sets", t.unbounded ? 0 : t.sets},
       {"ways", t.unbounded ? 0 : t.ways},
       {"nodes_per_entry", t.nodes_per_entry},
@@ -254,7 +258,8 @@ nlohmann::json Predictor::to_json() const {
   j["table_bytes"] = table_.bytes();
   nlohmann::json bk = nlohmann::json::object();
   for (int k = 0; k < kNumRayKinds; ++k)
-    if (by_kind_[k].rays) bk[std::string(ray_kind_name(static_cast<RayKind>(k)))] = by_kind_[k].to_json();
+    if (by_kind_[k].rays)
+      bk[std::string(ray_kind_name(static_cast<RayKind>(k)))] = by_kind_[k].to_json();
   j["by_kind"] = bk;
   return j;
 }

@@ -31,8 +31,8 @@ std::string CrossCheckResult::failure() const {
   const std::string uncompared = std::to_string(c.invalid_rays) + " invalid, " +
                                  std::to_string(c.outside_embree) + " outside Embree's range";
   if (c.compared == 0)
-    return "no ray compared (" + std::to_string(c.rays) + " rays of the kinds asked for: " +
-           uncompared + ")";
+    return "no ray compared (" + std::to_string(c.rays) +
+           " rays of the kinds asked for: " + uncompared + ")";
   if (double(c.compared) < kMinComparedFraction * double(c.rays)) {
     char pct[16];
     std::snprintf(pct, sizeof pct, "%g%%", 100 * kMinComparedFraction);
@@ -202,7 +202,8 @@ nlohmann::json CrossCheckResult::to_json() const {
       "the same t";
   nlohmann::json bk = nlohmann::json::object();
   for (int k = 0; k < kNumRayKinds; ++k)
-    if (by_kind[k].rays) bk[std::string(ray_kind_name(static_cast<RayKind>(k)))] = counts_json(by_kind[k]);
+    if (by_kind[k].rays)
+      bk[std::string(ray_kind_name(static_cast<RayKind>(k)))] = counts_json(by_kind[k]);
   j["by_kind"] = bk;
   j["examples"] = examples;
   return j;

@@ -18,7 +18,8 @@ struct EmbreeScene::Impl {
 
 namespace {
 void on_error(void* user, RTCError code, const char* str) {
-  *static_cast<std::string*>(user) = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "");
+  *static_cast<std::string*>(user) =
+      "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "");
 }
 
 void to_rtc(const Ray& r, RTCRay* out) {

@@ -1,15 +1,15 @@
 #include "hrpp/report/render.h"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBIW_WINDOWS_UTF8 0
-#include <stb/stb_image_write.h>
 #include <stb/stb_easy_font.h>
+#include <stb/stb_image_write.h>
 
 #include "hrpp/util/atomic_file.h"
 
@@ -42,8 +42,8 @@ void Image::text(int x, int y, const std::string& s, const Vec3& c, int scale) {
   std::vector<char> txt(s.begin(), s.end());
   txt.push_back('\0');
   std::vector<char> buf(270 * (s.size() + 1) + 1024);
-  const int quads = stb_easy_font_print(0, 0, txt.data(), nullptr, buf.data(),
-                                        static_cast<int>(buf.size()));
+  const int quads =
+      stb_easy_font_print(0, 0, txt.data(), nullptr, buf.data(), static_cast<int>(buf.size()));
   struct Vertex {
     float x, y, z;
     uint8_t color[4];
@@ -56,8 +56,10 @@ void Image::text(int x, int y, const std::string& s, const Vec3& c, int scale) {
     const float qx1 = std::max({k[0].x, k[1].x, k[2].x, k[3].x});
     const float qy0 = std::min({k[0].y, k[1].y, k[2].y, k[3].y});
     const float qy1 = std::max({k[0].y, k[1].y, k[2].y, k[3].y});
-    fill_rect(x + static_cast<int>(std::floor(qx0 * scale)), y + static_cast<int>(std::floor(qy0 * scale)),
-              x + static_cast<int>(std::ceil(qx1 * scale)), y + static_cast<int>(std::ceil(qy1 * scale)), c);
+    fill_rect(x + static_cast<int>(std::floor(qx0 * scale)),
+              y + static_cast<int>(std::floor(qy0 * scale)),
+              x + static_cast<int>(std::ceil(qx1 * scale)),
+              y + static_cast<int>(std::ceil(qy1 * scale)), c);
   }
 }
 
@@ -85,7 +87,8 @@ void write_png(const std::string& path, const Image& img) {
   std::vector<unsigned char> png;
   auto append = [](void* ctx, void* data, int size) {
     auto* v = static_cast<std::vector<unsigned char>*>(ctx);
-    v->insert(v->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+    v->insert(v->end(), static_cast<unsigned char*>(data),
+              static_cast<unsigned char*>(data) + size);
   };
   if (!stbi_write_png_to_func(append, &png, img.width, img.height, 3, img.rgb.data(),
                               img.width * 3))
@@ -110,8 +113,8 @@ nlohmann::json ShadeInfo::to_json() const {
 }
 
 Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, ShadeInfo* info) {
-  constexpr float kAmbient = 0.08f;                 // display units, times the base colour
-  const Vec3 kBackground(0.02f, 0.025f, 0.045f);   // linear; a dark blue-grey
+  constexpr float kAmbient = 0.08f;               // display units, times the base colour
+  const Vec3 kBackground(0.02f, 0.025f, 0.045f);  // linear; a dark blue-grey
   constexpr float kInvPi = 0.318309886f;
   int w, h;
   workload_resolution(scene, opt, &w, &h);
@@ -163,7 +166,8 @@ Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, Shad
         lit_samples += reached;
         lit[pixel] += base * kInvPi * e;
         // Ambient, shaded by the angle to the viewer so that unlit geometry keeps its shape.
-        ambient[pixel] += kAmbient * (0.25f + 0.75f * std::fabs(glm::dot(sp.n, glm::normalize(r.dir)))) * base;
+        ambient[pixel] +=
+            kAmbient * (0.25f + 0.75f * std::fabs(glm::dot(sp.n, glm::normalize(r.dir)))) * base;
       }
     }
   // Exposure: the 95th percentile of the lit pixels' luminance maps to 0.85.
@@ -217,12 +221,14 @@ PixelStats predictor_pixels(const Scene& scene, const Bvh& bvh, const WorkloadOp
 
 Vec3 colormap(const std::string& name, double t) {
   // viridis sampled at 0, 0.1, ..., 1 (matplotlib); coolwarm's ends and middle (Moreland 2009).
-  static const Vec3 viridis[] = {{0.267, 0.005, 0.329}, {0.283, 0.141, 0.458}, {0.254, 0.265, 0.530},
-                                 {0.207, 0.372, 0.553}, {0.164, 0.471, 0.558}, {0.128, 0.567, 0.551},
-                                 {0.135, 0.659, 0.518}, {0.267, 0.749, 0.441}, {0.478, 0.821, 0.318},
-                                 {0.741, 0.873, 0.150}, {0.993, 0.906, 0.144}};
-  static const Vec3 coolwarm[] = {{0.230, 0.299, 0.754}, {0.552, 0.690, 0.996},
-                                  {0.865, 0.865, 0.865}, {0.958, 0.603, 0.482},
+  static const Vec3 viridis[] = {
+      {0.267, 0.005, 0.329}, {0.283, 0.141, 0.458}, {0.254, 0.265, 0.530}, {0.207, 0.372, 0.553},
+      {0.164, 0.471, 0.558}, {0.128, 0.567, 0.551}, {0.135, 0.659, 0.518}, {0.267, 0.749, 0.441},
+      {0.478, 0.821, 0.318}, {0.741, 0.873, 0.150}, {0.993, 0.906, 0.144}};
+  static const Vec3 coolwarm[] = {{0.230, 0.299, 0.754},
+                                  {0.552, 0.690, 0.996},
+                                  {0.865, 0.865, 0.865},
+                                  {0.958, 0.603, 0.482},
                                   {0.706, 0.016, 0.150}};
   const bool cw = name == "coolwarm";
   const Vec3* pts = cw ? coolwarm : viridis;
@@ -241,9 +247,12 @@ namespace {
 
 std::string label(double v, bool percent) {
   char b[64];
-  if (percent) std::snprintf(b, sizeof b, "%.0f%%", 100 * v);
-  else if (std::fabs(v) >= 100 || v == std::floor(v)) std::snprintf(b, sizeof b, "%.0f", v);
-  else std::snprintf(b, sizeof b, "%.3g", v);
+  if (percent)
+    std::snprintf(b, sizeof b, "%.0f%%", 100 * v);
+  else if (std::fabs(v) >= 100 || v == std::floor(v))
+    std::snprintf(b, sizeof b, "%.0f", v);
+  else
+    std::snprintf(b, sizeof b, "%.3g", v);
   return b;
 }
 
@@ -283,9 +292,9 @@ Image heat_map_image(const std::vector<double>& values, int w, int h, HeatMap* m
   const std::string lo = label(map->lo, map->percent), hi = label(map->hi, map->percent);
   img.text(bar_x0, ly, lo, kText, scale);
   img.text(bar_x1 - text_width(hi) * scale, ly, hi, kText, scale);
-  const std::string stats = "min " + label(map->min, map->percent) + "   mean " +
-                            label(map->mean, map->percent) + "   max " +
-                            label(map->max, map->percent) + (count < values.size() ? "   grey: no data" : "");
+  const std::string stats =
+      "min " + label(map->min, map->percent) + "   mean " + label(map->mean, map->percent) +
+      "   max " + label(map->max, map->percent) + (count < values.size() ? "   grey: no data" : "");
   img.text((canvas_w - text_width(stats) * scale) / 2, ly + 11 * scale, stats, kText, scale);
   return img;
 }
@@ -321,12 +330,15 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
   std::nth_element(sorted.begin(), sorted.begin() + (n - 1) * 99 / 100, sorted.end());
   mw.hi = std::max(1.0, sorted[(n - 1) * 99 / 100]);
   HeatMap ms{.title = "interior-node tests skipped: 1 - HRPP / baseline (red saves, blue costs)",
-             .colormap = "coolwarm", .lo = -1, .hi = 1, .percent = true};
+             .colormap = "coolwarm",
+             .lo = -1,
+             .hi = 1,
+             .percent = true};
   HeatMap mf{.title = "mispredicted: rays whose prediction failed / rays", .percent = true};
   nlohmann::json maps = nlohmann::json::object();
-  for (auto [name, values, map] : {std::tuple{"work.png", &work, &mw},
-                                   std::tuple{"skipped.png", &skipped, &ms},
-                                   std::tuple{"mispredicted.png", &failed, &mf}}) {
+  for (auto [name, values, map] :
+       {std::tuple{"work.png", &work, &mw}, std::tuple{"skipped.png", &skipped, &ms},
+        std::tuple{"mispredicted.png", &failed, &mf}}) {
     save(name, heat_map_image(*values, ps.width, ps.height, map));
     maps[name] = map->to_json();
   }

@@ -10,8 +10,12 @@ namespace hrpp {
 // ---- speculative image error ------------------------------------------------------------------
 
 SpecImage::SpecImage(const Scene& scene, int width, int height, int spp)
-    : scene_(scene), width_(width), height_(height), spp_(std::max(1, spp)),
-      exact_(size_t(width) * height * 3, 0.f), spec_(size_t(width) * height * 3, 0.f) {}
+    : scene_(scene),
+      width_(width),
+      height_(height),
+      spp_(std::max(1, spp)),
+      exact_(size_t(width) * height * 3, 0.f),
+      spec_(size_t(width) * height * 3, 0.f) {}
 
 static Vec3 eye_light(const Scene& scene, const Ray& r, const Hit& h) {
   if (!h.hit()) return Vec3(0.02f, 0.025f, 0.045f);  // render.cc's background

@@ -49,21 +49,28 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
 
 const char* mode_name(int mode) {
   switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
-    case TINYGLTF_MODE_TRIANGLES: return "TRIANGLES";
-    case TINYGLTF_MODE_TRIANGLE_STRIP: return "TRIANGLE_STRIP";
-    case TINYGLTF_MODE_TRIANGLE_FAN: return "TRIANGLE_FAN";
-    default: return "unknown";
+    case TINYGLTF_MODE_POINTS:
+      return "POINTS";
+    case TINYGLTF_MODE_LINE:
+      return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP:
+      return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP:
+      return "LINE_STRIP";
+    case TINYGLTF_MODE_TRIANGLES:
+      return "TRIANGLES";
+    case TINYGLTF_MODE_TRIANGLE_STRIP:
+      return "TRIANGLE_STRIP";
+    case TINYGLTF_MODE_TRIANGLE_FAN:
+      return "TRIANGLE_FAN";
+    default:
+      return "unknown";
   }
 }
 
 class Loader {
  public:
-  Loader(const std::string& path, const tinygltf::Model& m, Scene& s)
-      : path_(path), m_(m), s_(s) {}
+  Loader(const std::string& path, const tinygltf::Model& m, Scene& s) : path_(path), m_(m), s_(s) {}
 
   void run() {
     load_materials();
@@ -107,8 +114,8 @@ class Loader {
         if (it == gm.extensions.end() || !it->second.Has(key)) return;
         const auto& v = it->second.Get(key);
         if (!v.IsNumber())
-          fail(path_, "material " + std::to_string(i) + ": " + ext + "." + key +
-                          " is not a number");
+          fail(path_,
+               "material " + std::to_string(i) + ": " + ext + "." + key + " is not a number");
         *out = static_cast<float>(v.GetNumberAsDouble());
       };
       ext_number("KHR_materials_emissive_strength", "emissiveStrength", &mat.emissive_strength);
@@ -198,8 +205,8 @@ class Loader {
     if (n_cameras_seen_++ > 0 || s_.camera.source.size()) return;  // first camera node wins
     int ci = m_.nodes[ni].camera;
     if (ci >= static_cast<int>(m_.cameras.size()))
-      fail(path_, "node " + std::to_string(ni) + ": camera index " + std::to_string(ci) +
-                      " out of range");
+      fail(path_,
+           "node " + std::to_string(ni) + ": camera index " + std::to_string(ci) + " out of range");
     const auto& c = m_.cameras[ci];
     if (c.type != "perspective") return;  // orthographic: fall back to sidecar / default
     if (!(c.perspective.yfov > 0 && c.perspective.yfov < M_PI))
@@ -212,8 +219,8 @@ class Loader {
     cam.target = Vec3(eye + fwd);
     cam.up = Vec3(up);
     cam.fov_y_deg = static_cast<float>(glm::degrees(c.perspective.yfov));
-    cam.aspect = c.perspective.aspectRatio > 0 ? static_cast<float>(c.perspective.aspectRatio)
-                                               : 1.f;
+    cam.aspect =
+        c.perspective.aspectRatio > 0 ? static_cast<float>(c.perspective.aspectRatio) : 1.f;
     cam.height = 512;
     cam.width = std::max(1, static_cast<int>(std::lround(512 * cam.aspect)));
     cam.source = "gltf camera " + std::to_string(ci);
@@ -247,14 +254,14 @@ class Loader {
     const float bad = outside(l.position, kMaxRayOrigin);
     if (l.type != Light::Type::kDirectional && !std::isnan(bad))
       fail(path_, "node " + std::to_string(ni) + ": light '" + l.name + "' has the position " +
-                      "coordinate " + num(bad) + ", outside the traceable range |x| <= " +
-                      num(kMaxRayOrigin) + kRangeDoc);
+                      "coordinate " + num(bad) +
+                      ", outside the traceable range |x| <= " + num(kMaxRayOrigin) + kRangeDoc);
     s_.lights.push_back(l);
   }
 
   /// Bounds-checked access to an accessor's bytes; returns (base pointer, stride).
   std::pair<const unsigned char*, size_t> accessor_data(int ai, size_t elem_size,
-                                                       const std::string& what) {
+                                                        const std::string& what) {
     const auto& a = m_.accessors[ai];
     std::string name = what + " accessor " + std::to_string(ai);
     if (a.sparse.isSparse) fail(path_, name + ": sparse accessors are not supported");
@@ -352,7 +359,8 @@ class Loader {
         if (idx.size() % 3)
           fail(path_, where + ": TRIANGLES with " + std::to_string(idx.size()) +
                           " indices, not a multiple of 3");
-        for (size_t i = 0; i + 2 < idx.size(); i += 3) tris.push_back({idx[i], idx[i + 1], idx[i + 2]});
+        for (size_t i = 0; i + 2 < idx.size(); i += 3)
+          tris.push_back({idx[i], idx[i + 1], idx[i + 2]});
       } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (size_t i = 0; i + 2 < idx.size(); ++i)  // glTF 2.0 spec, 3.7.2.1
           tris.push_back({idx[i], idx[i + 1 + i % 2], idx[i + 2 - i % 2]});
@@ -364,14 +372,14 @@ class Loader {
         glm::dvec3 p(world * glm::dvec4(glm::dvec3(pos[i]), 1.0));
         wpos[i] = Vec3(p);
         if (!std::isfinite(wpos[i].x) || !std::isfinite(wpos[i].y) || !std::isfinite(wpos[i].z))
-          fail(path_, where + ": vertex " + std::to_string(i) +
-                          " is not finite after the node transform");
+          fail(path_,
+               where + ": vertex " + std::to_string(i) + " is not finite after the node transform");
         const float bad = outside(wpos[i], kMaxSceneCoordinate);
         if (!std::isnan(bad))
-          fail(path_, "node " + std::to_string(ni) + " (" + node_name + ") " + where +
-                          ": vertex " + std::to_string(i) + " has the world coordinate " +
-                          num(bad) + ", outside the traceable range |x| <= " +
-                          num(kMaxSceneCoordinate) + kRangeDoc);
+          fail(path_, "node " + std::to_string(ni) + " (" + node_name + ") " + where + ": vertex " +
+                          std::to_string(i) + " has the world coordinate " + num(bad) +
+                          ", outside the traceable range |x| <= " + num(kMaxSceneCoordinate) +
+                          kRangeDoc);
       }
       MeshRange range;
       range.name = node_name;
@@ -382,13 +390,13 @@ class Loader {
         const auto& t = tris[ti];
         Triangle tri{wpos[t[0]], wpos[t[1]], wpos[t[2]]};
         if (flip) std::swap(tri.v1, tri.v2);
-        const double twice_area = glm::length(
-            glm::cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0)));
+        const double twice_area =
+            glm::length(glm::cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0)));
         if (twice_area > 0 && twice_area < kMinTwiceArea)
           fail(path_, "node " + std::to_string(ni) + " (" + node_name + ") " + where +
                           ": triangle " + std::to_string(ti) + " has twice the area " +
-                          num(twice_area) + ", below the smallest traceable " +
-                          num(kMinTwiceArea) + " (zero-area triangles are accepted)" + kRangeDoc);
+                          num(twice_area) + ", below the smallest traceable " + num(kMinTwiceArea) +
+                          " (zero-area triangles are accepted)" + kRangeDoc);
         if (tri.degenerate()) ++s_.degenerate_triangles;
         s_.bounds.grow(tri.bounds());
         s_.triangles.push_back(tri);
@@ -424,9 +432,12 @@ std::array<float, 3> read_vec3(const nlohmann::json& j, const char* key, const s
 
 const char* light_type_name(Light::Type t) {
   switch (t) {
-    case Light::Type::kPoint: return "point";
-    case Light::Type::kDirectional: return "directional";
-    case Light::Type::kSpot: return "spot";
+    case Light::Type::kPoint:
+      return "point";
+    case Light::Type::kDirectional:
+      return "directional";
+    case Light::Type::kSpot:
+      return "spot";
   }
   return "?";
 }
@@ -449,7 +460,8 @@ Camera load_camera_sidecar(const std::string& path) {
   }
   if (!j.is_object()) fail(path, "camera file must hold a JSON object");
   Camera c;
-  auto e = read_vec3(j, "eye", path), t = read_vec3(j, "target", path), u = read_vec3(j, "up", path);
+  auto e = read_vec3(j, "eye", path), t = read_vec3(j, "target", path),
+       u = read_vec3(j, "up", path);
   c.eye = Vec3(e[0], e[1], e[2]);
   c.target = Vec3(t[0], t[1], t[2]);
   c.up = Vec3(u[0], u[1], u[2]);
@@ -467,8 +479,8 @@ Camera load_camera_sidecar(const std::string& path) {
   }
   if (j.contains("image_size")) {
     const auto& s = j["image_size"];
-    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() ||
-        !s[1].is_number_integer() || s[0].get<int>() <= 0 || s[1].get<int>() <= 0)
+    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer() ||
+        s[0].get<int>() <= 0 || s[1].get<int>() <= 0)
       fail(path, "'image_size' must be two positive integers");
     c.width = s[0].get<int>();
     c.height = s[1].get<int>();
@@ -534,11 +546,11 @@ Scene load_scene_bytes(const unsigned char* data, size_t size, const std::string
                          &tinygltf::WriteWholeFile, read_files ? &allow_token : nullptr});
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
-                                                 static_cast<unsigned int>(size), base_dir)
-                   : loader.LoadASCIIFromString(&model, &err, &warn,
-                                                reinterpret_cast<const char*>(data),
-                                                static_cast<unsigned int>(size), base_dir);
+  bool ok =
+      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                           static_cast<unsigned int>(size), base_dir)
+             : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data),
+                                          static_cast<unsigned int>(size), base_dir);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     fail(path, "invalid glTF: " + (err.empty() ? std::string("tinygltf could not parse it") : err));
@@ -554,12 +566,16 @@ Scene load_scene_bytes(const unsigned char* data, size_t size, const std::string
 /// The scene must be traceable in float32: its diagonal and its camera finite.
 void check_extent(const Scene& s) {
   const Camera& c = s.camera;
-  auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finite = [](const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   if (!std::isfinite(s.bounds.diagonal()) || !finite(c.eye) || !finite(c.target))
-    fail(s.path, "coordinates too large: the scene's bounds or its camera overflow float32 "
-                 "(bounds (" + std::to_string(s.bounds.lo.x) + ", " + std::to_string(s.bounds.lo.y) +
-                 ", " + std::to_string(s.bounds.lo.z) + ") to (" + std::to_string(s.bounds.hi.x) +
-                 ", " + std::to_string(s.bounds.hi.y) + ", " + std::to_string(s.bounds.hi.z) + "))");
+    fail(s.path,
+         "coordinates too large: the scene's bounds or its camera overflow float32 "
+         "(bounds (" +
+             std::to_string(s.bounds.lo.x) + ", " + std::to_string(s.bounds.lo.y) + ", " +
+             std::to_string(s.bounds.lo.z) + ") to (" + std::to_string(s.bounds.hi.x) + ", " +
+             std::to_string(s.bounds.hi.y) + ", " + std::to_string(s.bounds.hi.z) + "))");
   for (const auto& [what, v] : {std::pair{"eye", c.eye}, std::pair{"target", c.target}}) {
     const float bad = outside(v, kMaxRayOrigin);
     if (!std::isnan(bad))
@@ -595,7 +611,8 @@ Scene load_scene(const std::string& path) {
                              fs::path(path).parent_path().string(), true);
   if (s.camera.source.empty()) {
     fs::path sidecar = fs::path(path).parent_path() / (s.name + ".camera.json");
-    s.camera = fs::exists(sidecar) ? load_camera_sidecar(sidecar.string()) : default_camera(s.bounds);
+    s.camera =
+        fs::exists(sidecar) ? load_camera_sidecar(sidecar.string()) : default_camera(s.bounds);
   }
   check_extent(s);
   return s;

@@ -5,8 +5,8 @@
 namespace hrpp {
 
 nlohmann::json CostModel::to_json() const {
-  return {{"node_fetch", node_fetch}, {"box_test", box_test},   {"tri_test", tri_test},
-          {"lookup", lookup},         {"decision", decision},   {"mispredict", mispredict}};
+  return {{"node_fetch", node_fetch}, {"box_test", box_test}, {"tri_test", tri_test},
+          {"lookup", lookup},         {"decision", decision}, {"mispredict", mispredict}};
 }
 
 // A walk's cycles: every interior node and every leaf is fetched; a node's two child boxes are

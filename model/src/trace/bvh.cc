@@ -41,8 +41,8 @@ struct Bin {
 }  // namespace
 
 size_t Bvh::memory_bytes() const {
-  return nodes.size() * sizeof(BvhNode) + tris.size() * sizeof(Triangle) +
-         prim_ids.size() * 4 + tri_degenerate.size() + parent.size() * 4 + depth.size() * 2 +
+  return nodes.size() * sizeof(BvhNode) + tris.size() * sizeof(Triangle) + prim_ids.size() * 4 +
+         tri_degenerate.size() + parent.size() * 4 + depth.size() * 2 +
          pairs.size() * sizeof(BvhPair) + pair_of.size() * 4;
 }
 
@@ -173,11 +173,10 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
     uint32_t mid;
     if (best_axis >= 0) {
       const float scale = nbins * (1 - 1e-6f) / cext[best_axis];
-      auto it = std::partition(refs.begin() + task.begin, refs.begin() + task.end,
-                               [&](const PrimRef& r) {
-                                 return bin_of(r.centroid[best_axis] - cbox.lo[best_axis],
-                                               scale, nbins) <= best_bin;
-                               });
+      auto it =
+          std::partition(refs.begin() + task.begin, refs.begin() + task.end, [&](const PrimRef& r) {
+            return bin_of(r.centroid[best_axis] - cbox.lo[best_axis], scale, nbins) <= best_bin;
+          });
       mid = static_cast<uint32_t>(it - refs.begin());
     } else {
       // All centroids coincide (or the box is flat): split the range in halves by object.
@@ -229,8 +228,7 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
     }
   }
   st.mean_leaf_depth = st.leaves ? depth_sum / st.leaves : 0;
-  st.build_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  st.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return bvh;
 }
 

@@ -4,12 +4,18 @@ namespace hrpp {
 
 std::string_view ray_kind_name(RayKind k) {
   switch (k) {
-    case RayKind::kPrimary: return "primary";
-    case RayKind::kShadow: return "shadow";
-    case RayKind::kAo: return "ao";
-    case RayKind::kReflection: return "reflection";
-    case RayKind::kRefraction: return "refraction";
-    case RayKind::kDiffuse: return "diffuse";
+    case RayKind::kPrimary:
+      return "primary";
+    case RayKind::kShadow:
+      return "shadow";
+    case RayKind::kAo:
+      return "ao";
+    case RayKind::kReflection:
+      return "reflection";
+    case RayKind::kRefraction:
+      return "refraction";
+    case RayKind::kDiffuse:
+      return "diffuse";
   }
   return "?";
 }
@@ -25,12 +31,18 @@ bool parse_ray_kind(std::string_view name, RayKind* out) {
 
 std::string_view ray_error_name(RayError e) {
   switch (e) {
-    case RayError::kNone: return "valid";
-    case RayError::kNotFinite: return "NaN or infinite field";
-    case RayError::kZeroDirection: return "zero direction";
-    case RayError::kDirectionTooLarge: return "direction component above 1e18";
-    case RayError::kNegativeTnear: return "tnear < 0";
-    case RayError::kTnearAboveTfar: return "tnear > tfar";
+    case RayError::kNone:
+      return "valid";
+    case RayError::kNotFinite:
+      return "NaN or infinite field";
+    case RayError::kZeroDirection:
+      return "zero direction";
+    case RayError::kDirectionTooLarge:
+      return "direction component above 1e18";
+    case RayError::kNegativeTnear:
+      return "tnear < 0";
+    case RayError::kTnearAboveTfar:
+      return "tnear > tfar";
   }
   return "?";
 }

@@ -36,9 +36,9 @@ RefereeHit referee_intersect(const Ray& r, const Triangle& tri) {
 
 double referee_delta(const Ray& r, const Triangle& tri, double t) {
   const DVec3 hitp = DVec3(r.org) + (std::isfinite(t) ? t : 0.0) * DVec3(r.dir);
-  const double m = std::max({double(max_abs(r.org)), std::fabs(hitp.x), std::fabs(hitp.y),
-                             std::fabs(hitp.z), double(max_abs(tri.v0)), double(max_abs(tri.v1)),
-                             double(max_abs(tri.v2))});
+  const double m =
+      std::max({double(max_abs(r.org)), std::fabs(hitp.x), std::fabs(hitp.y), std::fabs(hitp.z),
+                double(max_abs(tri.v0)), double(max_abs(tri.v1)), double(max_abs(tri.v2))});
   return 128.0 * std::numeric_limits<float>::epsilon() * m;
 }
 

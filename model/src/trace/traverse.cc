@@ -93,9 +93,10 @@ template <bool kAnyHit>
 // every lane does the same operations on the same operands as intersect_box: maxps(t0, tmin) is
 // exactly `t0 > tmin ? t0 : tmin` (a NaN t0 leaves tmin) and minps(t1, tmax) is `t1 < tmax ? t1 :
 // tmax`. The fourth lane (the node's right_or_first / count bits, cleared to +0) meets a NaN
-// inverse direction, so it is ignored the same way. Once tmin and tmax are folded into every lane no lane is NaN and
-// the order of the remaining max/min does not matter (up to the sign of a zero entry distance,
-// which compares equal). Hits, entry comparisons and counters are those of intersect_box.
+// inverse direction, so it is ignored the same way. Once tmin and tmax are folded into every lane
+// no lane is NaN and the order of the remaining max/min does not matter (up to the sign of a zero
+// entry distance, which compares equal). Hits, entry comparisons and counters are those of
+// intersect_box.
 struct BoxRay {
   __m128 org, inv, neg;
   explicit BoxRay(const RayPre& r)
@@ -456,14 +457,16 @@ Hit closest_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest&
   if (!bvh.pair_of.empty())
     return req.path ? traverse_pairs<false, true>(bvh, ray, c, req)
                     : traverse_pairs<false, false>(bvh, ray, c, req);
-  return req.path ? traverse<false, true>(bvh, ray, c, req) : traverse<false, false>(bvh, ray, c, req);
+  return req.path ? traverse<false, true>(bvh, ray, c, req)
+                  : traverse<false, false>(bvh, ray, c, req);
 }
 
 Hit any_hit(const Bvh& bvh, const Ray& ray, Counters* c, const TraceRequest& req) {
   if (!bvh.pair_of.empty())
     return req.path ? traverse_pairs<true, true>(bvh, ray, c, req)
                     : traverse_pairs<true, false>(bvh, ray, c, req);
-  return req.path ? traverse<true, true>(bvh, ray, c, req) : traverse<true, false>(bvh, ray, c, req);
+  return req.path ? traverse<true, true>(bvh, ray, c, req)
+                  : traverse<true, false>(bvh, ray, c, req);
 }
 
 Hit brute_force_closest(const Bvh& bvh, const Ray& ray) {

@@ -1,12 +1,11 @@
 // The ray generator: camera samples in the chosen order and the secondary rays spawned from
 // their hits (generate_rays, docs/workloads.md).
-#include "hrpp/workload/workload.h"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 
 #include "hrpp/util/rng.h"
+#include "hrpp/workload/workload.h"
 
 namespace hrpp {
 
@@ -18,7 +17,7 @@ namespace {
 Vec3 cosine_direction(const Vec3& n, float r1, float r2) {
   const float rad = std::sqrt(r1), phi = 6.28318530718f * r2;
   const Vec3 t = glm::normalize(std::fabs(n.x) > 0.9f ? glm::cross(n, Vec3(0, 1, 0))
-                                                       : glm::cross(n, Vec3(1, 0, 0)));
+                                                      : glm::cross(n, Vec3(1, 0, 0)));
   const Vec3 bt = glm::cross(n, t);
   return glm::normalize(rad * std::cos(phi) * t + rad * std::sin(phi) * bt +
                         std::sqrt(std::max(0.f, 1.f - r1)) * n);
@@ -32,10 +31,11 @@ Vec3 mirror(const Vec3& d, const Vec3& n) { return d - 2.f * glm::dot(d, n) * n;
 Vec3 glossy_reflection(const Vec3& d, const Vec3& n, float roughness, float u1, float u2) {
   const float alpha = roughness * roughness;
   const float tan2 = alpha * alpha * u1 / (1.f - u1);
-  const float cos_t = 1.f / std::sqrt(1.f + tan2), sin_t = std::sqrt(std::max(0.f, 1.f - cos_t * cos_t));
+  const float cos_t = 1.f / std::sqrt(1.f + tan2),
+              sin_t = std::sqrt(std::max(0.f, 1.f - cos_t * cos_t));
   const float phi = 6.28318530718f * u2;
   const Vec3 t = glm::normalize(std::fabs(n.x) > 0.9f ? glm::cross(n, Vec3(0, 1, 0))
-                                                       : glm::cross(n, Vec3(1, 0, 0)));
+                                                      : glm::cross(n, Vec3(1, 0, 0)));
   const Vec3 bt = glm::cross(n, t);
   const Vec3 m = sin_t * std::cos(phi) * t + sin_t * std::sin(phi) * bt + cos_t * n;
   const Vec3 r = glm::normalize(mirror(d, m));
@@ -56,8 +56,15 @@ class Generator {
  public:
   Generator(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, int w, int h,
             const std::function<void(const RayRecord&, const Hit*)>& sink)
-      : scene_(scene), bvh_(bvh), opt_(opt), w_(w), h_(h), spp_(std::max(1, opt.spp)),
-        ao_dist_(ao_distance_for(scene, opt)), lights_(scene), sink_(sink) {}
+      : scene_(scene),
+        bvh_(bvh),
+        opt_(opt),
+        w_(w),
+        h_(h),
+        spp_(std::max(1, opt.spp)),
+        ao_dist_(ao_distance_for(scene, opt)),
+        lights_(scene),
+        sink_(sink) {}
 
   int spp() const { return spp_; }
 

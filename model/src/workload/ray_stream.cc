@@ -2,12 +2,13 @@
 // host, a header, then one 64-byte record per ray.
 #include "hrpp/workload/ray_stream.h"
 
+#include <sys/stat.h>
+
 #include <array>
 #include <bit>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <sys/stat.h>
 
 namespace hrpp {
 namespace {
@@ -16,7 +17,7 @@ constexpr char kMagic[8] = {'H', 'R', 'P', 'P', 'R', 'A', 'Y', 'S'};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kFixedHeader = 36;  // magic .. options length
 constexpr size_t kRecord = 64;
-constexpr size_t kAlign = 64;        // records start at a multiple of 64 bytes
+constexpr size_t kAlign = 64;  // records start at a multiple of 64 bytes
 constexpr long kCountOffset = 24;
 
 void put32(uint8_t* p, uint32_t v) {
@@ -74,8 +75,8 @@ uint64_t scene_fingerprint(const Scene& scene) {
 RayStreamWriter::RayStreamWriter(const std::string& path, const StreamHeader& header)
     : path_(path) {
   if (header.version != kVersion)
-    throw StreamError(path + ": this writer writes ray-stream version " +
-                      std::to_string(kVersion) + ", not " + std::to_string(header.version));
+    throw StreamError(path + ": this writer writes ray-stream version " + std::to_string(kVersion) +
+                      ", not " + std::to_string(header.version));
   const size_t header_len = (kFixedHeader + header.options.size() + kAlign - 1) / kAlign * kAlign;
   std::vector<uint8_t> h(header_len, 0);
   std::memcpy(h.data(), kMagic, 8);

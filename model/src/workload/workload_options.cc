@@ -1,11 +1,10 @@
 // The workload's options resolved for a scene: ray orders, the effects a scene calls for and the
 // --effects syntax, the resolution and AO distance, and the options as JSON.
-#include "hrpp/workload/workload.h"
-
 #include <algorithm>
 #include <array>
 #include <sstream>
 
+#include "hrpp/workload/workload.h"
 
 namespace hrpp {
 
@@ -13,9 +12,12 @@ namespace hrpp {
 
 std::string_view ray_order_name(RayOrder o) {
   switch (o) {
-    case RayOrder::kScanline: return "scanline";
-    case RayOrder::kTiled: return "tiled";
-    case RayOrder::kMorton: return "morton";
+    case RayOrder::kScanline:
+      return "scanline";
+    case RayOrder::kTiled:
+      return "tiled";
+    case RayOrder::kMorton:
+      return "morton";
   }
   return "?";
 }
@@ -33,7 +35,9 @@ bool is_specular_reflector(const Material& m) {
   return m.metallic >= kReflectMinMetallic && m.roughness <= kReflectMaxRoughness;
 }
 
-bool is_transmissive(const Material& m) { return m.transmission > 0.f && !is_specular_reflector(m); }
+bool is_transmissive(const Material& m) {
+  return m.transmission > 0.f && !is_specular_reflector(m);
+}
 
 namespace {
 
@@ -135,8 +139,8 @@ EffectChoice derive_effects(const Scene& s) {
     return "transmission " + fmt(m.transmission) + ", ior " + fmt(m.ior);
   });
   c.refraction = !refr.empty();
-  c.refraction_why = c.refraction ? "material " + join_limited(refr)
-                                  : "no material with transmission > 0";
+  c.refraction_why =
+      c.refraction ? "material " + join_limited(refr) : "no material with transmission > 0";
   return c;
 }
 
@@ -177,14 +181,17 @@ std::vector<std::string> describe_effects(const Scene& scene, const WorkloadOpti
     const bool on = *effect_flag(&opt, name);
     const bool listed = std::find(items.begin(), items.end(), name) != items.end();
     const std::string_view n = name;
-    const bool derivable = n == "shadow" ? c.shadow : n == "reflection" ? c.reflection
-                                                    : n == "refraction" ? c.refraction : false;
+    const bool derivable = n == "shadow"       ? c.shadow
+                           : n == "reflection" ? c.reflection
+                           : n == "refraction" ? c.refraction
+                                               : false;
     const std::string why = n == "shadow"       ? c.shadow_why
                             : n == "reflection" ? c.reflection_why
                             : n == "refraction" ? c.refraction_why
                             : n == "ao"         ? "ambient occlusion: only on request"
                                                 : "diffuse bounces: only on request";
-    std::string line = std::string(name) + std::string(12 - n.size(), ' ') + (on ? "on   " : "off  ");
+    std::string line =
+        std::string(name) + std::string(12 - n.size(), ' ') + (on ? "on   " : "off  ");
     if (on && listed && !derivable && (n == "shadow" || n == "reflection" || n == "refraction"))
       line += "requested, but " + why + ": no " + name + " rays";
     else if (on && listed)

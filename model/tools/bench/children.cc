@@ -14,14 +14,14 @@
 #include <thread>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
-#include "hrpp/reference/embree_ref.h"
-#include "hrpp/predictor/predictor.h"
-#include "hrpp/workload/ray_stream.h"
 #include "hrpp/hardware/rtl_config.h"
-#include "hrpp/scene/scene.h"
+#include "hrpp/predictor/predictor.h"
 #include "hrpp/predictor/tiled_predictor.h"
+#include "hrpp/reference/embree_ref.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/trace/traverse.h"
+#include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "timing.h"
 
@@ -51,9 +51,12 @@ Rays read_rays(const std::string& path) {
   while (rd.next(&r)) {
     if (validate_ray(r.ray) != RayError::kNone) continue;  // never in bench streams (checked)
     out.all.push_back(r);
-    if (r.kind == RayKind::kPrimary) out.primary.push_back(r.ray);
-    else if (r.kind == RayKind::kShadow) out.shadow.push_back(r.ray);
-    else if (r.kind == RayKind::kAo) out.ao.push_back(r.ray);
+    if (r.kind == RayKind::kPrimary)
+      out.primary.push_back(r.ray);
+    else if (r.kind == RayKind::kShadow)
+      out.shadow.push_back(r.ray);
+    else if (r.kind == RayKind::kAo)
+      out.ao.push_back(r.ray);
   }
   return out;
 }
@@ -90,7 +93,9 @@ template <typename F>
 json time_rays(const std::vector<Ray>& v, unsigned threads, F fn) {
   const Timer t;
   const uint64_t hits = parallel_count(v.size(), threads, [&](size_t i) { return fn(v[i]); });
-  return {{"rays", v.size()}, {"hits", hits}, {"seconds", t.seconds(threads)},
+  return {{"rays", v.size()},
+          {"hits", hits},
+          {"seconds", t.seconds(threads)},
           {"wall_seconds", since(t.wall)}};
 }
 
@@ -132,7 +137,6 @@ json child_ours(const ChildArgs& a) {
   return j;
 }
 
-
 // Embree asks every application thread to set flush-to-zero and denormals-are-zero (its verbose
 // output warns of a "severe performance impact" otherwise); its tutorials do. Set in Embree's
 // processes and threads only: our traversal keeps IEEE denormals.
@@ -169,7 +173,6 @@ PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
     throw std::runtime_error("predictor configuration: " + e);
   return c;
 }
-
 
 json child_predict(const ChildArgs& a) {
   const Rays rays = read_rays(a.stream);
@@ -262,7 +265,8 @@ json child_big(const ChildArgs& a) {
     j["build_seconds"] = t.seconds(1);
     tris = {};
     tris.shrink_to_fit();
-    j["primary"] = time_rays(rays, 1, [&](const Ray& r) { return uint64_t(es.intersect(r).hit()); });
+    j["primary"] =
+        time_rays(rays, 1, [&](const Ray& r) { return uint64_t(es.intersect(r).hit()); });
   }
   return j;
 }
@@ -271,10 +275,14 @@ json child_big(const ChildArgs& a) {
 
 int child_main(const ChildArgs& a) {
   json j;
-  if (a.what == "ours") j = child_ours(a);
-  else if (a.what == "embree" || a.what == "embree-mxcsr-default") j = child_embree(a);
-  else if (a.what == "predict") j = child_predict(a);
-  else if (a.what == "big-ours" || a.what == "big-embree") j = child_big(a);
+  if (a.what == "ours")
+    j = child_ours(a);
+  else if (a.what == "embree" || a.what == "embree-mxcsr-default")
+    j = child_embree(a);
+  else if (a.what == "predict")
+    j = child_predict(a);
+  else if (a.what == "big-ours" || a.what == "big-embree")
+    j = child_big(a);
   else {
     std::fprintf(stderr, "hrpp_bench: unknown --child %s\n", a.what.c_str());
     return 2;

@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "children.h"
-#include "hrpp/trace/bvh.h"
-#include "hrpp/workload/ray_stream.h"
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "process.h"
 #include "report.h"
@@ -68,8 +68,8 @@ std::string make_stream(const std::string& scene_path, uint64_t samples, const s
   StreamHeader h;
   h.scene_fingerprint = scene_fingerprint(scene);
   h.options = opts.dump();
-  const std::string path = dir + "/" + fs::path(scene_path).stem().string() + "-" +
-                           std::to_string(samples) + ".rays";
+  const std::string path =
+      dir + "/" + fs::path(scene_path).stem().string() + "-" + std::to_string(samples) + ".rays";
   if (fs::exists(path)) {
     RayStreamReader rd(path);
     if (rd.header().scene_fingerprint == h.scene_fingerprint && rd.header().options == h.options)
@@ -92,10 +92,18 @@ std::string make_stream(const std::string& scene_path, uint64_t samples, const s
 // full_rate: every handshake ready and a one-cycle engine (the RTL's own limit, as the test
 // tb.throughput.default); else the testbench's default random handshakes and latencies.
 json run_cosim(const DriverArgs& a, const std::string& stream, bool full_rate, double* rss) {
-  std::vector<std::string> argv{a.tb, "--stream", stream, "--config", "default", "--mode",
-                                "closest-exact", "--rays", std::to_string(a.cosim_rays)};
+  std::vector<std::string> argv{a.tb,
+                                "--stream",
+                                stream,
+                                "--config",
+                                "default",
+                                "--mode",
+                                "closest-exact",
+                                "--rays",
+                                std::to_string(a.cosim_rays)};
   if (full_rate)
-    for (const char* x : {"--p-ray", "1", "--p-ready", "1", "--min-latency", "1", "--max-latency", "1"})
+    for (const char* x :
+         {"--p-ray", "1", "--p-ready", "1", "--min-latency", "1", "--max-latency", "1"})
       argv.push_back(x);
   const Proc p = run_process(argv);
   std::smatch m;
@@ -103,8 +111,10 @@ json run_cosim(const DriverArgs& a, const std::string& stream, bool full_rate, d
   const std::regex timing(R"(timing: lockstep run [0-9.e+-]+ s \(CPU ([0-9.e+-]+) s\))");
   if (!std::regex_search(p.out, m, parity))
     throw std::runtime_error(a.tb + " printed no parity line:\n" + p.out);
-  json j{{"rays", std::stoull(m[1])}, {"cycles", std::stoull(m[2])},
-         {"mismatches", std::stoull(m[3])}, {"pass", p.out.find("\nPASS") != std::string::npos}};
+  json j{{"rays", std::stoull(m[1])},
+         {"cycles", std::stoull(m[2])},
+         {"mismatches", std::stoull(m[3])},
+         {"pass", p.out.find("\nPASS") != std::string::npos}};
   if (!std::regex_search(p.out, m, timing))
     throw std::runtime_error(a.tb + " printed no timing line (an old build?)");
   j["seconds"] = std::stod(m[1]);
@@ -144,7 +154,8 @@ bool list_scenes(const DriverArgs& a, std::vector<std::string>* out) {
 
 // The machine and Embree's ISA (the report's "machine"), printed.
 json describe_machine(unsigned threads) {
-  json machine{{"cpu", cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()},
+  json machine{{"cpu", cpu_model()},
+               {"hardware_threads", std::thread::hardware_concurrency()},
                {"threads_used", threads}};
   const std::string isa = embree_isa_report();
   machine["embree_verbose"] = isa;
@@ -229,19 +240,20 @@ json memory_vs_rays(const DriverArgs& a, const std::string& scene, unsigned thre
   json mem = json::array();
   for (const char* res : {"256x192", "2048x1536"}) {
     std::fprintf(stderr, "bench: hrpp predict %s --res %s: peak memory\n", scene.c_str(), res);
-    const Proc p = run_process({a.hrpp, "predict", scene, "--res", res, "--cores", "8",
-                                "--threads", std::to_string(threads), "--preset",
-                                "rtl-default"});
+    const Proc p = run_process({a.hrpp, "predict", scene, "--res", res, "--cores", "8", "--threads",
+                                std::to_string(threads), "--preset", "rtl-default"});
     if (!WIFEXITED(p.status) || WEXITSTATUS(p.status) != 0)
       throw std::runtime_error(a.hrpp + " predict failed:\n" + p.out);
     std::smatch m;
     const std::regex all(R"(\n  all +(\d+) )");
     const uint64_t nrays = std::regex_search(p.out, m, all) ? std::stoull(m[1]) : 0;
-    mem.push_back({{"res", res}, {"rays", nrays}, {"peak_rss_mb", p.max_rss_mb},
-                   {"seconds", p.seconds}});
-    std::printf("hrpp predict %s --res %s --cores 8 --threads %u: %llu rays, peak RSS %.0f MB, "
-                "%.1f s\n", fs::path(scene).stem().c_str(), res, threads,
-                (unsigned long long)nrays, p.max_rss_mb, p.seconds);
+    mem.push_back(
+        {{"res", res}, {"rays", nrays}, {"peak_rss_mb", p.max_rss_mb}, {"seconds", p.seconds}});
+    std::printf(
+        "hrpp predict %s --res %s --cores 8 --threads %u: %llu rays, peak RSS %.0f MB, "
+        "%.1f s\n",
+        fs::path(scene).stem().c_str(), res, threads, (unsigned long long)nrays, p.max_rss_mb,
+        p.seconds);
   }
   return mem;
 }
@@ -258,10 +270,11 @@ json big_scene_runs(const DriverArgs& a) {
     json j = run_child(who, bargs, &rs);
     j["peak_rss_mb"] = rs;
     big[who + 4] = j;
-    std::printf("big scene (%s): %llu triangles, build %.2f s, %.2f M primary rays/s on one "
-                "thread, peak RSS %.0f MB\n",
-                who + 4, (unsigned long long)j["triangles"].get<uint64_t>(),
-                j["build_seconds"].get<double>(), rate(j["primary"]) / 1e6, rs);
+    std::printf(
+        "big scene (%s): %llu triangles, build %.2f s, %.2f M primary rays/s on one "
+        "thread, peak RSS %.0f MB\n",
+        who + 4, (unsigned long long)j["triangles"].get<uint64_t>(),
+        j["build_seconds"].get<double>(), rate(j["primary"]) / 1e6, rs);
   }
   return big;
 }
@@ -282,7 +295,9 @@ int driver_main(const DriverArgs& a) {
 
   json out{{"machine", describe_machine(threads)},
            {"settings",
-            {{"samples", a.samples}, {"reps", a.reps}, {"cosim_rays", a.cosim_rays},
+            {{"samples", a.samples},
+             {"reps", a.reps},
+             {"cosim_rays", a.cosim_rays},
              {"predictor", rtl_config("default").describe() + ", closest-exact"},
              {"predictor_cores", kBenchCores}}},
            {"scenes", json::object()}};

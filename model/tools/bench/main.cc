@@ -8,17 +8,17 @@
 //            and AO rays, on one thread and on all threads;
 //   embree   the same with Embree 3 as a user gets it: its default ISA for this CPU, default scene
 //            flags and build quality, rtcIntersect1 / rtcOccluded1, a device with threads=1,
-//            flush-to-zero and denormals-are-zero set as Embree asks (and, as "embree-mxcsr-default",
-//            once more without them: the *_mxcsr_default ratios);
+//            flush-to-zero and denormals-are-zero set as Embree asks (and, as
+//            "embree-mxcsr-default", once more without them: the *_mxcsr_default ratios);
 //   predict  the predictor (the RTL's default configuration) on all the rays: one core on one
 //            thread, and 8 cores (8 tables) on one thread and on all threads;
 //   cosim    tb_hrpp --stream (the RTL and the cycle model in lockstep, parity checked on every
 //            cycle) on the first --cosim-rays rays, with the testbench's default random
 //            handshakes and again at full rate.
 // One-thread figures are process CPU time (the machine may be shared); all-thread figures are wall
-// time. Ratios are taken within a repetition (ours / Embree, above 1: ours faster) and reported as the
-// median with the min and max over the repetitions. A big procedural scene (10 million triangles
-// by default) is built and traced last, by ours and by Embree, each in its own process.
+// time. Ratios are taken within a repetition (ours / Embree, above 1: ours faster) and reported as
+// the median with the min and max over the repetitions. A big procedural scene (10 million
+// triangles by default) is built and traced last, by ours and by Embree, each in its own process.
 //
 // The driver (driver.h) runs the measurements (children.h) in processes of their own (process.h)
 // and writes the report (report.h).
@@ -31,13 +31,14 @@
 
 #include "children.h"
 #include "driver.h"
-#include "hrpp/workload/ray_stream.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/workload/ray_stream.h"
 
 int main(int argc, char** argv) {
   using namespace hrpp::bench;
-  CLI::App app{"HRPP benchmark: our BVH build, traversal and predictor against Embree, and the "
-               "RTL co-simulation (make bench)"};
+  CLI::App app{
+      "HRPP benchmark: our BVH build, traversal and predictor against Embree, and the "
+      "RTL co-simulation (make bench)"};
   DriverArgs d;
   ChildArgs c;
   app.add_option("--shared", d.shared, "the shared folder (its scenes/*.glb are benchmarked)");

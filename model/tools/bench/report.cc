@@ -89,12 +89,11 @@ void add_figures(const Repetition& m, unsigned threads, Figures* figures) {
     if (to["shadow"]["rays"].get<uint64_t>() + to["ao"]["rays"].get<uint64_t>() > 0)
       r["anyhit_vs_embree_mxcsr_default"].push_back(rate_of(to, {"shadow", "ao"}) /
                                                     rate_of(t0, {"shadow", "ao"}));
-    r["predict_vs_embree_mxcsr_default"].push_back(
-        rate(pred["one_core"]) / rate_of(t0, {"primary", "shadow", "ao"}));
+    r["predict_vs_embree_mxcsr_default"].push_back(rate(pred["one_core"]) /
+                                                   rate_of(t0, {"primary", "shadow", "ao"}));
   }
   if (to["shadow"]["rays"].get<uint64_t>() + to["ao"]["rays"].get<uint64_t>() > 0)
-    r["anyhit_vs_embree"].push_back(rate_of(to, {"shadow", "ao"}) /
-                                    rate_of(te, {"shadow", "ao"}));
+    r["anyhit_vs_embree"].push_back(rate_of(to, {"shadow", "ao"}) / rate_of(te, {"shadow", "ao"}));
   r["predict_vs_embree"].push_back(rate(pred["one_core"]) /
                                    rate_of(te, {"primary", "shadow", "ao"}));
   if (threads > 1) {
@@ -158,19 +157,19 @@ json scene_report(const Figures& r, const std::map<std::string, double>& rss,
 void print_scene_line(const std::string& name, const json& flat,
                       const std::map<std::string, double>& rss, unsigned threads) {
   const json& js = flat["summary"];
-  std::printf("%-13s tris %8llu  build %s  primary %s  any-hit %s  predict %s  | %u threads: "
-              "primary %s  any-hit %s  predict scaling %s | cosim %.0f rays/s  RSS MB ours %.0f "
-              "embree %.0f predict %.0f cosim %.0f\n",
-              name.c_str(), (unsigned long long)flat["triangles"].get<uint64_t>(),
-              fmt_ratio(js["build_vs_embree"]).c_str(),
-              fmt_ratio(js["traversal_vs_embree"]).c_str(),
-              fmt_ratio(js.value("anyhit_vs_embree", json())).c_str(),
-              fmt_ratio(js["predict_vs_embree"]).c_str(), threads,
-              fmt_ratio(js.value("traversal_vs_embree_mt", json())).c_str(),
-              fmt_ratio(js.value("anyhit_vs_embree_mt", json())).c_str(),
-              fmt_ratio(js.value("predict_scaling", json())).c_str(),
-              js["cosim_rays_per_s"]["median"].get<double>(), rss.at("ours"), rss.at("embree"),
-              rss.at("predict"), rss.at("cosim"));
+  std::printf(
+      "%-13s tris %8llu  build %s  primary %s  any-hit %s  predict %s  | %u threads: "
+      "primary %s  any-hit %s  predict scaling %s | cosim %.0f rays/s  RSS MB ours %.0f "
+      "embree %.0f predict %.0f cosim %.0f\n",
+      name.c_str(), (unsigned long long)flat["triangles"].get<uint64_t>(),
+      fmt_ratio(js["build_vs_embree"]).c_str(), fmt_ratio(js["traversal_vs_embree"]).c_str(),
+      fmt_ratio(js.value("anyhit_vs_embree", json())).c_str(),
+      fmt_ratio(js["predict_vs_embree"]).c_str(), threads,
+      fmt_ratio(js.value("traversal_vs_embree_mt", json())).c_str(),
+      fmt_ratio(js.value("anyhit_vs_embree_mt", json())).c_str(),
+      fmt_ratio(js.value("predict_scaling", json())).c_str(),
+      js["cosim_rays_per_s"]["median"].get<double>(), rss.at("ours"), rss.at("embree"),
+      rss.at("predict"), rss.at("cosim"));
   std::fflush(stdout);
 }
 
@@ -205,20 +204,23 @@ std::string markdown(const json& out) {
     std::snprintf(c, sizeof c, "%s (%s-%s)", med, lo, hi);
     return c;
   };
-  std::snprintf(b, sizeof b,
-                "| scene | triangles | rays | build | primary | any-hit | predictor | primary, %u thr. "
-                "| any-hit, %u thr. | predictor scaling, %u thr. | co-sim rays/s | co-sim cycles/s "
-                "| peak RSS MB ours / Embree / predictor / co-sim |\n",
-                th, th, th);
+  std::snprintf(
+      b, sizeof b,
+      "| scene | triangles | rays | build | primary | any-hit | predictor | primary, %u thr. "
+      "| any-hit, %u thr. | predictor scaling, %u thr. | co-sim rays/s | co-sim cycles/s "
+      "| peak RSS MB ours / Embree / predictor / co-sim |\n",
+      th, th, th);
   md += b;
   md += "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
   for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it) {
     const json& sc = *it;
     const json& sm = sc["summary"];
     const json& rss = sc["peak_rss_mb"];
-    const uint64_t rays = sc["rays"]["primary"].get<uint64_t>() + sc["rays"]["shadow"].get<uint64_t>() +
-                          sc["rays"]["ao"].get<uint64_t>();
-    std::snprintf(b, sizeof b, "| %s | %llu | %llu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f / %.0f |\n",
+    const uint64_t rays = sc["rays"]["primary"].get<uint64_t>() +
+                          sc["rays"]["shadow"].get<uint64_t>() + sc["rays"]["ao"].get<uint64_t>();
+    std::snprintf(b, sizeof b,
+                  "| %s | %llu | %llu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / "
+                  "%.0f / %.0f |\n",
                   it.key().c_str(), (unsigned long long)sc["triangles"].get<uint64_t>(),
                   (unsigned long long)rays, cell(sm, "build_vs_embree").c_str(),
                   cell(sm, "traversal_vs_embree").c_str(), cell(sm, "anyhit_vs_embree").c_str(),
@@ -236,36 +238,37 @@ std::string markdown(const json& out) {
     std::snprintf(c, sizeof c, f, g[k].get<double>());
     return c;
   };
-  std::snprintf(b, sizeof b, "| **geometric mean** | | | %s | %s | %s | %s | %s | %s | %s | %s | %s | |\n",
+  std::snprintf(b, sizeof b,
+                "| **geometric mean** | | | %s | %s | %s | %s | %s | %s | %s | %s | %s | |\n",
                 gv("build_vs_embree").c_str(), gv("traversal_vs_embree").c_str(),
                 gv("anyhit_vs_embree").c_str(), gv("predict_vs_embree").c_str(),
                 gv("traversal_vs_embree_mt").c_str(), gv("anyhit_vs_embree_mt").c_str(),
                 gv("predict_scaling").c_str(), gv("cosim_rays_per_s", "%.0f").c_str(),
                 gv("cosim_cycles_per_s", "%.0f").c_str());
   md += b;
-  std::snprintf(b, sizeof b,
-                "\nAgainst Embree without FTZ/DAZ (geometric means): primary %s, any-hit %s, "
-                "predictor %s. Predictor: one thread's CPU time over %u threads': %s. Co-simulation "
-                "at full rate (every handshake ready, one-cycle engine): %s rays/s.\n",
-                gv("traversal_vs_embree_mxcsr_default").c_str(),
-                gv("anyhit_vs_embree_mxcsr_default").c_str(),
-                gv("predict_vs_embree_mxcsr_default").c_str(), th,
-                gv("predict_mt_cpu_efficiency").c_str(),
-                gv("cosim_full_rate_rays_per_s", "%.0f").c_str());
+  std::snprintf(
+      b, sizeof b,
+      "\nAgainst Embree without FTZ/DAZ (geometric means): primary %s, any-hit %s, "
+      "predictor %s. Predictor: one thread's CPU time over %u threads': %s. Co-simulation "
+      "at full rate (every handshake ready, one-cycle engine): %s rays/s.\n",
+      gv("traversal_vs_embree_mxcsr_default").c_str(), gv("anyhit_vs_embree_mxcsr_default").c_str(),
+      gv("predict_vs_embree_mxcsr_default").c_str(), th, gv("predict_mt_cpu_efficiency").c_str(),
+      gv("cosim_full_rate_rays_per_s", "%.0f").c_str());
   md += b;
   if (out.contains("memory_vs_rays")) {
     md += "\nMemory against workload size (`hrpp predict`, the RTL's default table on 8 cores): ";
     for (const json& m : out["memory_vs_rays"]) {
-      std::snprintf(b, sizeof b, "%s%s, %llu rays: %.0f MB", m == out["memory_vs_rays"][0] ? "" : "; ",
-                    m["res"].get<std::string>().c_str(), (unsigned long long)m["rays"].get<uint64_t>(),
-                    m["peak_rss_mb"].get<double>());
+      std::snprintf(b, sizeof b, "%s%s, %llu rays: %.0f MB",
+                    m == out["memory_vs_rays"][0] ? "" : "; ", m["res"].get<std::string>().c_str(),
+                    (unsigned long long)m["rays"].get<uint64_t>(), m["peak_rss_mb"].get<double>());
       md += b;
     }
     md += ".\n";
   }
   if (out.contains("big_scene")) {
-    md += "\n| procedural scene | triangles | build s | primary rays/s (1 thread) | peak RSS MB |\n"
-          "|---|--:|--:|--:|--:|\n";
+    md +=
+        "\n| procedural scene | triangles | build s | primary rays/s (1 thread) | peak RSS MB |\n"
+        "|---|--:|--:|--:|--:|\n";
     for (auto it = out["big_scene"].begin(); it != out["big_scene"].end(); ++it) {
       const json& j = *it;
       std::snprintf(b, sizeof b, "| %s | %llu | %.2f | %.0f | %.0f |\n", it.key().c_str(),

@@ -4,17 +4,17 @@
 #include <string>
 
 #include "common.h"
-#include "hrpp/trace/bvh.h"
 #include "hrpp/reference/crosscheck.h"
-#include "hrpp/trace/ray.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/trace/ray.h"
 #include "subcommands.h"
 
 namespace hrpp::cli {
 namespace {
 
-int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& kind,
-                     uint64_t seed, const std::string& config, const std::string& json_path) {
+int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& kind, uint64_t seed,
+                     const std::string& config, const std::string& json_path) {
   Scene s = load_scene(path);
   Bvh bvh = build_bvh(s.triangles);
   CrossCheckOptions opt;
@@ -34,8 +34,7 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
   auto row = [](const char* name, const CrossCheckCounts& c) {
     std::printf("  %-8s %9llu %8llu %8llu %9llu %13.7f %8llu %7llu %6llu %6llu %6llu\n", name,
                 (unsigned long long)c.rays, (unsigned long long)c.invalid_rays,
-                (unsigned long long)c.outside_embree, (unsigned long long)c.hits,
-                c.hit_agreement(),
+                (unsigned long long)c.outside_embree, (unsigned long long)c.hits, c.hit_agreement(),
                 (unsigned long long)c.hit_mismatches, (unsigned long long)c.grazes,
                 (unsigned long long)c.t_mismatches, (unsigned long long)c.prim_mismatches,
                 (unsigned long long)c.ties);
@@ -44,9 +43,10 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
     if (r.by_kind[k].rays) row(std::string(ray_kind_name(RayKind(k))).c_str(), r.by_kind[k]);
   row("all", r.total);
   for (const auto& e : r.examples) std::printf("  %s\n", e.c_str());
-  std::printf("  (no-embr: valid rays outside Embree's range, never sent to it; a check must "
-              "compare at least %g%% of the rays and at least one)\n",
-              100 * kMinComparedFraction);
+  std::printf(
+      "  (no-embr: valid rays outside Embree's range, never sent to it; a check must "
+      "compare at least %g%% of the rays and at least one)\n",
+      100 * kMinComparedFraction);
   if (r.passed()) {
     std::printf("  PASS: our traversal agrees with Embree\n");
   } else {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hrpp/util/atomic_file.h"
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/util/atomic_file.h"
 
 namespace hrpp::cli {
 
@@ -58,10 +58,10 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
   o.push_back(app->add_option("--tile", a.tile, "tile edge in pixels (tiled and morton orders)")
                   ->check(CLI::Range(1, 4096))
                   ->capture_default_str());
-  o.push_back(app->add_option("--depth", a.depth,
-                              "generations of reflection / refraction / diffuse rays")
-                  ->check(CLI::Range(0, 16))
-                  ->capture_default_str());
+  o.push_back(
+      app->add_option("--depth", a.depth, "generations of reflection / refraction / diffuse rays")
+          ->check(CLI::Range(0, 16))
+          ->capture_default_str());
   o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
   o.push_back(app->add_option("--ao-distance", a.ao_distance,
                               "AO ray length (default or 0: 5% of the scene diagonal)")
@@ -197,13 +197,14 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
   if (a.table == "unbounded") {
     t.unbounded = true;
   } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
-    std::fprintf(stderr, "hrpp %s: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n",
-                 cmd, a.table.c_str());
+    std::fprintf(stderr,
+                 "hrpp %s: --table must be 'unbounded' or SETSxWAYS (e.g. 256x4), got '%s'\n", cmd,
+                 a.table.c_str());
     return false;
   } else {
     if (!std::has_single_bit(t.sets)) {
-      std::fprintf(stderr, "hrpp %s: --table %s: the number of sets must be a power of two\n",
-                   cmd, a.table.c_str());
+      std::fprintf(stderr, "hrpp %s: --table %s: the number of sets must be a power of two\n", cmd,
+                   a.table.c_str());
       return false;
     }
   }
@@ -227,19 +228,20 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
   const HashConfig& h = cfg.hash;
   const TableConfig& t = cfg.table;
   char b[512];
-  const std::string hash =
-      h.variant == HashVariant::kFaithful
-          ? "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine
-          : "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
-                std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) +
-                " bits " + a.combine;
-  std::snprintf(b, sizeof b,
-                "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
-                "entries used), go-up %u, mode %s",
-                a.hash.c_str(), hash.c_str(), h.key_bits(),
-                t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
-                t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
-                (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
+  const std::string hash = h.variant == HashVariant::kFaithful
+                               ? "P=" + std::to_string(h.precision) +
+                                     " E=" + std::to_string(h.exp_bits) + " " + a.combine
+                               : "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
+                                     std::to_string(h.origin_cell_exp) + ", dir " +
+                                     std::to_string(h.dir_bits) + " bits " + a.combine;
+  std::snprintf(
+      b, sizeof b,
+      "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
+      "entries used), go-up %u, mode %s",
+      a.hash.c_str(), hash.c_str(), h.key_bits(),
+      t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
+      t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
+      (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
   return b;
 }
 

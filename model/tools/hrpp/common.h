@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/predictor/predictor.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 
 namespace hrpp::cli {

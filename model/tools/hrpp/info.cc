@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common.h"
-#include "hrpp/trace/bvh.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "subcommands.h"
 
 namespace hrpp::cli {
@@ -62,19 +62,20 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
   for (uint32_t m : s.tri_material) tri_count[m]++;
   for (size_t i = 0; i < s.materials.size(); ++i) {
     const Material& m = s.materials[i];
-    std::printf("           %-18s base (%.3g, %.3g, %.3g) metallic %.3g roughness %.3g", m.name.c_str(),
-                m.base_color.r, m.base_color.g, m.base_color.b, m.metallic, m.roughness);
+    std::printf("           %-18s base (%.3g, %.3g, %.3g) metallic %.3g roughness %.3g",
+                m.name.c_str(), m.base_color.r, m.base_color.g, m.base_color.b, m.metallic,
+                m.roughness);
     if (m.is_emissive())
       std::printf(" emission (%.4g, %.4g, %.4g)", m.emission().x, m.emission().y, m.emission().z);
     if (m.transmission > 0) std::printf(" transmission %.3g ior %.3g", m.transmission, m.ior);
     std::printf(" %s, %u triangles\n", m.double_sided ? "double-sided" : "one-sided", tri_count[i]);
   }
   const BvhStats& st = bvh.stats;
-  std::printf("bvh        binned SAH, %u bins, max leaf %u: %u nodes (%u interior, %u leaves), "
-              "depth max %u mean-leaf %.1f, SAH cost %.2f, %.1f MB, built in %.3f s\n",
-              bvh.options.bins, bvh.options.max_leaf_size, st.nodes, st.interior, st.leaves,
-              st.max_depth, st.mean_leaf_depth, st.sah_cost, bvh.memory_bytes() / 1e6,
-              st.build_seconds);
+  std::printf(
+      "bvh        binned SAH, %u bins, max leaf %u: %u nodes (%u interior, %u leaves), "
+      "depth max %u mean-leaf %.1f, SAH cost %.2f, %.1f MB, built in %.3f s\n",
+      bvh.options.bins, bvh.options.max_leaf_size, st.nodes, st.interior, st.leaves, st.max_depth,
+      st.mean_leaf_depth, st.sah_cost, bvh.memory_bytes() / 1e6, st.build_seconds);
   std::printf("           leaf sizes:");
   for (size_t k = 1; k < st.leaf_size_histogram.size(); ++k)
     std::printf(" %zu:%u", k, st.leaf_size_histogram[k]);
@@ -83,8 +84,9 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
     nlohmann::json j = {{"scene", s.path},
                         {"triangles", s.triangles.size()},
                         {"degenerate_triangles", s.degenerate_triangles},
-                        {"bounds", {{"min", {s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z}},
-                                    {"max", {s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z}}}},
+                        {"bounds",
+                         {{"min", {s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z}},
+                          {"max", {s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z}}}},
                         {"camera", c.source},
                         {"lights", s.lights.size()},
                         {"emissive_triangles", s.emissive_triangles().size()},
@@ -104,8 +106,9 @@ struct InfoArgs {
 
 Subcommand add_info(CLI::App& app) {
   auto a = std::make_shared<InfoArgs>();
-  auto* info = app.add_subcommand("info", "Print a scene's triangles, bounds, camera, lights, "
-                                          "materials and BVH statistics");
+  auto* info = app.add_subcommand("info",
+                                  "Print a scene's triangles, bounds, camera, lights, "
+                                  "materials and BVH statistics");
   info->add_option("scene", a->scene, "glTF scene (.glb or .gltf)")->required();
   info->add_option("--leaf-size", a->leaf_size, "maximum triangles per BVH leaf")
       ->check(CLI::Range(1, 64));

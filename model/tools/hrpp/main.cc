@@ -9,9 +9,9 @@
 #include <exception>
 #include <vector>
 
-#include "hrpp/workload/ray_stream.h"
 #include "hrpp/report/render.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/workload/ray_stream.h"
 #include "subcommands.h"
 
 int main(int argc, char** argv) {

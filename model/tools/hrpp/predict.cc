@@ -11,15 +11,15 @@
 #include <optional>
 
 #include "common.h"
-#include "hrpp/trace/bvh.h"
-#include "hrpp/timing/cost_model.h"
-#include "hrpp/predictor/predictor.h"
-#include "hrpp/workload/ray_stream.h"
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/hardware/rtl_update_delay.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/predictor/tiled_predictor.h"
 #include "hrpp/report/spec_image.h"
 #include "hrpp/scene/scene.h"
-#include "hrpp/predictor/tiled_predictor.h"
+#include "hrpp/timing/cost_model.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
 
@@ -60,8 +60,8 @@ int configure_predict(const PredictArgs& a, PredictSetup* s) {
   s->bvh = build_bvh(s->scene.triangles);
   const Scene& scene = s->scene;
   if (!finish_predictor_config("predict", a.p, scene, s->bvh, &cfg)) return 2;
-  cfg.update_delay = a.pipeline_latency >= 0 ? rtl_update_delay(uint32_t(a.pipeline_latency))
-                                             : a.update_delay;
+  cfg.update_delay =
+      a.pipeline_latency >= 0 ? rtl_update_delay(uint32_t(a.pipeline_latency)) : a.update_delay;
   cfg.measure_time = a.measure_time;
   WorkloadOptions& wo = s->wo;
   nlohmann::json& workload = s->workload;
@@ -115,8 +115,8 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
   std::unique_ptr<SpecImage>& spec_image = run.spec_image;
   if (!stream && a.threads == 1)
     spec_image = std::make_unique<SpecImage>(s.scene, wo.width, wo.height, wo.spp);
-  const uint64_t expected = stream ? stream->header().ray_count
-                                   : uint64_t(wo.width) * wo.height * wo.spp;
+  const uint64_t expected =
+      stream ? stream->header().ray_count : uint64_t(wo.width) * wo.height * wo.spp;
   const char* unit = stream ? "stream rays" : "camera samples";
   uint64_t done = 0;
   auto t0 = std::chrono::steady_clock::now();
@@ -189,8 +189,10 @@ void print_configuration(const PredictSetup& s, const PredictArgs& a, const Tile
   std::printf("  %s\n",
               predictor_line(a.p, s.cfg, pred.table_bytes(), pred.table_entries()).c_str());
   if (a.cores > 1)
-    std::printf("  %u cores, each with its own table (%ux%u-pixel tiles, tile i on core i mod %u), "
-                "%u threads\n", a.cores, a.tile, a.tile, a.cores, a.threads);
+    std::printf(
+        "  %u cores, each with its own table (%ux%u-pixel tiles, tile i on core i mod %u), "
+        "%u threads\n",
+        a.cores, a.tile, a.tile, a.cores, a.threads);
 }
 
 /// The text report's body: one row per ray kind, the cost model's line, the run's speed.
@@ -225,8 +227,10 @@ void print_report(const PredictorConfig& cfg, const TiledPredictor& pred, const 
                   100 * j["image_error"]["differing_pixel_fraction"].get<double>());
     std::printf("\n");
   }
-  std::printf("  skipped = 1 - HRPP interior-node tests (wasted predicted tests included) / baseline; %.1f s, %.2f M rays/s\n",
-              secs, pred.total().rays / secs / 1e6);
+  std::printf(
+      "  skipped = 1 - HRPP interior-node tests (wasted predicted tests included) / baseline; %.1f "
+      "s, %.2f M rays/s\n",
+      secs, pred.total().rays / secs / 1e6);
 }
 
 int cmd_predict(const PredictArgs& a) {
@@ -243,8 +247,10 @@ int cmd_predict(const PredictArgs& a) {
   print_configuration(s, a, pred);
   print_report(s.cfg, pred, j, cost, run.secs);
   if (pred.total().exact_mismatches) {
-    std::fprintf(stderr, "hrpp predict: BUG: %llu rays answered differently from the baseline in an exact mode\n",
-                 (unsigned long long)pred.total().exact_mismatches);
+    std::fprintf(
+        stderr,
+        "hrpp predict: BUG: %llu rays answered differently from the baseline in an exact mode\n",
+        (unsigned long long)pred.total().exact_mismatches);
     return 1;
   }
   if (!a.json_path.empty() && !write_json_file(a.json_path, j)) return 2;
@@ -255,8 +261,9 @@ int cmd_predict(const PredictArgs& a) {
 
 Subcommand add_predict(CLI::App& app) {
   auto pa = std::make_shared<PredictArgs>();
-  auto* pr = app.add_subcommand("predict", "Run the HRPP predictor over a scene's rays and report "
-                                           "skipped work, precision and recall per ray kind");
+  auto* pr = app.add_subcommand("predict",
+                                "Run the HRPP predictor over a scene's rays and report "
+                                "skipped work, precision and recall per ray kind");
   pr->add_option("scene", pa->scene, "glTF scene (.glb or .gltf)")->required();
   add_predictor_options(pr, pa->p);
   std::vector<CLI::Option*> wopts = add_workload_options(pr, pa->w, "shadow,ao");

@@ -1,14 +1,15 @@
 // hrpp render: PNG pictures of the shaded scene and per-pixel heat maps of traversal work and
 // predictor outcomes.
+#include "hrpp/report/render.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "common.h"
-#include "hrpp/trace/bvh.h"
-#include "hrpp/report/render.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
 
@@ -44,7 +45,8 @@ int cmd_render(const RenderArgs& a) {
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",
-              s["shaded"]["exposure"].get<double>(), 100 * s["shaded"]["lit_fraction"].get<double>());
+              s["shaded"]["exposure"].get<double>(),
+              100 * s["shaded"]["lit_fraction"].get<double>());
   for (const auto& [name, m] : s["maps"].items())
     std::printf("  %-17s %s: min %.4g, mean %.4g, max %.4g\n", name.c_str(),
                 m["title"].get<std::string>().c_str(), m["min"].get<double>(),
@@ -61,8 +63,9 @@ int cmd_render(const RenderArgs& a) {
 
 Subcommand add_render(CLI::App& app) {
   auto ra = std::make_shared<RenderArgs>();
-  auto* rd = app.add_subcommand("render", "Write PNG pictures: the shaded scene and per-pixel heat "
-                                          "maps of traversal work and predictor outcomes");
+  auto* rd = app.add_subcommand("render",
+                                "Write PNG pictures: the shaded scene and per-pixel heat "
+                                "maps of traversal work and predictor outcomes");
   rd->add_option("scene", ra->scene, "glTF scene (.glb or .gltf)")->required();
   rd->add_option("--out", ra->out, "output directory (created if missing)")->required();
   add_workload_options(rd, ra->w, "shadow,ao");

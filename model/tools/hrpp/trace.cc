@@ -6,9 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "common.h"
+#include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
 #include "hrpp/workload/ray_stream.h"
-#include "hrpp/scene/scene.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
 
@@ -53,8 +53,8 @@ int cmd_trace(const TraceArgs& a) {
       jk[name] = by_kind[k];
     }
   std::printf("wrote %s: %llu rays (%s), %.1f MB, %.1f s\n", a.out.c_str(),
-              (unsigned long long)writer.count(), counts.c_str(),
-              (64.0 * writer.count()) / 1e6, secs);
+              (unsigned long long)writer.count(), counts.c_str(), (64.0 * writer.count()) / 1e6,
+              secs);
   if (!a.json_path.empty()) {
     nlohmann::json j = {{"stream", a.out},
                         {"scene", scene.path},
@@ -73,8 +73,9 @@ int cmd_trace(const TraceArgs& a) {
 
 Subcommand add_trace(CLI::App& app) {
   auto ta = std::make_shared<TraceArgs>();
-  auto* tr = app.add_subcommand("trace", "Generate a scene's ray workload and write it as a "
-                                         "ray-stream file (docs/ray_stream.md)");
+  auto* tr = app.add_subcommand("trace",
+                                "Generate a scene's ray workload and write it as a "
+                                "ray-stream file (docs/ray_stream.md)");
   tr->add_option("scene", ta->scene, "glTF scene (.glb or .gltf)")->required();
   add_workload_options(tr, ta->w, "auto");
   tr->add_option("--out", ta->out, "ray-stream file to write")->required();

@@ -145,7 +145,7 @@ class CycleModel {
   static constexpr int kLookupLatency = rtl::kLookupStages;
   std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
-  std::vector<KeyEntry> key_store_;     // no reset, as in the RTL
+  std::vector<KeyEntry> key_store_;      // no reset, as in the RTL
   std::vector<bool> key_store_written_;  // since the last reset
   std::string error_;
   CycleStats stats_;

@@ -39,9 +39,9 @@ struct RtlConfig {
                               : "faithful hash P=" + std::to_string(hash.precision) +
                                     " E=" + std::to_string(hash.exp_bits);
     return h + (hash.combine == CombineMode::kConcat ? " concat, " : " xor, ") +
-           std::to_string(table.sets) + "x" + std::to_string(table.ways) + " table, K=" +
-           std::to_string(table.nodes_per_entry) + ", " + std::to_string(table.tag_bits) +
-           "-bit tags";
+           std::to_string(table.sets) + "x" + std::to_string(table.ways) +
+           " table, K=" + std::to_string(table.nodes_per_entry) + ", " +
+           std::to_string(table.tag_bits) + "-bit tags";
   }
   /// The predictor of this configuration (go-up 0, closest-exact mode).
   PredictorConfig predictor() const {
@@ -101,8 +101,8 @@ inline RtlConfig rtl_config(std::string_view name) {
     if (name == d.name) return make_rtl_config(d);
   std::string known;
   for (const std::string& n : rtl_config_names()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown RTL configuration '" + std::string(name) + "' (known: " +
-                              known + ")");
+  throw std::invalid_argument("unknown RTL configuration '" + std::string(name) +
+                              "' (known: " + known + ")");
 }
 
 }  // namespace hrpp

@@ -19,9 +19,9 @@
 #include <array>
 #include <cstdint>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/predictor/pred_table.h"
 #include "hrpp/predictor/predictor.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/trace/ray.h"
 #include "hrpp/trace/traverse.h"
 #include "hrpp/workload/workload.h"
@@ -47,20 +47,20 @@ struct EngineRay {
   // Predicted walks (step 1).
   std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // the predicted nodes walked, in order
   uint32_t num_nodes = 0;
-  Hit best;                    // nearest hit of the predicted walks
+  Hit best;                      // nearest hit of the predicted walks
   uint32_t best_node = kNoNode;  // the predicted node whose subtree holds `best`
-  Counters pred;               // work of the predicted walks
+  Counters pred;                 // work of the predicted walks
   // Walks from the root (step 3).
-  Hit baseline;     // the full walk: the reference answer of the statistics
+  Hit baseline;  // the full walk: the reference answer of the statistics
   Counters base;
-  Hit shrunk;       // kShrink: the walk from the root bounded by best.t
+  Hit shrunk;  // kShrink: the walk from the root bounded by best.t
   Counters shrunk_work;
   // Outcome (step 4).
   Action action = Action::kFull;
   Hit answer;
-  bool verified = false;           // the answer was found in a predicted subtree (or accepted)
+  bool verified = false;             // the answer was found in a predicted subtree (or accepted)
   uint32_t verified_node = kNoNode;  // that subtree's node (kNoNode: none)
-  Counters hrpp;                   // everything HRPP walked: predicted + shrunk or full walk
+  Counters hrpp;                     // everything HRPP walked: predicted + shrunk or full walk
 
   /// Records one predicted subtree walk's result (its work already added to `pred`); keeps the
   /// nearest hit. Returns false when the ray needs no further predicted walk (an any-hit query
@@ -92,8 +92,8 @@ inline bool walk_predicted_node(const Bvh& bvh, const Ray& ray, uint32_t node, E
 
 /// Walks the predicted nodes in order (most recently used first) until an any-hit query finds
 /// a hit; sets `predicted` (count > 0).
-inline void walk_predicted(const Bvh& bvh, const Ray& ray, const uint32_t* nodes,
-                           uint32_t count, EngineRay* er) {
+inline void walk_predicted(const Bvh& bvh, const Ray& ray, const uint32_t* nodes, uint32_t count,
+                           EngineRay* er) {
   er->predicted = count > 0;
   for (uint32_t i = 0; i < count; ++i)
     if (!walk_predicted_node(bvh, ray, nodes[i], er)) break;

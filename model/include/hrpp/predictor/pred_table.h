@@ -27,9 +27,9 @@ struct TableConfig {
 
   std::string validate() const;
   /// Bits of storage, counted as the RTL stores them.
-  int count_bits() const;  // node count field: ceil(log2(K + 1))
-  int age_bits() const;    // per way: ceil(log2(W))
-  int entry_bits() const;  // valid + tag + count + K node ids (+ the key for unbounded)
+  int count_bits() const;     // node count field: ceil(log2(K + 1))
+  int age_bits() const;       // per way: ceil(log2(W))
+  int entry_bits() const;     // valid + tag + count + K node ids (+ the key for unbounded)
   uint64_t set_bits() const;  // W entries + W ages
   uint64_t total_bits(uint64_t unbounded_entries = 0) const;
 };

@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/predictor/hash.h"
 #include "hrpp/predictor/pred_table.h"
-#include "hrpp/trace/ray.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/trace/ray.h"
 #include "hrpp/trace/traverse.h"
 #include "hrpp/workload/workload.h"
 
@@ -21,9 +21,9 @@ namespace hrpp {
 /// How rays of closest-hit kinds are answered. Any-hit kinds (shadow, AO) always use the
 /// any-hit scheme.
 enum class PredictMode : uint8_t {
-  kAnyHit = 0,       // every ray is an any-hit query (the study's "hit-any" column)
-  kClosestExact = 1, // a predicted hit shrinks tfar, then the full walk runs: exact
-  kClosestSpec = 2,  // a predicted hit is accepted as the answer: speculative
+  kAnyHit = 0,        // every ray is an any-hit query (the study's "hit-any" column)
+  kClosestExact = 1,  // a predicted hit shrinks tfar, then the full walk runs: exact
+  kClosestSpec = 2,   // a predicted hit is accepted as the answer: speculative
 };
 const char* predict_mode_name(PredictMode m);
 bool parse_predict_mode(const std::string& s, PredictMode* out);
@@ -72,9 +72,9 @@ struct PredictStats {
   uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
-  uint64_t table_updates = 0;     // rays whose outcome wrote the table
-  uint64_t baseline_ns = 0;       // measure_time: CPU time of the baseline walks
-  uint64_t hrpp_ns = 0;           // measure_time: hash, lookup, predicted and full walks, update
+  uint64_t table_updates = 0;  // rays whose outcome wrote the table
+  uint64_t baseline_ns = 0;    // measure_time: CPU time of the baseline walks
+  uint64_t hrpp_ns = 0;        // measure_time: hash, lookup, predicted and full walks, update
 
   PredictStats& operator+=(const PredictStats& o);
   double skipped_interior_fraction() const;
@@ -122,7 +122,7 @@ class Predictor {
   };
   std::deque<PendingUpdate> pending_;  // update_delay > 0: writes not yet in the table
   uint64_t issued_ = 0;                // rays processed (valid or not)
-  mutable PredictStats total_;  // total()'s result
+  mutable PredictStats total_;         // total()'s result
   std::array<PredictStats, kNumRayKinds> by_kind_{};
 };
 

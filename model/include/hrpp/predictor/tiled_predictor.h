@@ -8,11 +8,10 @@
 // worker threads in batches through bounded queues: memory does not grow with the number of rays.
 #pragma once
 
-#include <optional>
-
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "hrpp/predictor/predictor.h"
@@ -20,11 +19,11 @@
 namespace hrpp {
 
 struct TiledOptions {
-  uint32_t cores = 1;     // predictor tables (fixed by the study, not by the machine)
-  uint32_t threads = 1;   // worker threads (1: everything runs in the caller's thread)
-  uint32_t width = 0;     // image width in pixels (needed when cores > 1)
-  uint32_t tile = 8;      // tile edge in pixels
-  uint32_t batch = 4096;  // rays handed to a worker at once
+  uint32_t cores = 1;          // predictor tables (fixed by the study, not by the machine)
+  uint32_t threads = 1;        // worker threads (1: everything runs in the caller's thread)
+  uint32_t width = 0;          // image width in pixels (needed when cores > 1)
+  uint32_t tile = 8;           // tile edge in pixels
+  uint32_t batch = 4096;       // rays handed to a worker at once
   uint32_t queue_batches = 4;  // batches waiting per worker before the producer blocks
   /// Returns an empty string or the problem (cores or threads 0, cores > 1 without a width).
   std::string validate() const;

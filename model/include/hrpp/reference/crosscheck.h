@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/reference/embree_ref.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/trace/ray.h"
 #include "hrpp/trace/referee.h"
-#include "hrpp/scene/scene.h"
 
 namespace hrpp {
 
@@ -22,17 +22,17 @@ namespace hrpp {
 constexpr double kMinComparedFraction = 0.99;
 
 struct CrossCheckCounts {
-  uint64_t rays = 0;            // generated
-  uint64_t invalid_rays = 0;    // rejected by validate_ray, never traced nor sent to Embree
-  uint64_t outside_embree = 0;  // valid, but outside Embree's range (embree_accepts): not sent
-  uint64_t compared = 0;        // valid rays traced by both
-  uint64_t hit_agree = 0;       // hit/miss agreement
-  uint64_t hit_mismatches = 0;  // disagreements the referee does not explain
-  uint64_t grazes = 0;          // hit/miss disagreements the referee shows to be grazes
-  uint64_t t_mismatches = 0;    // same hit, t outside the tolerance
-  uint64_t prim_mismatches = 0; // different primitive, not a tie
-  uint64_t ties = 0;            // different primitive, both hit at the same t (genuine tie)
-  uint64_t hits = 0;            // rays our BVH reports as hitting
+  uint64_t rays = 0;             // generated
+  uint64_t invalid_rays = 0;     // rejected by validate_ray, never traced nor sent to Embree
+  uint64_t outside_embree = 0;   // valid, but outside Embree's range (embree_accepts): not sent
+  uint64_t compared = 0;         // valid rays traced by both
+  uint64_t hit_agree = 0;        // hit/miss agreement
+  uint64_t hit_mismatches = 0;   // disagreements the referee does not explain
+  uint64_t grazes = 0;           // hit/miss disagreements the referee shows to be grazes
+  uint64_t t_mismatches = 0;     // same hit, t outside the tolerance
+  uint64_t prim_mismatches = 0;  // different primitive, not a tie
+  uint64_t ties = 0;             // different primitive, both hit at the same t (genuine tie)
+  uint64_t hits = 0;             // rays our BVH reports as hitting
 
   CrossCheckCounts& operator+=(const CrossCheckCounts& o);
   double hit_agreement() const { return compared ? double(hit_agree) / compared : 1.0; }

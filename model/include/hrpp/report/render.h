@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "hrpp/trace/bvh.h"
 #include "hrpp/predictor/predictor.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 
 namespace hrpp {
@@ -50,8 +50,8 @@ float srgb_encode(float linear);
 /// shadow rays the workload spawns from primary hits), emitters shown with their colour,
 /// auto-exposed, a small ambient term so unlit geometry stays visible, sRGB-encoded.
 struct ShadeInfo {
-  double exposure = 0;       // display value per unit of linear radiance
-  double lit_fraction = 0;   // share of surface samples that some light reaches unoccluded
+  double exposure = 0;      // display value per unit of linear radiance
+  double lit_fraction = 0;  // share of surface samples that some light reaches unoccluded
   uint64_t samples = 0, surface_samples = 0, emitter_samples = 0, background_samples = 0;
   nlohmann::json to_json() const;
 };
@@ -71,10 +71,10 @@ PixelStats predictor_pixels(const Scene& scene, const Bvh& bvh, const WorkloadOp
 /// under the image with the title, the colour bar, its end values, and min / mean / max.
 struct HeatMap {
   std::string title;
-  std::string colormap = "viridis";  // "viridis" (sequential) or "coolwarm" (diverging)
-  double lo = 0, hi = 1;             // colour bar range (values outside are clamped)
-  bool percent = false;              // labels as percentages
-  double min = 0, mean = 0, max = 0; // of the values with data (filled by heat_map_image)
+  std::string colormap = "viridis";   // "viridis" (sequential) or "coolwarm" (diverging)
+  double lo = 0, hi = 1;              // colour bar range (values outside are clamped)
+  bool percent = false;               // labels as percentages
+  double min = 0, mean = 0, max = 0;  // of the values with data (filled by heat_map_image)
   nlohmann::json to_json() const;
 };
 /// Maps t in [0, 1] through a colour map (display values).

@@ -2,12 +2,11 @@
 // floating-point helpers the robust intersection tests rely on.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <limits>
 
 namespace hrpp {
@@ -67,8 +66,8 @@ struct Aabb {
     return static_cast<float>(std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z));
   }
   bool contains(const Aabb& b) const {
-    return b.lo.x >= lo.x && b.lo.y >= lo.y && b.lo.z >= lo.z && b.hi.x <= hi.x &&
-           b.hi.y <= hi.y && b.hi.z <= hi.z;
+    return b.lo.x >= lo.x && b.lo.y >= lo.y && b.lo.z >= lo.z && b.hi.x <= hi.x && b.hi.y <= hi.y &&
+           b.hi.z <= hi.z;
   }
   int largest_axis() const {
     Vec3 e = extent();

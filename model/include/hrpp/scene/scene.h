@@ -20,7 +20,7 @@ class SceneError : public std::runtime_error {
 struct Material {
   std::string name;
   glm::vec4 base_color{1.f};
-  float metallic = 1.f;   // glTF defaults
+  float metallic = 1.f;  // glTF defaults
   float roughness = 1.f;
   Vec3 emissive{0.f};
   float emissive_strength = 1.f;  // KHR_materials_emissive_strength
@@ -37,7 +37,7 @@ struct Light {
   enum class Type { kPoint, kDirectional, kSpot };
   Type type = Type::kPoint;
   std::string name;
-  Vec3 position{0.f};           // world space (point, spot)
+  Vec3 position{0.f};              // world space (point, spot)
   Vec3 direction{0.f, 0.f, -1.f};  // unit, the direction light travels (directional, spot)
   Vec3 color{1.f};
   float intensity = 1.f;
@@ -66,9 +66,9 @@ struct Scene {
   std::vector<Triangle> triangles;
   std::vector<uint32_t> tri_material;  // per triangle, index into materials
   std::vector<MeshRange> meshes;
-  std::vector<Material> materials;     // the last one is the default material if any primitive
-                                       // had none
-  std::vector<Light> lights;           // punctual lights (KHR_lights_punctual)
+  std::vector<Material> materials;  // the last one is the default material if any primitive
+                                    // had none
+  std::vector<Light> lights;        // punctual lights (KHR_lights_punctual)
   Camera camera;
   Aabb bounds;
   uint32_t degenerate_triangles = 0;

@@ -15,15 +15,15 @@ namespace hrpp {
 /// Latencies, in cycles, of one ray's dependent chain of work on a ray-tracing unit. Every
 /// constant's reasoning is in docs/cost_model.md; the sweep's Pareto fronts use these.
 struct CostModel {
-  uint32_t node_fetch = 32;   // one BVH node (or a leaf's triangles) from the unit's L1 cache
-  uint32_t box_test = 8;      // one ray/box slab test (a node's two children in parallel)
-  uint32_t tri_test = 20;     // one watertight ray/triangle test
+  uint32_t node_fetch = 32;  // one BVH node (or a leaf's triangles) from the unit's L1 cache
+  uint32_t box_test = 8;     // one ray/box slab test (a node's two children in parallel)
+  uint32_t tri_test = 20;    // one watertight ray/triangle test
   // The RTL's (rtl/config/hrpp_configs.json): a ray accepted to its prediction (A, the hash
   // stages, B, the lookup stages, the prediction FIFO); a predicted-walk result to its skip
   // decision (P0, the skip FIFO).
   uint32_t lookup = rtl::kPredictionLatency;
   uint32_t decision = rtl::kDecisionLatency;
-  uint32_t mispredict = 4;    // a failed prediction: restart the walk at the root
+  uint32_t mispredict = 4;  // a failed prediction: restart the walk at the root
   nlohmann::json to_json() const;
 };
 

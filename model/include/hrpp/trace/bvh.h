@@ -35,10 +35,12 @@ constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 /// tested at once. Derived from `nodes` by build_bvh (node ids, boxes and counters are those of
 /// the binary BVH; this is only where the traversal reads them from).
 struct alignas(64) BvhPair {
-  float box[3][4];       // axis a: lo of the left child, lo of the right, hi of the left, hi of the right
-  uint32_t right;        // the right child's node id (the left child is this node's id + 1)
-  uint32_t leaf_counts;  // child c (0 left, 1 right): its triangle count in bits 16c..16c+15; 0: interior
-  uint32_t data[2];      // child c: interior: the index of its own BvhPair; leaf: its first triangle
+  float box[3]
+           [4];    // axis a: lo of the left child, lo of the right, hi of the left, hi of the right
+  uint32_t right;  // the right child's node id (the left child is this node's id + 1)
+  uint32_t leaf_counts;  // child c (0 left, 1 right): its triangle count in bits 16c..16c+15; 0:
+                         // interior
+  uint32_t data[2];  // child c: interior: the index of its own BvhPair; leaf: its first triangle
 };
 static_assert(sizeof(BvhPair) == 64);
 
@@ -59,13 +61,13 @@ struct BvhStats {
 
 struct Bvh {
   std::vector<BvhNode> nodes;
-  std::vector<Triangle> tris;       // triangles in leaf order
-  std::vector<uint32_t> prim_ids;   // tris[i] is scene triangle prim_ids[i]
+  std::vector<Triangle> tris;           // triangles in leaf order
+  std::vector<uint32_t> prim_ids;       // tris[i] is scene triangle prim_ids[i]
   std::vector<uint8_t> tri_degenerate;  // never hit (zero area)
-  std::vector<uint32_t> parent;     // kNoNode for the root
-  std::vector<uint16_t> depth;      // root = 0
-  std::vector<BvhPair> pairs;       // traversal layout: one per interior node, depth-first order
-  std::vector<uint32_t> pair_of;    // node id -> index in pairs (interior nodes; else kNoNode)
+  std::vector<uint32_t> parent;         // kNoNode for the root
+  std::vector<uint16_t> depth;          // root = 0
+  std::vector<BvhPair> pairs;     // traversal layout: one per interior node, depth-first order
+  std::vector<uint32_t> pair_of;  // node id -> index in pairs (interior nodes; else kNoNode)
   BvhBuildOptions options;
   BvhStats stats;
 

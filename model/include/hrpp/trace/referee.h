@@ -1,6 +1,6 @@
-// The double-precision referee of the cross-check (hrpp/reference/crosscheck.h) and of the traversal
-// fuzzer: it tells genuine ties and grazes, on which two float tracers may disagree, from real
-// disagreements. Needs no reference tracer.
+// The double-precision referee of the cross-check (hrpp/reference/crosscheck.h) and of the
+// traversal fuzzer: it tells genuine ties and grazes, on which two float tracers may disagree, from
+// real disagreements. Needs no reference tracer.
 #pragma once
 
 #include "hrpp/scene/geometry.h"
@@ -10,11 +10,11 @@ namespace hrpp {
 
 /// Double-precision ray/triangle intersection (the referee).
 struct RefereeHit {
-  bool hit = false;        // inside the triangle (edges included) and within [tnear, tfar]
-  double t = 0;            // distance along the ray to the triangle's plane
-  double min_bary = 0;     // smallest barycentric coordinate (negative: outside)
-  double edge_dist = 0;    // signed distance in the plane from the hit point to the nearest edge
-  double cos_theta = 0;    // |cos| of the angle between the ray and the triangle's normal
+  bool hit = false;      // inside the triangle (edges included) and within [tnear, tfar]
+  double t = 0;          // distance along the ray to the triangle's plane
+  double min_bary = 0;   // smallest barycentric coordinate (negative: outside)
+  double edge_dist = 0;  // signed distance in the plane from the hit point to the nearest edge
+  double cos_theta = 0;  // |cos| of the angle between the ray and the triangle's normal
 };
 RefereeHit referee_intersect(const Ray& r, const Triangle& tri);
 

@@ -41,9 +41,9 @@ struct Counters {
 
 struct Hit {
   float t = kInf;
-  float u = 0, v = 0;        // barycentrics of v1 and v2
-  uint32_t prim = kNoPrim;   // scene triangle index
-  uint32_t leaf = kNoNode;   // BVH leaf where the hit was found
+  float u = 0, v = 0;       // barycentrics of v1 and v2
+  uint32_t prim = kNoPrim;  // scene triangle index
+  uint32_t leaf = kNoNode;  // BVH leaf where the hit was found
   bool hit() const { return prim != kNoPrim; }
 };
 
@@ -75,7 +75,7 @@ bool intersect_triangle(const RayPre& r, const Triangle& tri, float tmin, float 
                         float* u, float* v);
 
 struct TraceRequest {
-  uint32_t start_node = 0;              // walk the subtree of this node (0: the whole BVH)
+  uint32_t start_node = 0;                // walk the subtree of this node (0: the whole BVH)
   std::vector<uint32_t>* path = nullptr;  // if set, receives every visited node in order
 };
 

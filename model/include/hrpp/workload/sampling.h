@@ -1,6 +1,6 @@
-// Building blocks of ray generation shared by the workload generator (hrpp/workload/workload.h) and the
-// renderer (hrpp/report/render.h): offset origins, camera rays, hit points, light samples, and the path
-// keys every random number is drawn from.
+// Building blocks of ray generation shared by the workload generator (hrpp/workload/workload.h) and
+// the renderer (hrpp/report/render.h): offset origins, camera rays, hit points, light samples, and
+// the path keys every random number is drawn from.
 #pragma once
 
 #include <cstdint>
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "hrpp/scene/geometry.h"
-#include "hrpp/trace/ray.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/ray.h"
 #include "hrpp/trace/traverse.h"
 
 namespace hrpp {
@@ -27,10 +27,10 @@ void resolution_for(const Camera& cam, uint64_t rays, int spp, int* width, int* 
 
 /// Where a closest-hit ray hit: the point, the normals and the material.
 struct SurfacePoint {
-  Vec3 p;            // barycentric interpolation of the triangle's vertices
-  Vec3 ng;           // unit geometric normal (v1-v0)x(v2-v0), as wound
-  Vec3 n;            // ng turned towards the side the ray came from
-  bool front = true; // the ray arrived on the side ng points to (it is entering a closed mesh)
+  Vec3 p;             // barycentric interpolation of the triangle's vertices
+  Vec3 ng;            // unit geometric normal (v1-v0)x(v2-v0), as wound
+  Vec3 n;             // ng turned towards the side the ray came from
+  bool front = true;  // the ray arrived on the side ng points to (it is entering a closed mesh)
   uint32_t prim = kNoPrim;
   const Material* material = nullptr;
 };
@@ -38,8 +38,8 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 
 /// A shadow ray's target: a punctual light, or a point sampled on an emissive mesh.
 struct LightSample {
-  Vec3 dir;          // unit, from the origin towards the light
-  float tfar = 0;    // stops just short of the light (inf for directional lights)
+  Vec3 dir;            // unit, from the origin towards the light
+  float tfar = 0;      // stops just short of the light (inf for directional lights)
   uint32_t light = 0;  // punctual lights 0..P-1, then emissive meshes P..P+M-1
   Vec3 irradiance{0};  // unoccluded irradiance at the origin over cos(receiver): intensity /
                        // dist^2, or emission * cos(emitter) * mesh area / dist^2 (one sample)
@@ -62,9 +62,9 @@ class SceneLights {
 
  private:
   struct Mesh {
-    uint32_t range;               // index into scene.meshes
-    std::vector<uint32_t> tris;   // non-degenerate triangles
-    std::vector<float> cdf;       // by area
+    uint32_t range;              // index into scene.meshes
+    std::vector<uint32_t> tris;  // non-degenerate triangles
+    std::vector<float> cdf;      // by area
     Vec3 emission;
     bool one_sided;
   };

@@ -15,23 +15,23 @@
 #include <string_view>
 #include <vector>
 
+#include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
 #include "hrpp/trace/ray.h"
-#include "hrpp/workload/sampling.h"
-#include "hrpp/scene/scene.h"
 #include "hrpp/trace/traverse.h"
+#include "hrpp/workload/sampling.h"
 
 namespace hrpp {
 
 struct RayRecord {
   Ray ray;
   RayKind kind = RayKind::kPrimary;
-  uint32_t pixel = 0;   // y * width + x
-  uint32_t sample = 0;  // sample index within the pixel
-  uint64_t id = 0;      // position in the stream
-  uint64_t parent = ~0ull;  // id of the ray whose hit spawned this one
+  uint32_t pixel = 0;             // y * width + x
+  uint32_t sample = 0;            // sample index within the pixel
+  uint64_t id = 0;                // position in the stream
+  uint64_t parent = ~0ull;        // id of the ray whose hit spawned this one
   uint32_t spawn_prim = kNoPrim;  // scene triangle whose hit spawned this ray (kNoPrim: primary)
-  uint8_t depth = 0;    // bounces from the camera: primary 0, a ray spawned by a depth-d hit d+1
+  uint8_t depth = 0;  // bounces from the camera: primary 0, a ray spawned by a depth-d hit d+1
 };
 
 /// Issue order of the camera samples (docs/workloads.md). Rays are issued per group: the
@@ -49,15 +49,15 @@ struct WorkloadOptions {
   int width = 0, height = 0;  // 0: from the camera (its image size)
   int spp = 1;
   uint64_t seed = 1;
-  bool shadow = true;         // towards punctual lights and emissive meshes, from every hit
-  bool ao = true;             // one cosine-weighted ambient-occlusion ray per primary hit
-  bool reflection = false;    // from hits on specular reflectors (is_specular_reflector)
-  bool refraction = false;    // from hits on transmissive materials (is_transmissive)
-  bool diffuse = false;       // one cosine-weighted closest-hit bounce per hit
-  int max_depth = 2;          // generations of reflection / refraction / diffuse rays
-  float ao_distance = 0.f;    // 0: 5% of the scene's bounding-box diagonal
+  bool shadow = true;       // towards punctual lights and emissive meshes, from every hit
+  bool ao = true;           // one cosine-weighted ambient-occlusion ray per primary hit
+  bool reflection = false;  // from hits on specular reflectors (is_specular_reflector)
+  bool refraction = false;  // from hits on transmissive materials (is_transmissive)
+  bool diffuse = false;     // one cosine-weighted closest-hit bounce per hit
+  int max_depth = 2;        // generations of reflection / refraction / diffuse rays
+  float ao_distance = 0.f;  // 0: 5% of the scene's bounding-box diagonal
   RayOrder order = RayOrder::kScanline;
-  int tile = 8;               // tile edge in pixels (tiled and Morton orders)
+  int tile = 8;  // tile edge in pixels (tiled and Morton orders)
 };
 
 // ---- effect derivation ---------------------------------------------------------------------
