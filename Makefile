@@ -3,7 +3,7 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, lint, check-embree, results, sim-long, stress, synth, synth-sweep,
+# Other targets: setup, build, lint, format, check-embree, results, sim-long, stress, synth, synth-sweep,
 # synth-check, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
@@ -23,7 +23,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all setup setup-apt setup-venv build run test lint sim-long stress check-embree results clean \
+.PHONY: all setup setup-apt setup-venv build run test lint format sim-long stress check-embree results clean \
   synth synth-sweep synth-check sweep report bench test-sanitize fuzz
 
 all: build
@@ -100,9 +100,14 @@ sim-long: build
 stress: build
 	python3 tb/stress_runs.py --tb $(BUILD)/tb_hrpp --shared $(SHARED) --out $(OUT)/stress --jobs $(JOBS)
 
-# RTL lint: Verilator -Wall and slang, for every configuration the testbench builds.
+# Lint: the C++ clang-formatted and within 100 columns (model/tools/check_format.py; `make format`
+# rewrites it), and the RTL through Verilator -Wall and slang for every configuration the
+# testbench builds.
 lint: build
-	cd $(BUILD) && ctest --output-on-failure -R '^rtl\.lint'
+	cd $(BUILD) && ctest --output-on-failure -R '^(rtl\.lint|lint\.format)'
+
+format: setup-venv
+	$(VENV)/bin/python model/tools/check_format.py --fix
 
 # Cross-check every shared scene at a larger ray count than the test suite uses.
 check-embree: build
