@@ -68,6 +68,24 @@ DutOut read(const M* dut, uint32_t k, int node_bits) {
   return o;
 }
 
+// The start of every DUT run: the configuration inputs driven, two clock cycles with rst_ni low
+// (dump() after each evaluation, for a waveform), then the reset released at clock low.
+template <typename M, typename Dump>
+void reset_dut(M* dut, const CycleConfig& cc, Dump&& dump) {
+  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
+  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
+  apply(dut, DutIn{});
+  dut->rst_ni = 0;
+  for (int i = 0; i < 4; ++i) {
+    dut->clk_i = i & 1;
+    dut->eval();
+    dump();
+  }
+  dut->clk_i = 0;
+  dut->rst_ni = 1;
+  dut->eval();
+}
+
 // Calls f.template operator()<M>() with M the Verilated model of configuration `name`.
 template <typename F>
 auto with_model(const std::string& name, F&& f) {

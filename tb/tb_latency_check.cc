@@ -15,17 +15,7 @@ template <typename M>
 Latencies measure_dut_latencies(const CycleConfig& cc, std::string* error) {
   auto ctx = std::make_unique<VerilatedContext>();
   auto dut = std::make_unique<M>(ctx.get());
-  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
-  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
-  apply(dut.get(), DutIn{});
-  dut->rst_ni = 0;
-  for (int i = 0; i < 4; ++i) {
-    dut->clk_i = i & 1;
-    dut->eval();
-  }
-  dut->clk_i = 0;
-  dut->rst_ni = 1;
-  dut->eval();
+  reset_dut(dut.get(), cc, [] {});
   const CycleFn cycle = [&](const DutIn& in) {
     apply(dut.get(), in);
     dut->clk_i = 0;

@@ -125,18 +125,9 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
   Run run;
   uint64_t time = 0;
-  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
-  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
-  apply(dut.get(), DutIn{});
-  dut->rst_ni = 0;
-  for (int i = 0; i < 4; ++i) {
-    dut->clk_i = i & 1;
-    dut->eval();
+  reset_dut(dut.get(), cc, [&] {
     if (vcd) vcd->dump(time++);
-  }
-  dut->clk_i = 0;
-  dut->rst_ni = 1;
-  dut->eval();
+  });
   for (uint64_t cycle = 0; !eng.done(); ++cycle) {
     if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
       std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
