@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""The figures a refactor must keep identical (docs/performance.md, "Checking that a change keeps
+the figures"): the work counters of `hrpp predict --json` (walks, TP/FP/FN/TN, wrong results,
+updates per ray kind; not timings, not cost-model cycles) on every shared and own scene, in all
+three modes, for the RTL's default table and for an unbounded faithful table at go-up 1; and
+everything `tb_hrpp` prints (but its timing line) for every tb.* command of the test suite.
+
+  figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR] [--jobs N]
+  figures.py compare DIR_A DIR_B      exit 1 when any figure differs or is missing
+
+Capture with the binaries before a change (copy them first) and after it, then compare."""
+import argparse
+import concurrent.futures as cf
+import glob
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+CONFIGS = {
+    'rtl': '--hash improved --origin-bits 5 --dir-bits 3 --combine concat --table 128x8 '
+           '--nodes-per-entry 2 --tag-bits 8',
+    'unb': '--hash faithful --precision 6 --table unbounded --go-up 1',
+}
+MODES = ['anyhit', 'closest-exact', 'closest-spec']
+DROP = {'baseline_ns', 'hrpp_ns', 'seconds', 'cost', 'cost_model', 'threads', 'scene'}
+
+def strip(d):
+    if isinstance(d, dict):
+        return {k: strip(v) for k, v in d.items() if k not in DROP}
+    if isinstance(d, list):
+        return [strip(v) for v in d]
+    return d
+
+def predict_job(hrpp, scene, cname, mode, out):
+    own = os.path.dirname(os.path.abspath(scene)) == os.path.join(ROOT, 'scenes')
+    name = f"{'own-' if own else ''}{os.path.basename(scene)[:-4]}.{cname}.{mode}"
+    j = os.path.join(out, 'predict', name + '.json')
+    cmd = [hrpp, 'predict', scene, *CONFIGS[cname].split(), '--mode', mode, '--res', '200x150',
+           '--json', j]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode:
+        return name, f"FAILED rc {r.returncode}: {r.stderr[-300:]}"
+    d = strip(json.load(open(j)))
+    json.dump(d, open(j, 'w'), indent=1, sort_keys=True)
+    return name, 'ok'
+
+TB_DROP = re.compile(r'^(timing:|tb_hrpp: wrote|trace)')
+
+def tb_job(tb, test, out):
+    name, cmd = test
+    cmd = [tb if os.path.basename(c) in ('tb_hrpp',) else c for c in cmd]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    lines = [l for l in (r.stdout + r.stderr).splitlines() if not TB_DROP.match(l)]
+    lines = [re.sub(r'\d+\.\d+ s \(CPU [^)]*\)', 'T', l) for l in lines]
+    open(os.path.join(out, 'tb', name + '.txt'), 'w').write(f"rc {r.returncode}\n" + '\n'.join(lines) + '\n')
+    return name, 'ok'
+
+def tb_tests(build):
+    r = subprocess.run(['ctest', '--show-only=json-v1'], cwd=build, capture_output=True, text=True)
+    tests = json.loads(r.stdout)['tests']
+    res = []
+    for t in tests:
+        cmd = t.get('command') or []
+        if t['name'].startswith('tb.') and cmd and os.path.basename(cmd[0]) == 'tb_hrpp':
+            res.append((t['name'], cmd))
+    return res
+
+def main():
+    ap = argparse.ArgumentParser()
+    sub = ap.add_subparsers(dest='cmd', required=True)
+    c = sub.add_parser('capture'); c.add_argument('--hrpp'); c.add_argument('--tb'); c.add_argument('--build')
+    c.add_argument('--out', required=True); c.add_argument('--shared', default=os.path.join(ROOT, '..', 'shared')); c.add_argument('--jobs', type=int, default=2)
+    c.add_argument('--only', choices=['predict', 'tb'])
+    m = sub.add_parser('compare'); m.add_argument('a'); m.add_argument('b')
+    a = ap.parse_args()
+    if a.cmd == 'capture':
+        os.makedirs(os.path.join(a.out, 'predict'), exist_ok=True)
+        os.makedirs(os.path.join(a.out, 'tb'), exist_ok=True)
+        scenes = (sorted(glob.glob(os.path.join(a.shared, 'scenes', '*.glb'))) +
+                  sorted(glob.glob(os.path.join(ROOT, 'scenes', '*.glb'))))
+        if not glob.glob(os.path.join(a.shared, 'scenes', '*.glb')):
+            print(f'figures: no shared scenes in {a.shared}/scenes: own scenes only')
+        jobs = []
+        with cf.ThreadPoolExecutor(a.jobs) as ex:
+            if a.only != 'tb':
+                jobs += [ex.submit(predict_job, a.hrpp, s, cn, md, a.out)
+                         for s in scenes for cn in CONFIGS for md in MODES]
+            if a.only != 'predict':
+                jobs += [ex.submit(tb_job, a.tb, t, a.out) for t in tb_tests(a.build)]
+            for f in cf.as_completed(jobs):
+                n, st = f.result()
+                if st != 'ok': print(n, st)
+        print('captured', len(jobs))
+    else:
+        bad = 0; n = 0
+        for sub_ in ('predict', 'tb'):
+            fa = sorted(os.listdir(os.path.join(a.a, sub_)))
+            fb = set(os.listdir(os.path.join(a.b, sub_)))
+            for f in fa:
+                n += 1
+                if f not in fb:
+                    print('missing in B:', sub_, f); bad += 1; continue
+                if open(os.path.join(a.a, sub_, f)).read() != open(os.path.join(a.b, sub_, f)).read():
+                    print('DIFFERS:', sub_, f); bad += 1
+        print(f'{n} compared, {bad} differ')
+        sys.exit(1 if bad else 0)
+
+main()
