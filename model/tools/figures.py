@@ -20,6 +20,8 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
+# 'rtl': the RTL's default table (hrpp predict --preset rtl-default), spelt out so that binaries
+# from before the presets run it too; 'unb': the study's unbounded table at go-up 1.
 CONFIGS = {
     'rtl': '--hash improved --origin-bits 5 --dir-bits 3 --combine concat --table 128x8 '
            '--nodes-per-entry 2 --tag-bits 8',
@@ -56,7 +58,8 @@ def tb_job(tb, test, out):
     r = subprocess.run(cmd, capture_output=True, text=True)
     lines = [l for l in (r.stdout + r.stderr).splitlines() if not TB_DROP.match(l)]
     lines = [re.sub(r'\d+\.\d+ s \(CPU [^)]*\)', 'T', l) for l in lines]
-    open(os.path.join(out, 'tb', name + '.txt'), 'w').write(f"rc {r.returncode}\n" + '\n'.join(lines) + '\n')
+    with open(os.path.join(out, 'tb', name + '.txt'), 'w') as f:
+        f.write(f"rc {r.returncode}\n" + '\n'.join(lines) + '\n')
     return name, 'ok'
 
 def tb_tests(build):
@@ -70,13 +73,27 @@ def tb_tests(build):
     return res
 
 def main():
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     sub = ap.add_subparsers(dest='cmd', required=True)
-    c = sub.add_parser('capture'); c.add_argument('--hrpp'); c.add_argument('--tb'); c.add_argument('--build')
-    c.add_argument('--out', required=True); c.add_argument('--shared', default=os.path.join(ROOT, '..', 'shared')); c.add_argument('--jobs', type=int, default=2)
-    c.add_argument('--only', choices=['predict', 'tb'])
-    m = sub.add_parser('compare'); m.add_argument('a'); m.add_argument('b')
+    c = sub.add_parser('capture', help='run the tools and store their figures in OUT')
+    c.add_argument('--hrpp', help='the hrpp binary (predict figures)')
+    c.add_argument('--tb', help='the tb_hrpp binary (testbench figures)')
+    c.add_argument('--build', help='a configured build folder: its tb.* ctest commands')
+    c.add_argument('--out', required=True, help='folder for the figures')
+    c.add_argument('--shared', default=os.path.join(ROOT, '..', 'shared'),
+                   help='the shared folder (its scenes/*.glb)')
+    c.add_argument('--jobs', type=int, default=2, help='runs at a time')
+    c.add_argument('--only', choices=['predict', 'tb'], help='capture only these figures')
+    m = sub.add_parser('compare', help='compare two captures (exit 1 when any figure differs)')
+    m.add_argument('a')
+    m.add_argument('b')
     a = ap.parse_args()
+    if a.cmd == 'capture':
+        need = [] if a.only == 'tb' else ['hrpp']
+        need += [] if a.only == 'predict' else ['tb', 'build']
+        for n in need:
+            if not getattr(a, n):
+                ap.error(f'capture needs --{n}' + ('' if a.only else ' (or --only)'))
     if a.cmd == 'capture':
         os.makedirs(os.path.join(a.out, 'predict'), exist_ok=True)
         os.makedirs(os.path.join(a.out, 'tb'), exist_ok=True)
@@ -103,9 +120,13 @@ def main():
             for f in fa:
                 n += 1
                 if f not in fb:
-                    print('missing in B:', sub_, f); bad += 1; continue
-                if open(os.path.join(a.a, sub_, f)).read() != open(os.path.join(a.b, sub_, f)).read():
-                    print('DIFFERS:', sub_, f); bad += 1
+                    print('missing in B:', sub_, f)
+                    bad += 1
+                    continue
+                with open(os.path.join(a.a, sub_, f)) as x, open(os.path.join(a.b, sub_, f)) as y:
+                    if x.read() != y.read():
+                        print('DIFFERS:', sub_, f)
+                        bad += 1
         print(f'{n} compared, {bad} differ')
         sys.exit(1 if bad else 0)
 
