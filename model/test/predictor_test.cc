@@ -224,7 +224,9 @@ TEST(EngineSide, PiecesMakeThePredictor) {
     EXPECT_EQ(st.skipped_walks, t.skipped_walks);
     EXPECT_EQ(st.wrong_results, t.wrong_results);
     EXPECT_GT(t.true_positive, 0u);
-    if (mode == PredictMode::kClosestExact) EXPECT_GT(shrunk, 0u);
+    if (mode == PredictMode::kClosestExact) {
+      EXPECT_GT(shrunk, 0u);
+    }
   }
 }
 
