@@ -1,8 +1,11 @@
 // tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/predictor/hash.cc)
 // on every special class of HARD_CASES H1-H8 and dense random vectors, for eight parameter sets and
 // many origin cell exponents. Prints "hash: N vectors x 8 configurations, M mismatches".
+//
+//   tb_hash [COUNT]   COUNT random vectors per configuration (default 2000000); --help, --version
 #include <verilated.h>
 
+#include <CLI/CLI.hpp>
 #include <bit>
 #include <cstdio>
 #include <deque>
@@ -14,6 +17,7 @@
 #include "Vtb_hash_top.h"
 #include "hrpp/predictor/hash.h"
 #include "hrpp/rtl_config_data.h"
+#include "hrpp/util/cli.h"
 
 using namespace hrpp;
 
@@ -46,7 +50,16 @@ const HashConfig kConfigs[8] = {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const uint64_t n_random = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 2000000;
+  CLI::App app{"HRPP hash unit (rtl/hrpp_hash.sv) against the C++ hash, eight parameter sets"};
+  cli::add_version_flag(app, "tb_hash");
+  uint64_t n_random = 2000000;
+  app.add_option("count", n_random, "random vectors per configuration (the special values too)")
+      ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 40));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli::usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
+  }
   auto ctx = std::make_unique<VerilatedContext>();
   auto dut = std::make_unique<Vtb_hash_top>(ctx.get());
   // Every special class of H1-H8 and the values around them.

@@ -5,11 +5,13 @@
 #include <vector>
 
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/util/cli.h"
 
 namespace hrpp::tb {
 
 std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   CLI::App app{"HRPP RTL parity testbench: DUT against the cycle model, cycle by cycle"};
+  cli::add_version_flag(app, "tb_hrpp");
   EngineOptions& eo = o->eo;
   auto* src = app.add_option_group("source");
   src->add_option("--scene", o->scene_path, "generate the rays of this glTF scene");
@@ -37,7 +39,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
       ->check(CLI::Range(0.01, 1.0));
   app.add_option("--stall-every", eo.stall_every, "stall every output this often (cycles)");
   app.add_option("--stall-length", eo.stall_length, "... for this many cycles");
-  app.add_option("--trace", o->trace, "write a VCD waveform to this file");
+  app.add_option("--trace", o->trace,
+                 "write a VCD waveform to this file (its folder must exist and be writable)");
   app.add_option("--min-throughput", o->min_throughput,
                  "fail unless at least this many rays finish per cycle")
       ->check(CLI::Range(0.0, 1.0));
@@ -71,8 +74,14 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   try {
     app.parse(int(cli_args.size()), cli_args.data());
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return cli::usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
+  // Outputs are checked before the work starts: a run never ends without its waveform.
+  if (!o->trace.empty())
+    if (const std::string why = cli::output_file_problem(o->trace); !why.empty()) {
+      std::fprintf(stderr, "tb_hrpp: --trace %s: %s\n", o->trace.c_str(), why.c_str());
+      return cli::kUsageError;
+    }
   if (ro.reset_every && ro.reset_every < 16) {
     std::fprintf(stderr, "tb_hrpp: --reset-every must be 0 or at least 16\n");
     return 2;

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "tb_dut.h"
 
@@ -119,6 +121,9 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     vcd = std::make_unique<VerilatedVcdC>();
     dut->trace(vcd.get(), 99);
     vcd->open(trace_path.c_str());
+    // Checked before the run too (tb_options.cc); a waveform that cannot be written fails the run.
+    if (!vcd->isOpen())
+      throw std::runtime_error("--trace " + trace_path + ": cannot open the waveform for writing");
   }
   CycleModel model(cc);
   Engine eng(bvh, rays, eo);

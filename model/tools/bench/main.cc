@@ -32,6 +32,7 @@
 #include "children.h"
 #include "driver.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/util/cli.h"
 #include "hrpp/workload/ray_stream.h"
 
 int main(int argc, char** argv) {
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "HRPP benchmark: our BVH build, traversal and predictor against Embree, and the "
       "RTL co-simulation (make bench)"};
+  hrpp::cli::add_version_flag(app, "hrpp_bench");
   DriverArgs d;
   ChildArgs c;
   app.add_option("--shared", d.shared, "the shared folder (its scenes/*.glb are benchmarked)");
@@ -61,7 +63,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // bad input: exit 2, as hrpp
+    return hrpp::cli::usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
   c.threads = d.threads;
   c.big_tris = d.big_tris;

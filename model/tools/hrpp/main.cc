@@ -11,6 +11,7 @@
 
 #include "hrpp/report/render.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/util/cli.h"
 #include "hrpp/workload/ray_stream.h"
 #include "subcommands.h"
 
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   using namespace hrpp::cli;
   CLI::App app{"HRPP: hash-based ray path prediction - golden model tool"};
   app.require_subcommand(1);
+  add_version_flag(app, "hrpp");
   // In this order in `hrpp --help`.
   const std::vector<Subcommand> subcommands = {
       add_info(app),  add_check_embree(app), add_predict(app),
@@ -28,8 +30,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    return usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
   try {
     for (const Subcommand& s : subcommands)
