@@ -1,0 +1,149 @@
+#!/usr/bin/env python3
+"""The command lines of all four binaries (hrpp, tb_hrpp, tb_hash, hrpp_bench) behave alike
+(model/include/hrpp/util/cli.h): every usage error exits 2, a misspelt option or subcommand gets
+"did you mean ...?", --version prints the project version and the git commit built from on one line
+(exit 0), `tb_hash --help` prints help instead of running, and tb_hrpp checks its --trace output
+before any simulation (issue 20).
+
+  cli_errors.py HRPP TB_HRPP TB_HASH HRPP_BENCH SOURCE_DIR
+
+Exit status 0 when every case passes, 1 otherwise. ctest runs it as `tool.cli`.
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+
+def git_head(source_dir):
+    """The full commit hash of the checkout in source_dir, or None when it is not the top of one."""
+    try:
+        top = subprocess.run(["git", "rev-parse", "--show-toplevel"], cwd=source_dir,
+                             capture_output=True, text=True, timeout=30)
+        if top.returncode != 0 or \
+                os.path.realpath(top.stdout.strip()) != os.path.realpath(source_dir):
+            return None
+        head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=source_dir,
+                              capture_output=True, text=True, timeout=30)
+        return head.stdout.strip() if head.returncode == 0 else None
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+
+
+def main():
+    if len(sys.argv) != 6:
+        sys.exit(__doc__)
+    hrpp, tb_hrpp, tb_hash, bench, source = sys.argv[1:]
+    scene = os.path.join(source, "scenes", "spd_balls.glb")
+    tools = {"hrpp": hrpp, "tb_hrpp": tb_hrpp, "tb_hash": tb_hash, "hrpp_bench": bench}
+    head = git_head(source)
+    failures = 0
+    tmp = tempfile.mkdtemp(prefix="hrpp_cli_")
+
+    def run(argv, code, stderr_re=None, stdout_re=None, limit=10.0, name=None, check=None):
+        nonlocal failures
+        name = name or " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(argv))
+        t0 = time.monotonic()
+        try:
+            p = subprocess.run(argv, capture_output=True, text=True, timeout=limit * 3)
+        except subprocess.TimeoutExpired:
+            print("FAIL %s: no exit within %.0f s" % (name, limit * 3))
+            failures += 1
+            return
+        dt = time.monotonic() - t0
+        problems = []
+        if p.returncode != code:
+            problems.append("exit %d, expected %d" % (p.returncode, code))
+        if stderr_re and not re.search(stderr_re, p.stderr):
+            problems.append("stderr does not match %r" % stderr_re)
+        if stdout_re and not re.search(stdout_re, p.stdout):
+            problems.append("stdout does not match %r" % stdout_re)
+        if dt > limit:
+            problems.append("took %.1f s (limit %.0f s)" % (dt, limit))
+        if check:
+            problems += check(p)
+        if problems:
+            failures += 1
+            print("FAIL %s: %s\n  stdout: %s\n  stderr: %s" % (
+                name, "; ".join(problems), p.stdout.strip()[-600:], p.stderr.strip()[-600:]))
+        else:
+            print("ok   %s" % name)
+
+    # --version: one line, the project version and the commit (HEAD's hash when built from this
+    # checkout, "-dirty" when it had changes; "unknown" outside a git checkout).
+    for tool, path in tools.items():
+        def version_check(p, tool=tool):
+            m = re.fullmatch(r"%s (\d+\.\d+\.\d+) \(commit (\S+)\)\n" % tool, p.stdout)
+            if not m:
+                return ["not one line 'TOOL VERSION (commit COMMIT)': %r" % p.stdout]
+            commit = m.group(2)
+            if head is None:
+                return [] if commit == "unknown" else ["commit %s outside a git checkout" % commit]
+            h = re.sub(r"-dirty$", "", commit).split("-g")[-1]
+            if not (re.fullmatch(r"[0-9a-f]{7,40}", h) and head.startswith(h)):
+                return ["commit %s is not the checkout's HEAD %s (rebuild?)" % (commit, head)]
+            return []
+        run([path, "--version"], 0, check=version_check, limit=5)
+
+    # A misspelt option or subcommand: exit 2 and a suggestion (before: exit 2 without one for
+    # hrpp and hrpp_bench, CLI11's 109 for tb_hrpp; tb_hash ran the test).
+    run([hrpp, "predict", scene, "--sede", "3"], 2, r"unknown option --sede: did you mean --seed\?")
+    run([hrpp, "predcit", scene], 2, r"unknown argument predcit: did you mean predict\?")
+    run([hrpp, "render", scene, "--res=8x8", "--depht=2"], 2,
+        r"unknown option --depht: did you mean --depth\?")
+    run([tb_hrpp, "--scene", scene, "--sede", "3"], 2, r"unknown option --sede: did you mean --seed\?")
+    run([tb_hrpp, "--scen", scene], 2, r"unknown option --scen: did you mean --scene\?")
+    run([tb_hash, "--versoin"], 2, r"unknown option --versoin: did you mean --version\?", limit=2)
+    run([bench, "--reeps", "3"], 2, r"unknown option --reeps: did you mean --reps\?", limit=5)
+    # Nothing close: no suggestion, still exit 2.
+    run([tb_hrpp, "--scene", scene, "--frobnicate"], 2, r"not expected: --frobnicate",
+        check=lambda p: ["a suggestion for --frobnicate"] if "did you mean" in p.stderr else [])
+
+    # Every other kind of usage error exits 2 too (tb_hrpp: CLI11's 105-109 before).
+    run([tb_hrpp, "--scene", scene, "--rays", "0"], 2, r"--rays")            # validation (105)
+    run([tb_hrpp, "--rays", "10"], 2, r"--scene,--stream,--latency")           # required (106)
+    run([tb_hrpp, "--scene", scene, "--config", "huge"], 2, r"--config")      # not a member
+    run([tb_hrpp, "--scene", scene, "--seed", "x"], 2, r"--seed")             # conversion
+    run([tb_hrpp, "--scene", scene, "--scene", scene], 2, r"--scene")         # given twice
+    run([tb_hash, "many"], 2, r"count", limit=2)
+    run([tb_hash, "10", "20"], 2, r"not expected: 20", limit=2)
+    run([bench, "--reps", "0"], 2, r"--reps", limit=5)
+
+    # tb_hash --help prints help and does not run the test; a count still runs it.
+    run([tb_hash, "--help"], 0, stdout_re=r"Usage:.*tb_hash.*\[count\]", limit=2,
+        check=lambda p: ["ran the test"] if "mismatches" in p.stdout else [])
+    run([tb_hash, "1000"], 0, stdout_re=r"hash: \d+ vectors x 8 configurations, 0 mismatches",
+        limit=20)
+    for tool in ("hrpp", "tb_hrpp", "hrpp_bench"):
+        run([tools[tool], "--help"], 0, stdout_re=r"--version", limit=5)
+
+    # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
+    def nothing_run(p):
+        return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []
+    missing = os.path.join(tmp, "no_such_folder")
+    run([tb_hrpp, "--scene", scene, "--rays", "2000", "--trace", os.path.join(missing, "w.vcd")],
+        2, r"--trace .*w\.vcd: the folder '%s' does not exist" % re.escape(missing),
+        check=nothing_run, limit=5, name="tb_hrpp --trace MISSING_FOLDER/w.vcd")
+    run([tb_hrpp, "--scene", scene, "--rays", "2000", "--trace", tmp], 2,
+        r"--trace .*: '%s' is a folder, not a file" % re.escape(tmp), check=nothing_run, limit=5,
+        name="tb_hrpp --trace FOLDER")
+    afile = os.path.join(tmp, "a_file")
+    open(afile, "w").close()
+    run([tb_hrpp, "--scene", scene, "--rays", "2000", "--trace", os.path.join(afile, "w.vcd")], 2,
+        r"'%s' is not a folder" % re.escape(afile), check=nothing_run, limit=5,
+        name="tb_hrpp --trace FILE/w.vcd")
+    vcd = os.path.join(tmp, "w.vcd")
+
+    def vcd_written(p):
+        return [] if os.path.isfile(vcd) and os.path.getsize(vcd) > 1000 else ["no waveform written"]
+    run([tb_hrpp, "--scene", scene, "--rays", "300", "--config", "small", "--trace", vcd], 0,
+        stdout_re=r"\nPASS", check=vcd_written, limit=60, name="tb_hrpp --trace FOLDER/w.vcd")
+
+    print("%s: %d failure(s)" % (os.path.basename(sys.argv[0]), failures))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
