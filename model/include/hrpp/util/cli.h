@@ -36,8 +36,8 @@ inline size_t edit_distance(std::string_view a, std::string_view b) {
   for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (size_t i = 1; i <= a.size(); ++i)
     for (size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
       if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
@@ -125,8 +125,8 @@ inline std::string output_file_problem(const std::string& path) {
   if (path.empty()) return "the file name is empty";
   std::error_code ec;
   if (fs::is_directory(path, ec)) return "'" + path + "' is a folder, not a file";
-  const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".")
-                                                               : fs::path(path).parent_path();
+  const fs::path parent =
+      fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
   if (!fs::exists(parent, ec)) return "the folder '" + parent.string() + "' does not exist";
   if (!fs::is_directory(parent, ec)) return "'" + parent.string() + "' is not a folder";
   if (::access(parent.c_str(), W_OK | X_OK) != 0)
