@@ -197,7 +197,7 @@ std::string markdown(const json& out) {
   const unsigned th = out["machine"]["threads_used"].get<unsigned>();
   auto cell = [](const json& sm, const char* key, const char* f = "%.2f") -> std::string {
     if (!sm.contains(key) || sm[key].is_null()) return "-";
-    char c[96], lo[32], hi[32], med[32];
+    char c[112], lo[32], hi[32], med[32];  // c holds "med (lo-hi)" whole
     std::snprintf(med, sizeof med, f, sm[key]["median"].get<double>());
     std::snprintf(lo, sizeof lo, f, sm[key]["min"].get<double>());
     std::snprintf(hi, sizeof hi, f, sm[key]["max"].get<double>());
