@@ -90,7 +90,7 @@ TEST(CostModel, MeasureTimeFillsTheTimes) {
 // lands, until the 64 ray ids of the default configuration are all in flight.
 TEST(CostModel, RtlUpdateDelayFollowsTheWalkLatency) {
   const uint32_t d0 = rtl_update_delay(0);
-  EXPECT_GT(d0, 6u);  // at least the lookup path (A, H1, H2, B, L2, L3)
+  EXPECT_GT(d0, 6u);  // at least a ray's way through hash and lookup, one ray per cycle
   EXPECT_LT(d0, 40u);
   for (uint32_t l : {1u, 7u, 20u}) EXPECT_EQ(rtl_update_delay(l), std::min(63u, d0 + l)) << l;
   EXPECT_EQ(rtl_update_delay(500), 63u);
