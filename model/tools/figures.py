@@ -20,11 +20,13 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-# 'rtl': the RTL's default table (hrpp predict --preset rtl-default), spelt out so that binaries
-# from before the presets run it too; 'unb': the study's unbounded table at go-up 1.
+sys.path.insert(0, ROOT)  # the pyhrpp package
+from pyhrpp import rtl_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+
+# 'rtl': the RTL's default table as explicit options (what --preset rtl-default selects), so that
+# binaries from before the presets run it too; 'unb': the study's unbounded table at go-up 1.
 CONFIGS = {
-    'rtl': '--hash improved --origin-bits 5 --dir-bits 3 --combine concat --table 128x8 '
-           '--nodes-per-entry 2 --tag-bits 8',
+    'rtl': ' '.join(rtl_config.predict_args(rtl_config.config('default'))),
     'unb': '--hash faithful --precision 6 --table unbounded --go-up 1',
 }
 MODES = ['anyhit', 'closest-exact', 'closest-spec']

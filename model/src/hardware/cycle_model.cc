@@ -54,9 +54,7 @@ CycleModel::Decision CycleModel::decide() const {
   Decision d;
   const KeyEntry& kp = p0_.key;
   const KeyEntry& kf = f0_.key;
-  if (p0_.hit)
-    d.action =
-        kp.any_hit || cfg_.mode == PredictMode::kClosestSpec ? Action::kSkip : Action::kShrink;
+  d.action = skip_action(p0_.hit, kp.any_hit, cfg_.mode);
   const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
   const bool p_needs = d.action == Action::kSkip;
   // The table port: a final outcome first.
@@ -194,7 +192,7 @@ void CycleModel::tick(const DutIn& in) {
     b.invalid = false;
     for (uint32_t v : {a->org[0], a->org[1], a->org[2], a->dir[0], a->dir[1], a->dir[2]})
       b.invalid |= ((v >> 23) & 0xFF) == 0xFF;
-    b.any_hit = is_any_hit(static_cast<RayKind>(a->ray_kind)) || cfg_.mode == PredictMode::kAnyHit;
+    b.any_hit = answers_any_hit(static_cast<RayKind>(a->ray_kind), cfg_.mode);
     b_ = b;
   } else {
     b_.reset();

@@ -169,13 +169,12 @@ void apply_preset(PredictorArgs& a) {
   auto set = [&](const char* opt, auto* field, auto value) {
     if (a.given.at(opt)->count() == 0) *field = value;
   };
-  set("--hash", &a.hash,
-      std::string(h.variant == HashVariant::kFaithful ? "faithful" : "improved"));
+  set("--hash", &a.hash, std::string(hash_variant_name(h.variant)));
   set("--precision", &a.precision, h.precision);
   set("--exp-bits", &a.exp_bits, h.exp_bits);
   set("--origin-bits", &a.origin_bits, h.origin_bits);
   set("--dir-bits", &a.dir_bits, h.dir_bits);
-  set("--combine", &a.combine, std::string(h.combine == CombineMode::kXor ? "xor" : "concat"));
+  set("--combine", &a.combine, std::string(combine_mode_name(h.combine)));
   set("--table", &a.table, std::to_string(t.sets) + "x" + std::to_string(t.ways));
   set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
   set("--tag-bits", &a.tag_bits, t.tag_bits);

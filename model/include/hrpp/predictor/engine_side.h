@@ -40,6 +40,14 @@ inline bool answers_any_hit(RayKind kind, PredictMode mode) {
   return is_any_hit(kind) || mode == PredictMode::kAnyHit;
 }
 
+/// The skip rule (rtl/hrpp_skip_ctrl.sv, and the cycle model's twin of it): with a predicted
+/// hit, skip (any-hit queries, closest-spec) or shrink (closest-exact); without one, the full
+/// walk.
+inline Action skip_action(bool predicted_hit, bool any, PredictMode mode) {
+  if (!predicted_hit) return Action::kFull;
+  return any || mode == PredictMode::kClosestSpec ? Action::kSkip : Action::kShrink;
+}
+
 /// One ray's state on the engine's side, from its prediction to its statistics.
 struct EngineRay {
   bool any = false;        // answered as an any-hit query (answers_any_hit)
@@ -102,8 +110,7 @@ inline void walk_predicted(const Bvh& bvh, const Ray& ray, const uint32_t* nodes
 /// The untimed model's decision: with a predicted hit, skip (any-hit queries, closest-spec) or
 /// shrink (closest-exact); without one, the full walk.
 inline Action decide(const EngineRay& er, PredictMode mode) {
-  if (!er.best.hit()) return Action::kFull;
-  return er.any || mode == PredictMode::kClosestSpec ? Action::kSkip : Action::kShrink;
+  return skip_action(er.best.hit(), er.any, mode);
 }
 
 /// The full walk from the root: `baseline`, `base`.
