@@ -3,7 +3,7 @@
 (model/include/hrpp/util/cli.h): every usage error exits 2, a misspelt option or subcommand gets
 "did you mean ...?", --version prints the project version and the git commit built from on one line
 (exit 0), `tb_hash --help` prints help instead of running, and tb_hrpp checks its --trace output
-before any simulation (issue 20).
+before any simulation.
 
   cli_errors.py HRPP TB_HRPP TB_HASH HRPP_BENCH SOURCE_DIR
 

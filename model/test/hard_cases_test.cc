@@ -417,8 +417,9 @@ TEST(ValidRange, LargeTrianglesInsideTheRangeAreHit) {
 }
 
 TEST(ValidRange, JustOutsideTheRangeTheFloatTestOverflows) {
-  // The cases of issue 21 (why the loader rejects them): T = t * det overflows float, t is NaN and
-  // every hit is lost. If a fallback ever traces them, this test tells that the range may grow.
+  // Geometry just outside the valid range (why the loader rejects it): T = t * det overflows float,
+  // t is NaN and every hit is lost. If a fallback ever traces them, this test tells that the range
+  // may grow.
   struct Case {
     float h, dist;
   };

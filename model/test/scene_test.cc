@@ -260,7 +260,7 @@ TEST_F(Malformed, NodeTransformsAreApplied) {
 std::vector<float> square(float h, float z) { return {-h, -h, z, h, -h, z, h, h, z, -h, h, z}; }
 
 TEST_F(Malformed, GeometryOutsideTheValidRangeIsRejected) {
-  // The cases of issue 21: squares of half-size 1e12 at distance 1e14, 1e13 at 1e12, 1e17 at 1e6,
+  // Squares of half-size 1e12 at distance 1e14, 1e13 at 1e12, 1e17 at 1e6,
   // and coordinates of 1e19 (whose default camera sat at 3.7e19).
   struct Case {
     float h, z;
