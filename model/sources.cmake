@@ -25,6 +25,10 @@ set(HRPP_MODEL_SOURCES
   model/src/predictor/tiled_predictor.cc
   model/src/trace/traverse.cc
   model/src/workload/workload_options.cc
+  model/src/sim/gpu_config.cc
+  model/src/sim/memory.cc
+  model/src/sim/simulator.cc
+  model/src/sim/unit_predictor.cc
 )
 set(HRPP_REFERENCE_SOURCES
   model/src/reference/crosscheck.cc

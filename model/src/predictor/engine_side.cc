@@ -2,14 +2,14 @@
 
 namespace hrpp {
 
-void baseline_walk(const Bvh& bvh, const Ray& ray, EngineRay* er) {
-  er->baseline = engine_walk(bvh, ray, er->any, 0, &er->base);
+void baseline_walk(const Bvh& bvh, const Ray& ray, EngineRay* er, std::vector<uint32_t>* path) {
+  er->baseline = engine_walk(bvh, ray, er->any, 0, &er->base, path);
 }
 
-void shrunk_walk(const Bvh& bvh, const Ray& ray, EngineRay* er) {
+void shrunk_walk(const Bvh& bvh, const Ray& ray, EngineRay* er, std::vector<uint32_t>* path) {
   Ray shrunk = ray;
   shrunk.tfar = er->best.t;
-  er->shrunk = engine_walk(bvh, shrunk, er->any, 0, &er->shrunk_work);
+  er->shrunk = engine_walk(bvh, shrunk, er->any, 0, &er->shrunk_work, path);
 }
 
 void walk_from_root(const Bvh& bvh, const Ray& ray, Action action, EngineRay* er) {

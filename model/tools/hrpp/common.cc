@@ -126,8 +126,9 @@ void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::str
 
 // ---- predictor options (predict, render) -----------------------------------------------------
 
-void add_predictor_options(CLI::App* app, PredictorArgs& a) {
-  std::vector<std::string> presets;
+void add_predictor_options(CLI::App* app, PredictorArgs& a,
+                           const std::vector<std::string>& extra_presets) {
+  std::vector<std::string> presets = extra_presets;
   for (const std::string& n : rtl_config_names()) presets.push_back("rtl-" + n);
   app->add_option("--preset", a.preset,
                   "an RTL configuration's hash and table (rtl/config/hrpp_configs.json); the "

@@ -60,7 +60,9 @@ struct PredictorArgs {
   std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
 };
 
-void add_predictor_options(CLI::App* app, PredictorArgs& a);
+/// Adds the predictor options; --preset takes rtl-NAME and the extra names.
+void add_predictor_options(CLI::App* app, PredictorArgs& a,
+                           const std::vector<std::string>& extra_presets = {});
 
 /// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
 void apply_preset(PredictorArgs& a);

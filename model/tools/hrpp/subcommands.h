@@ -19,5 +19,6 @@ Subcommand add_predict(CLI::App& app);
 Subcommand add_sweep(CLI::App& app);
 Subcommand add_trace(CLI::App& app);
 Subcommand add_render(CLI::App& app);
+Subcommand add_simulate(CLI::App& app);
 
 }  // namespace hrpp::cli

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "hrpp/predictor/pred_table.h"
 #include "hrpp/predictor/predictor.h"
@@ -86,16 +87,19 @@ struct EngineRay {
 
 // The small pieces are inline: the untimed model runs them for every ray (make bench).
 
-/// A walk of the golden traversal from `start`: any hit or closest hit.
-inline Hit engine_walk(const Bvh& bvh, const Ray& ray, bool any, uint32_t start, Counters* c) {
-  return any ? any_hit(bvh, ray, c, {.start_node = start})
-             : closest_hit(bvh, ray, c, {.start_node = start});
+/// A walk of the golden traversal from `start`: any hit or closest hit. `path`, if set, receives
+/// every visited node in order (timed models replay it through their memory system).
+inline Hit engine_walk(const Bvh& bvh, const Ray& ray, bool any, uint32_t start, Counters* c,
+                       std::vector<uint32_t>* path = nullptr) {
+  const TraceRequest req{.start_node = start, .path = path};
+  return any ? any_hit(bvh, ray, c, req) : closest_hit(bvh, ray, c, req);
 }
 
 /// Walks the subtree of one predicted node with the golden traversal (closest or any hit) and
 /// takes its result (EngineRay::take_predicted, whose answer it returns).
-inline bool walk_predicted_node(const Bvh& bvh, const Ray& ray, uint32_t node, EngineRay* er) {
-  return er->take_predicted(node, engine_walk(bvh, ray, er->any, node, &er->pred));
+inline bool walk_predicted_node(const Bvh& bvh, const Ray& ray, uint32_t node, EngineRay* er,
+                                std::vector<uint32_t>* path = nullptr) {
+  return er->take_predicted(node, engine_walk(bvh, ray, er->any, node, &er->pred, path));
 }
 
 /// Walks the predicted nodes in order (most recently used first) until an any-hit query finds
@@ -113,10 +117,12 @@ inline Action decide(const EngineRay& er, PredictMode mode) {
   return skip_action(er.best.hit(), er.any, mode);
 }
 
-/// The full walk from the root: `baseline`, `base`.
-void baseline_walk(const Bvh& bvh, const Ray& ray, EngineRay* er);
+/// The full walk from the root: `baseline`, `base` (`path`: as engine_walk's).
+void baseline_walk(const Bvh& bvh, const Ray& ray, EngineRay* er,
+                   std::vector<uint32_t>* path = nullptr);
 /// The walk from the root with tfar = best.t: `shrunk`, `shrunk_work`.
-void shrunk_walk(const Bvh& bvh, const Ray& ray, EngineRay* er);
+void shrunk_walk(const Bvh& bvh, const Ray& ray, EngineRay* er,
+                 std::vector<uint32_t>* path = nullptr);
 /// The walks from the root for a decision: the baseline walk always (the statistics' reference)
 /// and, for kShrink, the shrunk walk, both in one pass when it is a closest-hit walk bounded by
 /// a predicted hit (closest_hit_pair: the same hits and counters as two walks).

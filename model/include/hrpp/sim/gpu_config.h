@@ -1,0 +1,59 @@
+// A GPU configuration for the RT-unit model (docs/timing_model.md): RT units and their ray
+// buffers, the caches, DRAM and the test pipelines, as read from a data file (model/gpu/*.json,
+// every number's source in the file's "sources" and in docs/timing_model.md).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace hrpp::sim {
+
+struct CacheConfig {
+  uint64_t bytes = 0;
+  uint32_t ways = 0, line_bytes = 0;
+  uint32_t hit_latency = 0;    // cycles from the request to the data (L2: after the L1's miss)
+  uint32_t mshrs = 0;          // misses outstanding at once (requests to a missing line merge)
+  double bytes_per_cycle = 0;  // L2 only: bandwidth to the L1s (0: unbounded)
+  uint32_t sets() const { return uint32_t(bytes / line_bytes / ways); }
+};
+
+struct DramConfig {
+  uint32_t latency = 0;        // cycles after the L2's miss
+  double bytes_per_cycle = 0;  // 0: unbounded
+};
+
+struct PipeConfig {
+  uint32_t latency = 0;    // cycles from issue to result
+  uint32_t per_cycle = 0;  // tests issued per cycle and RT unit (0: unbounded)
+};
+
+struct GpuConfig {
+  std::string name, description;
+  double clock_mhz = 0;
+  uint32_t units = 0;           // RT units (one per SM)
+  uint32_t warps_per_unit = 0;  // the ray buffer: warps a unit holds at once
+  uint32_t warp_size = 0;
+  CacheConfig l1, l2;  // l1: per unit; l2: shared
+  DramConfig dram;
+  PipeConfig box;       // node tests: one test = both child boxes of a node
+  PipeConfig triangle;  // triangle tests
+  nlohmann::json sources = nlohmann::json::object();
+
+  /// "" when usable, else what is wrong.
+  std::string validate() const;
+  nlohmann::json to_json() const;
+};
+
+struct GpuConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads a configuration; throws GpuConfigError naming `origin` and the offending key (unknown
+/// keys included, so that a misspelt key is never silently ignored).
+GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& origin);
+/// Reads a configuration file.
+GpuConfig load_gpu_config(const std::string& path);
+
+}  // namespace hrpp::sim

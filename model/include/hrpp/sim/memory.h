@@ -1,0 +1,94 @@
+// The RT units' memory system (docs/timing_model.md, "Memory"): one L1 per unit, a shared L2 and
+// DRAM. Set-associative LRU caches with MSHRs; bandwidth-limited L2-to-L1 and DRAM transfers.
+//
+// A request is timed when it is made, in the order the simulator makes them (nondecreasing
+// cycles, up to MSHR waits): a miss installs its line at once with the cycle its data arrives,
+// so later requests to the line merge with the miss (they wait for the same data) and the LRU
+// order is the order of requests. A miss holds one of its cache's MSHRs until its data arrives;
+// with every MSHR busy it waits for the earliest to free. A transfer over a bandwidth-limited
+// link starts when the link is free and holds it for bytes / bytes_per_cycle cycles.
+#pragma once
+
+#include <cstdint>
+#include <queue>
+#include <vector>
+
+#include "hrpp/sim/gpu_config.h"
+
+namespace hrpp::sim {
+
+struct CacheStats {
+  uint64_t accesses = 0;     // line requests
+  uint64_t hits = 0;         // the line was there, its data arrived
+  uint64_t merged = 0;       // the line's miss was in flight: waited for its data (no new miss)
+  uint64_t misses = 0;       // new misses (sent to the next level)
+  uint64_t mshr_waits = 0;   // misses that waited for a free MSHR
+  uint64_t mshr_cycles = 0;  // cycles they waited
+  double hit_rate() const { return accesses ? double(hits) / double(accesses) : 0.0; }
+  CacheStats& operator+=(const CacheStats& o);
+};
+
+/// Tags, LRU order and MSHRs of one cache.
+class Cache {
+ public:
+  explicit Cache(const CacheConfig& cfg);
+  /// The line's arrival cycle when present (data arrived or in flight), refreshing its recency;
+  /// false when absent.
+  bool lookup(uint64_t line, uint64_t* ready);
+  /// Installs a missing line whose data arrives at `ready` (replacing the LRU way).
+  void insert(uint64_t line, uint64_t ready);
+  /// The first cycle >= t at which an MSHR is free for a miss made at t; the caller then calls
+  /// hold_mshr with the cycle the miss's data arrives.
+  uint64_t mshr_free_at(uint64_t t);
+  void hold_mshr(uint64_t until) { mshr_.push(until); }
+  const CacheConfig& config() const { return cfg_; }
+  CacheStats stats;
+
+ private:
+  CacheConfig cfg_;
+  uint32_t set_mask_;
+  std::vector<uint64_t> tag_;    // line + 1 (0: invalid), sets x ways
+  std::vector<uint64_t> ready_;  // the line's arrival cycle
+  std::vector<uint64_t> used_;   // LRU stamp
+  uint64_t stamp_ = 0;
+  std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<>> mshr_;  // busy until
+};
+
+/// A link that moves bytes_per_cycle bytes per cycle (0: unbounded), one transfer at a time.
+class Link {
+ public:
+  explicit Link(double bytes_per_cycle) : bpc_(bytes_per_cycle) {}
+  /// A transfer of `bytes` that may start at cycle t: the cycle it ends.
+  uint64_t transfer(uint64_t t, uint32_t bytes);
+  uint64_t busy_cycles() const { return uint64_t(busy_); }
+
+ private:
+  double bpc_;
+  double free_ = 0, busy_ = 0;
+};
+
+struct MemoryStats {
+  CacheStats l1, l2;  // l1: all units together
+  uint64_t dram_bytes = 0;
+  uint64_t loads = 0;  // load() calls
+};
+
+class MemorySystem {
+ public:
+  explicit MemorySystem(const GpuConfig& g);
+  /// Unit `unit` reads [addr, addr + bytes) at cycle `now`: the cycle every line of it is there.
+  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now);
+  MemoryStats stats() const;
+
+ private:
+  uint64_t l1_line(uint32_t unit, uint64_t line, uint64_t now);
+  uint64_t l2_line(uint64_t l2line, uint64_t t);
+  GpuConfig g_;
+  std::vector<Cache> l1_;
+  Cache l2_;
+  Link l2_link_, dram_link_;
+  uint64_t dram_bytes_ = 0, loads_ = 0;
+  uint32_t l1_shift_, l2_shift_;
+};
+
+}  // namespace hrpp::sim

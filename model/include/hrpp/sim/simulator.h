@@ -1,0 +1,90 @@
+// The RT-unit model (docs/timing_model.md): warps of rays on N RT units, each ray walking the BVH
+// one step at a time through the memory system (memory.h) and the units' box and triangle test
+// pipelines, with a predictor beside every unit (unit_predictor.h) or none.
+//
+// Functional results come from the golden model: a ray's walks are the golden traversal's (their
+// visited nodes, in order, replayed step by step), its decisions are the predictor's, and its
+// statistics are classify()'s, so the simulator adds time and never changes an answer.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hrpp/hardware/cycle_model.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/sim/gpu_config.h"
+#include "hrpp/sim/memory.h"
+#include "hrpp/sim/unit_predictor.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/workload.h"
+
+namespace hrpp::sim {
+
+/// Where the units' data sits (docs/timing_model.md, "Memory"): the traversal layout's node pairs
+/// (BvhPair, 64 bytes: both child boxes of an interior node) from address 0, then the triangles
+/// (36 bytes each, leaf order) from the next 4 KB boundary.
+constexpr uint32_t kPairBytes = sizeof(BvhPair);
+constexpr uint32_t kTriangleBytes = sizeof(Triangle);
+uint64_t triangle_base(const Bvh& bvh);
+
+enum class PredictorKind : uint8_t {
+  kNone = 0,   // no predictor: every ray walks from the root
+  kPort = 1,   // the RTL's ports: cycle model (or the Verilated RTL) per unit
+  kTimed = 2,  // the golden predictor behind a timing wrapper (TimedConfig), or the oracle
+};
+
+struct SimProgress {
+  uint64_t finished = 0, rays = 0, cycle = 0;
+};
+
+struct SimOptions {
+  GpuConfig gpu;
+  PredictorKind kind = PredictorKind::kNone;
+  PredictorConfig pred;  // mode and go_up for every kind; hash and table for kTimed
+  CycleConfig cycle;     // kPort
+  TimedConfig timed;     // kTimed
+  bool any_hit_only = false;  // only rays answered as any-hit queries use the predictor
+  /// kPort: the port model of unit u; default: the cycle model of `cycle`.
+  std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
+  /// Called every 2^14 finished rays.
+  std::function<void(const SimProgress&)> progress;
+};
+
+struct KindTime {
+  uint64_t rays = 0;
+  uint64_t latency = 0;  // sum over the rays of their cycles in a unit (admission to answer)
+};
+
+struct SimStats {
+  uint64_t rays = 0;          // simulated (valid) rays
+  uint64_t invalid_rays = 0;  // never traced (validate_ray), as in hrpp predict
+  uint64_t cycles = 0;        // from the first admission to the last answer
+  uint64_t node_fetches = 0;      // node pairs fetched (start-box fetches included)
+  uint64_t start_fetches = 0;     // of which: a predicted node's own box (its parent's pair)
+  uint64_t triangle_fetches = 0;  // triangles fetched (= triangle tests)
+  MemoryStats memory;
+  uint64_t warps = 0;
+  uint64_t lane_cycles = 0;  // sum over rays of their latencies
+  uint64_t warp_cycles = 0;  // sum over warps of warp_size x cycles in a unit
+  uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
+  std::array<KindTime, kNumRayKinds> by_kind{};
+  UnitPredictorStats predictor;  // summed over the units
+  uint64_t entry_wait = 0;       // sum over predicted rays of cycles from admission to entry
+  std::array<PredictStats, kNumRayKinds> predict{};  // classify(), per kind
+  PredictStats predict_total() const;
+  double simd_efficiency() const { return warp_cycles ? double(lane_cycles) / warp_cycles : 0; }
+  double mean_latency() const { return rays ? double(lane_cycles) / rays : 0; }
+  double mean_in_flight() const { return cycles ? double(in_flight_area) / cycles : 0; }
+  nlohmann::json to_json(const GpuConfig& g) const;
+};
+
+/// Simulates the rays (a stream, in issue order) on the GPU; throws std::runtime_error on a
+/// predictor protocol error or a deadlock.
+SimStats simulate(const Bvh& bvh, const std::vector<RayRecord>& rays, const SimOptions& opt);
+
+}  // namespace hrpp::sim

@@ -1,0 +1,163 @@
+// The predictor beside one RT unit, as the unit's traversal engine sees it (docs/timing_model.md,
+// "The predictor"): rays enter it, predictions come back, predicted-walk results go in, skip
+// decisions come back, final outcomes go in. Two implementations:
+//   PortPredictor   the RTL's ports, cycle by cycle: the C++ cycle model of hrpp_top
+//                   (CyclePortModel), or the Verilated RTL in lockstep with it (`--rtl`).
+//   TimedPredictor  the golden model's predictor (any hash, table and mode, or the oracle) behind
+//                   a stated timing wrapper: lookup, decision and update latencies, lookups and
+//                   updates per cycle, and credits (rays held at once).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "hrpp/hardware/cycle_model.h"
+#include "hrpp/predictor/engine_side.h"
+#include "hrpp/predictor/pred_table.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/workload.h"
+
+namespace hrpp::sim {
+
+/// A message from the engine: a predicted-walk result or a final outcome (ray = stream index).
+struct EngineMsg {
+  uint32_t ray = 0;
+  bool hit = false;
+  uint32_t node = 0;
+};
+
+/// One cycle's traffic between a unit's engine and its predictor. The engine fills the queues
+/// (messages in the order they became ready); the predictor removes what it takes this cycle and
+/// appends what it delivers.
+struct UnitIo {
+  std::deque<uint32_t> entering;  // rays waiting to enter the predictor, in issue order
+  std::deque<EngineMsg> pw;       // predicted-walk results
+  std::deque<EngineMsg> outcomes;  // final outcomes
+  std::vector<std::pair<uint32_t, Prediction>> predictions;  // delivered this cycle
+  std::vector<std::pair<uint32_t, Action>> decisions;        // delivered this cycle
+};
+
+struct UnitPredictorStats {
+  uint64_t lookups = 0;       // rays taken
+  uint64_t stall_cycles = 0;  // cycles in which a ray waited to enter and none was taken
+  uint64_t updates = 0;       // table writes
+  uint64_t mismatches = 0;    // --rtl: cycles in which the RTL's outputs differed from the model's
+};
+
+class UnitPredictor {
+ public:
+  virtual ~UnitPredictor() = default;
+  /// One clock cycle.
+  virtual void cycle(uint64_t now, UnitIo* io) = 0;
+  /// Holds rays or messages (the engine keeps clocking it).
+  virtual bool busy() const = 0;
+  virtual const UnitPredictorStats& stats() const = 0;
+  /// A protocol error seen, or "".
+  virtual std::string error() const { return {}; }
+};
+
+/// The RTL's ports, one cycle at a time (hrpp/hardware/cycle_model.h's DutIn / DutOut).
+class PortModel {
+ public:
+  virtual ~PortModel() = default;
+  virtual DutOut outputs() = 0;
+  virtual void tick(const DutIn& in) = 0;
+  virtual std::string error() const { return {}; }
+  virtual uint64_t mismatches() const { return 0; }
+};
+
+/// The cycle model of hrpp_top behind its ports.
+class CyclePortModel : public PortModel {
+ public:
+  explicit CyclePortModel(const CycleConfig& cc) : m_(cc) {}
+  DutOut outputs() override { return m_.outputs(); }
+  void tick(const DutIn& in) override { m_.tick(in); }
+  std::string error() const override { return m_.error(); }
+  const CycleModel& model() const { return m_; }
+
+ private:
+  CycleModel m_;
+};
+
+/// The engine's side of the RTL's ports: ray ids (2^id_bits, the RTL's credits), one ray, one
+/// predicted-walk result and one outcome offered per cycle and held until taken, predictions and
+/// decisions always accepted.
+class PortPredictor : public UnitPredictor {
+ public:
+  PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model, int id_bits);
+  void cycle(uint64_t now, UnitIo* io) override;
+  bool busy() const override;
+  const UnitPredictorStats& stats() const override { return stats_; }
+  std::string error() const override;
+  PortModel& model() { return *model_; }
+
+ private:
+  const std::vector<RayRecord>& rays_;
+  std::unique_ptr<PortModel> model_;
+  std::deque<uint32_t> free_ids_;
+  std::vector<uint32_t> ray_of_;  // by id
+  std::vector<uint8_t> in_use_;   // by id
+  std::optional<std::pair<uint32_t, uint32_t>> offered_;  // id, ray
+  std::unordered_map<uint32_t, uint32_t> id_of_;          // ray (stream index) -> id
+  UnitPredictorStats stats_;
+  std::string error_;
+};
+
+/// Timing of the golden predictor (docs/timing_model.md, "Presets").
+struct TimedConfig {
+  uint32_t lookup_latency = 10;    // cycles from a ray's entry to its prediction
+  uint32_t decision_latency = 2;   // from a predicted-walk result to the skip decision
+  uint32_t update_latency = 7;     // from an outcome (or a skip) to the table write's visibility
+  uint32_t lookups_per_cycle = 1;  // rays taken per cycle (predicted-walk results too)
+  uint32_t updates_per_cycle = 1;  // outcomes taken per cycle
+  uint32_t credits = 0;            // rays held at once (0: unlimited)
+  bool oracle = false;  // predict the baseline walk's hit leaf's go_up-th ancestor, no table
+  nlohmann::json to_json() const;
+};
+
+class TimedPredictor : public UnitPredictor {
+ public:
+  TimedPredictor(const Bvh& bvh, const std::vector<RayRecord>& rays, const PredictorConfig& pc,
+                 const TimedConfig& tc);
+  void cycle(uint64_t now, UnitIo* io) override;
+  bool busy() const override;
+  const UnitPredictorStats& stats() const override { return stats_; }
+
+ private:
+  struct Pending {
+    uint64_t due;
+    uint32_t ray;
+    Prediction p;
+  };
+  struct Decision {
+    uint64_t due;
+    uint32_t ray;
+    Action action;
+    uint32_t node;  // the predicted-walk result's node (written on a skip)
+  };
+  struct Write {
+    uint64_t due;
+    HashKey key;
+    uint32_t node;
+  };
+  Prediction predict(uint32_t ray);
+  const Bvh& bvh_;
+  const std::vector<RayRecord>& rays_;
+  PredictorConfig pc_;
+  TimedConfig tc_;
+  PredTable table_;
+  std::deque<Pending> preds_;
+  std::deque<Decision> decisions_;
+  std::deque<Write> writes_;
+  std::unordered_map<uint32_t, HashKey> key_of_;  // rays held: their keys, for the table write
+  uint64_t held_ = 0;            // rays taken, not yet finished (credits)
+  UnitPredictorStats stats_;
+};
+
+}  // namespace hrpp::sim

@@ -1,0 +1,136 @@
+#include "hrpp/sim/memory.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace hrpp::sim {
+
+CacheStats& CacheStats::operator+=(const CacheStats& o) {
+  accesses += o.accesses;
+  hits += o.hits;
+  merged += o.merged;
+  misses += o.misses;
+  mshr_waits += o.mshr_waits;
+  mshr_cycles += o.mshr_cycles;
+  return *this;
+}
+
+Cache::Cache(const CacheConfig& cfg)
+    : cfg_(cfg),
+      set_mask_(cfg.sets() - 1),
+      tag_(size_t(cfg.sets()) * cfg.ways, 0),
+      ready_(tag_.size(), 0),
+      used_(tag_.size(), 0) {}
+
+bool Cache::lookup(uint64_t line, uint64_t* ready) {
+  const size_t base = size_t(line & set_mask_) * cfg_.ways;
+  for (uint32_t w = 0; w < cfg_.ways; ++w)
+    if (tag_[base + w] == line + 1) {
+      used_[base + w] = ++stamp_;
+      *ready = ready_[base + w];
+      return true;
+    }
+  return false;
+}
+
+void Cache::insert(uint64_t line, uint64_t ready) {
+  const size_t base = size_t(line & set_mask_) * cfg_.ways;
+  size_t victim = base;
+  for (uint32_t w = 0; w < cfg_.ways; ++w) {
+    if (tag_[base + w] == 0) {
+      victim = base + w;
+      break;
+    }
+    if (used_[base + w] < used_[victim]) victim = base + w;
+  }
+  tag_[victim] = line + 1;
+  ready_[victim] = ready;
+  used_[victim] = ++stamp_;
+}
+
+uint64_t Cache::mshr_free_at(uint64_t t) {
+  while (!mshr_.empty() && mshr_.top() <= t) mshr_.pop();
+  if (mshr_.size() < cfg_.mshrs) return t;
+  const uint64_t start = mshr_.top();  // the earliest miss to complete frees its MSHR
+  mshr_.pop();
+  stats.mshr_waits++;
+  stats.mshr_cycles += start - t;
+  return start;
+}
+
+uint64_t Link::transfer(uint64_t t, uint32_t bytes) {
+  if (bpc_ <= 0) return t;
+  const double start = std::max(double(t), free_);
+  const double d = bytes / bpc_;
+  free_ = start + d;
+  busy_ += d;
+  return uint64_t(std::ceil(free_));
+}
+
+MemorySystem::MemorySystem(const GpuConfig& g)
+    : g_(g),
+      l1_(g.units, Cache(g.l1)),
+      l2_(g.l2),
+      l2_link_(g.l2.bytes_per_cycle),
+      dram_link_(g.dram.bytes_per_cycle),
+      l1_shift_(std::countr_zero(g.l1.line_bytes)),
+      l2_shift_(std::countr_zero(g.l2.line_bytes)) {}
+
+uint64_t MemorySystem::l2_line(uint64_t line, uint64_t t) {
+  Cache& c = l2_;
+  c.stats.accesses++;
+  uint64_t ready;
+  if (c.lookup(line, &ready)) {
+    (ready <= t ? c.stats.hits : c.stats.merged)++;
+    return std::max(ready, t) + c.config().hit_latency;
+  }
+  c.stats.misses++;
+  const uint64_t start = c.mshr_free_at(t);
+  // The miss reaches DRAM after the L2's tag check; DRAM answers after its latency, then the
+  // line crosses the DRAM link.
+  const uint64_t arrive = dram_link_.transfer(start + c.config().hit_latency + g_.dram.latency,
+                                              c.config().line_bytes);
+  dram_bytes_ += c.config().line_bytes;
+  c.hold_mshr(arrive);
+  c.insert(line, arrive);
+  return arrive;
+}
+
+uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now) {
+  Cache& c = l1_[unit];
+  c.stats.accesses++;
+  uint64_t ready;
+  if (c.lookup(line, &ready)) {
+    (ready <= now ? c.stats.hits : c.stats.merged)++;
+    return std::max(ready, now + c.config().hit_latency);
+  }
+  c.stats.misses++;
+  const uint64_t start = c.mshr_free_at(now);
+  // The L1's tag check, then the L2 (its line holds this one), then the L2-to-L1 link.
+  const uint64_t l2_ready = l2_line((line << l1_shift_) >> l2_shift_, start + c.config().hit_latency);
+  const uint64_t arrive = l2_link_.transfer(l2_ready, g_.l1.line_bytes);
+  c.hold_mshr(arrive);
+  c.insert(line, arrive);
+  return arrive;
+}
+
+uint64_t MemorySystem::load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now) {
+  loads_++;
+  uint64_t ready = now;
+  const uint64_t first = addr >> l1_shift_, last = (addr + std::max(bytes, 1u) - 1) >> l1_shift_;
+  for (uint64_t line = first; line <= last; ++line)
+    ready = std::max(ready, l1_line(unit, line, now));
+  return ready;
+}
+
+MemoryStats MemorySystem::stats() const {
+  MemoryStats s;
+  for (const Cache& c : l1_) s.l1 += c.stats;
+  s.l2 = l2_.stats;
+  s.dram_bytes = dram_bytes_;
+  s.loads = loads_;
+  return s;
+}
+
+}  // namespace hrpp::sim

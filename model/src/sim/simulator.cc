@@ -1,0 +1,470 @@
+#include "hrpp/sim/simulator.h"
+
+#include <algorithm>
+#include <queue>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "hrpp/predictor/engine_side.h"
+
+namespace hrpp::sim {
+
+uint64_t triangle_base(const Bvh& bvh) {
+  return (uint64_t(bvh.pairs.size()) * kPairBytes + 4095) / 4096 * 4096;
+}
+
+PredictStats SimStats::predict_total() const {
+  PredictStats t;
+  for (const PredictStats& s : predict) t += s;
+  return t;
+}
+
+namespace {
+
+/// One issue-limited test pipeline of one unit: per_cycle tests issued per cycle (a ring of
+/// reservations over the cycles ahead), results `latency` cycles after issue.
+class Pipe {
+ public:
+  explicit Pipe(const PipeConfig& c) : c_(c), ring_(c.per_cycle ? kRing : 0) {}
+  /// n tests ready to issue at cycle t (t >= now): the cycle the last one's result is there.
+  uint64_t issue(uint64_t now, uint64_t t, uint32_t n) {
+    if (c_.per_cycle == 0 || n == 0) return t + c_.latency;
+    uint64_t c = t, last = t;
+    while (n > 0) {
+      if (c - now >= kRing) throw std::runtime_error("test pipeline reservation too far ahead");
+      Slot& s = ring_[c & (kRing - 1)];
+      if (s.cycle != c) s = {c, 0};
+      const uint32_t take = std::min(n, c_.per_cycle - s.count);
+      if (take) {
+        s.count += take;
+        n -= take;
+        last = c;
+      }
+      ++c;
+    }
+    return last + c_.latency;
+  }
+
+ private:
+  static constexpr uint64_t kRing = 1 << 16;
+  struct Slot {
+    uint64_t cycle = ~0ull;
+    uint32_t count = 0;
+  };
+  PipeConfig c_;
+  std::vector<Slot> ring_;
+};
+
+struct Step {
+  uint64_t addr;
+  uint32_t bytes;
+  uint32_t tests;  // triangle tests (0: a node test)
+};
+
+enum class Phase : uint8_t { kEntering, kPredicting, kPredWalk, kDeciding, kRootWalk };
+
+struct Slot {
+  uint32_t ray = 0, unit = 0, warp = 0;
+  bool uses_pred = false;
+  Phase phase = Phase::kRootWalk;
+  Action action = Action::kFull;
+  EngineRay er;
+  std::vector<Step> steps;
+  uint32_t next = 0;
+};
+
+struct Warp {
+  uint64_t admit = 0;
+  uint32_t left = 0;  // rays not yet answered
+  uint64_t last = 0;  // the latest answer
+};
+
+constexpr uint64_t kMaxIdle = 50'000'000;  // cycles without an answer
+
+struct Event {
+  uint64_t time, seq;
+  uint32_t slot;
+  bool operator>(const Event& o) const { return time != o.time ? time > o.time : seq > o.seq; }
+};
+
+class Simulator {
+ public:
+  Simulator(const Bvh& bvh, const std::vector<RayRecord>& rays, const SimOptions& opt)
+      : bvh_(bvh), rays_(rays), opt_(opt), g_(opt.gpu), mem_(opt.gpu), tri_base_(triangle_base(bvh)) {
+    if (bvh.pairs.empty() && !bvh.nodes.empty() && !bvh.nodes[0].is_leaf())
+      throw std::runtime_error("the simulator needs the BVH's pair layout (a leaf holds more "
+                               "than 65535 triangles)");
+    for (uint32_t u = 0; u < g_.units; ++u) {
+      box_.emplace_back(g_.box);
+      tri_.emplace_back(g_.triangle);
+    }
+    io_.resize(g_.units);
+    warps_in_unit_.assign(g_.units, 0);
+    if (opt.kind == PredictorKind::kPort) {
+      for (uint32_t u = 0; u < g_.units; ++u) {
+        std::unique_ptr<PortModel> m = opt.port_model ? opt.port_model(u)
+                                                      : std::make_unique<CyclePortModel>(opt.cycle);
+        pred_.push_back(std::make_unique<PortPredictor>(rays, std::move(m), opt.cycle.id_bits));
+      }
+    } else if (opt.kind == PredictorKind::kTimed) {
+      for (uint32_t u = 0; u < g_.units; ++u)
+        pred_.push_back(std::make_unique<TimedPredictor>(bvh, rays, opt.pred, opt.timed));
+    }
+    slots_.resize(size_t(g_.units) * g_.warps_per_unit * g_.warp_size);
+    for (uint32_t i = 0; i < slots_.size(); ++i) free_slots_.push_back(uint32_t(slots_.size()) - 1 - i);
+  }
+
+  SimStats run();
+
+ private:
+  void admit(uint32_t warp, uint32_t unit, uint64_t now);
+  void schedule(uint32_t slot, uint64_t t) { events_.push({t, seq_++, slot}); }
+  void step(uint32_t slot, uint64_t now);
+  void walk_end(uint32_t slot, uint64_t now);
+  void finish_ray(uint32_t slot, uint64_t now);
+  void add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& path, const Hit& hit);
+  void on_prediction(uint32_t ray, const Prediction& p, uint64_t now);
+  void on_decision(uint32_t ray, Action a, uint64_t now);
+  void start_root_walk(Slot& s, Action a);
+  uint32_t slot_of(uint32_t ray) const {
+    auto it = slot_of_.find(ray);
+    if (it == slot_of_.end())
+      throw std::runtime_error("the predictor answered ray " + std::to_string(ray) +
+                               ", which is not in flight");
+    return it->second;
+  }
+
+  const Bvh& bvh_;
+  const std::vector<RayRecord>& rays_;
+  const SimOptions& opt_;
+  const GpuConfig& g_;
+  MemorySystem mem_;
+  uint64_t tri_base_;
+  std::vector<Pipe> box_, tri_;
+  std::vector<UnitIo> io_;
+  std::vector<std::unique_ptr<UnitPredictor>> pred_;
+  std::vector<uint32_t> warps_in_unit_;
+  std::vector<uint32_t> valid_;  // stream indices of the valid rays, in issue order
+  std::vector<Warp> warps_;
+  std::vector<Slot> slots_;
+  std::vector<uint32_t> free_slots_;
+  std::unordered_map<uint32_t, uint32_t> slot_of_;  // ray -> slot
+  std::vector<uint64_t> admitted_at_;               // by slot
+  std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
+  uint64_t seq_ = 0;
+  std::vector<uint32_t> path_;
+  SimStats st_;
+  uint64_t finished_ = 0, in_flight_ = 0;
+  bool retired_ = false;  // a warp left its unit in this cycle
+};
+
+void Simulator::add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& path,
+                         const Hit& hit) {
+  // A walk from a node other than the root first tests the node's own box, which sits in its
+  // parent's pair; the root's box is the scene's, held by the unit.
+  if (start != 0 && bvh_.parent[start] != kNoNode) {
+    s.steps.push_back({uint64_t(bvh_.pair_of[bvh_.parent[start]]) * kPairBytes, kPairBytes, 0});
+    st_.start_fetches++;
+  }
+  for (size_t i = 0; i < path.size(); ++i) {
+    const BvhNode& n = bvh_.nodes[path[i]];
+    if (!n.is_leaf()) {
+      s.steps.push_back({uint64_t(bvh_.pair_of[path[i]]) * kPairBytes, kPairBytes, 0});
+      continue;
+    }
+    uint32_t tests = n.count;
+    // An any-hit walk stops at its hit: the last leaf's triangles up to the hit one.
+    if (s.er.any && hit.hit() && i + 1 == path.size())
+      for (uint32_t k = 0; k < n.count; ++k)
+        if (bvh_.prim_ids[n.right_or_first + k] == hit.prim) {
+          tests = k + 1;
+          break;
+        }
+    s.steps.push_back(
+        {tri_base_ + uint64_t(n.right_or_first) * kTriangleBytes, tests * kTriangleBytes, tests});
+  }
+}
+
+void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
+  warps_in_unit_[unit]++;
+  Warp& warp = warps_[w];
+  warp.admit = now;
+  const size_t first = size_t(w) * g_.warp_size;
+  const size_t end = std::min(valid_.size(), first + g_.warp_size);
+  warp.left = uint32_t(end - first);
+  st_.warps++;
+  for (size_t i = first; i < end; ++i) {
+    const uint32_t ray = valid_[i];
+    const uint32_t si = free_slots_.back();
+    free_slots_.pop_back();
+    Slot& s = slots_[si];
+    const RayRecord& r = rays_[ray];
+    s.ray = ray;
+    s.unit = unit;
+    s.warp = w;
+    s.er = EngineRay{};
+    s.er.any = answers_any_hit(r.kind, opt_.pred.mode);
+    s.steps.clear();
+    s.next = 0;
+    s.uses_pred = opt_.kind != PredictorKind::kNone && (!opt_.any_hit_only || s.er.any);
+    slot_of_[ray] = si;
+    admitted_at_[si] = now;
+    ++in_flight_;
+    if (s.uses_pred) {
+      s.phase = Phase::kEntering;
+      io_[unit].entering.push_back(ray);
+    } else {
+      start_root_walk(s, Action::kFull);
+      schedule(si, now);
+    }
+  }
+}
+
+void Simulator::start_root_walk(Slot& s, Action a) {
+  const Ray& ray = rays_[s.ray].ray;
+  s.phase = Phase::kRootWalk;
+  s.action = a;
+  s.steps.clear();
+  s.next = 0;
+  path_.clear();
+  switch (a) {
+    case Action::kFull:
+      baseline_walk(bvh_, ray, &s.er, &path_);
+      add_walk(s, 0, path_, s.er.baseline);
+      break;
+    case Action::kShrink:
+      baseline_walk(bvh_, ray, &s.er);
+      shrunk_walk(bvh_, ray, &s.er, &path_);
+      add_walk(s, 0, path_, s.er.shrunk);
+      break;
+    case Action::kSkip:  // the predicted hit is the answer; the baseline walk for the statistics
+      baseline_walk(bvh_, ray, &s.er);
+      break;
+  }
+}
+
+void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
+  const uint32_t si = slot_of(ray);
+  Slot& s = slots_[si];
+  if (s.phase != Phase::kPredicting && s.phase != Phase::kEntering)
+    throw std::runtime_error("a second prediction for ray " + std::to_string(ray));
+  s.phase = Phase::kPredWalk;
+  s.steps.clear();
+  s.next = 0;
+  const Ray& r = rays_[ray].ray;
+  s.er.predicted = p.count > 0;
+  for (uint32_t i = 0; i < p.count; ++i) {
+    if (p.nodes[i] >= bvh_.nodes.size())
+      throw std::runtime_error("predicted node " + std::to_string(p.nodes[i]) +
+                               " outside the BVH");
+    path_.clear();
+    const bool more = walk_predicted_node(bvh_, r, p.nodes[i], &s.er, &path_);
+    // The walk's own hit: the ray's best when this walk found a nearer one.
+    const Hit h = s.er.best_node == p.nodes[i] ? s.er.best : Hit{};
+    add_walk(s, p.nodes[i], path_, h);
+    if (!more) break;
+  }
+  schedule(si, now + 1);
+}
+
+void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
+  const uint32_t si = slot_of(ray);
+  Slot& s = slots_[si];
+  if (s.phase != Phase::kDeciding)
+    throw std::runtime_error("a skip decision for ray " + std::to_string(ray) +
+                             " before its predicted-walk result");
+  start_root_walk(s, a);
+  schedule(si, now + 1);
+}
+
+void Simulator::step(uint32_t si, uint64_t now) {
+  Slot& s = slots_[si];
+  if (s.next == s.steps.size()) return walk_end(si, now);
+  const Step& st = s.steps[s.next++];
+  const uint64_t ready = mem_.load(s.unit, st.addr, st.bytes, now);
+  uint64_t done;
+  if (st.tests == 0) {
+    st_.node_fetches++;
+    done = box_[s.unit].issue(now, ready, 1);
+  } else {
+    st_.triangle_fetches += st.tests;
+    done = tri_[s.unit].issue(now, ready, st.tests);
+  }
+  schedule(si, done);
+}
+
+void Simulator::walk_end(uint32_t si, uint64_t now) {
+  Slot& s = slots_[si];
+  if (s.phase == Phase::kPredWalk) {
+    s.phase = Phase::kDeciding;
+    io_[s.unit].pw.push_back({s.ray, s.er.best.hit(), s.er.best.hit() ? s.er.best_node : 0});
+    return;
+  }
+  finish(bvh_, s.action, &s.er);
+  if (s.uses_pred && s.action != Action::kSkip) {
+    const uint32_t node = update_node(bvh_, s.er, opt_.pred.go_up);
+    io_[s.unit].outcomes.push_back({s.ray, s.er.answer.hit(), node != kNoNode ? node : 0});
+  }
+  finish_ray(si, now);
+}
+
+void Simulator::finish_ray(uint32_t si, uint64_t now) {
+  Slot& s = slots_[si];
+  const RayRecord& r = rays_[s.ray];
+  classify(bvh_, r.ray, s.er, opt_.pred.mode, &st_.predict[int(r.kind)]);
+  const uint64_t lat = now - admitted_at_[si];
+  st_.lane_cycles += lat;
+  st_.by_kind[int(r.kind)].rays++;
+  st_.by_kind[int(r.kind)].latency += lat;
+  Warp& w = warps_[s.warp];
+  w.last = std::max(w.last, now);
+  if (--w.left == 0) {
+    st_.warp_cycles += uint64_t(g_.warp_size) * (w.last - w.admit);
+    warps_in_unit_[s.unit]--;
+    retired_ = true;
+  }
+  slot_of_.erase(s.ray);
+  free_slots_.push_back(si);
+  --in_flight_;
+  ++finished_;
+  st_.cycles = std::max(st_.cycles, now);
+  if (opt_.progress && (finished_ & 0x3FFF) == 0)
+    opt_.progress({finished_, uint64_t(valid_.size()), now});
+}
+
+SimStats Simulator::run() {
+  for (uint32_t i = 0; i < rays_.size(); ++i) {
+    if (validate_ray(rays_[i].ray) != RayError::kNone) {
+      st_.invalid_rays++;
+      st_.predict[int(rays_[i].kind)].rays++;
+      st_.predict[int(rays_[i].kind)].invalid_rays++;
+      continue;
+    }
+    valid_.push_back(i);
+  }
+  st_.rays = valid_.size();
+  admitted_at_.assign(slots_.size(), 0);
+  warps_.resize((valid_.size() + g_.warp_size - 1) / g_.warp_size);
+  uint32_t next_warp = 0;
+  uint64_t now = 0, idle = 0;
+  const bool clocked = !pred_.empty();
+  while (finished_ < valid_.size()) {
+    // 1. Warps enter units with a free slot, in issue order, units in order.
+    for (uint32_t u = 0; u < g_.units; ++u)
+      while (warps_in_unit_[u] < g_.warps_per_unit && next_warp < warps_.size())
+        admit(next_warp++, u, now);
+    const uint64_t finished_before = finished_;
+    // 2. The steps due now.
+    while (!events_.empty() && events_.top().time <= now) {
+      const Event e = events_.top();
+      events_.pop();
+      step(e.slot, now);
+    }
+    // 3. The predictors' ports.
+    for (uint32_t u = 0; u < pred_.size(); ++u) {
+      UnitIo& io = io_[u];
+      pred_[u]->cycle(now, &io);
+      if (const std::string e = pred_[u]->error(); !e.empty())
+        throw std::runtime_error("unit " + std::to_string(u) + "'s predictor: " + e);
+      for (const auto& [ray, p] : io.predictions) on_prediction(ray, p, now);
+      for (const auto& [ray, a] : io.decisions) on_decision(ray, a, now);
+      io.predictions.clear();
+      io.decisions.clear();
+      st_.entry_wait += io.entering.size();  // rays that waited to enter in this cycle
+    }
+    // 4. The next cycle: the next one while a predictor is clocked or a warp left (its slot
+    // takes a warp next cycle); otherwise the next step's.
+    uint64_t next = now + 1;
+    if (!clocked && !(retired_ && next_warp < warps_.size()) && !events_.empty())
+      next = std::max(next, events_.top().time);
+    retired_ = false;
+    st_.in_flight_area += in_flight_ * (next - now);
+    // No answer for kMaxIdle cycles, or nothing left that could make progress: a deadlock.
+    idle = finished_ != finished_before ? 0 : idle + (next - now);
+    if (idle > kMaxIdle || (!clocked && events_.empty() && next_warp == warps_.size() &&
+                            finished_ < valid_.size()))
+      throw std::runtime_error("the simulation stopped making progress at cycle " +
+                               std::to_string(now) + " with " +
+                               std::to_string(valid_.size() - finished_) + " rays left");
+    now = next;
+  }
+  // Cycles: the last answer's cycle + 1 (cycles 0 .. last). in_flight_area counted every ray in
+  // the units from its admission up to, not including, its answer's cycle.
+  st_.cycles = valid_.empty() ? 0 : st_.cycles + 1;
+  st_.memory = mem_.stats();
+  for (auto& p : pred_) {
+    const UnitPredictorStats& ps = p->stats();
+    st_.predictor.lookups += ps.lookups;
+    st_.predictor.stall_cycles += ps.stall_cycles;
+    st_.predictor.updates += ps.updates;
+    st_.predictor.mismatches += ps.mismatches;
+  }
+  return st_;
+}
+
+}  // namespace
+
+SimStats simulate(const Bvh& bvh, const std::vector<RayRecord>& rays, const SimOptions& opt) {
+  if (const std::string e = opt.gpu.validate(); !e.empty())
+    throw std::runtime_error("GPU configuration: " + e);
+  Simulator s(bvh, rays, opt);
+  return s.run();
+}
+
+}  // namespace hrpp::sim
+
+namespace hrpp::sim {
+
+nlohmann::json SimStats::to_json(const GpuConfig& g) const {
+  const PredictStats p = predict_total();
+  auto rate = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+  nlohmann::json kinds = nlohmann::json::object();
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (by_kind[k].rays)
+      kinds[std::string(ray_kind_name(RayKind(k)))] = {
+          {"rays", by_kind[k].rays},
+          {"mean_latency", rate(by_kind[k].latency, by_kind[k].rays)},
+          {"skipped_interior_fraction", predict[k].skipped_interior_fraction()},
+          {"precision", predict[k].precision()},
+          {"recall", predict[k].recall()}};
+  return {
+      {"rays", rays},
+      {"invalid_rays", invalid_rays},
+      {"cycles", cycles},
+      {"rays_per_cycle", rate(rays, cycles)},
+      {"mean_latency", mean_latency()},
+      {"mean_in_flight", mean_in_flight()},
+      {"node_fetches", node_fetches},
+      {"start_fetches", start_fetches},
+      {"triangle_fetches", triangle_fetches},
+      {"l1_accesses", memory.l1.accesses},
+      {"l1_hit_rate", memory.l1.hit_rate()},
+      {"l1_merged", memory.l1.merged},
+      {"l1_mshr_wait_cycles", memory.l1.mshr_cycles},
+      {"l2_accesses", memory.l2.accesses},
+      {"l2_hit_rate", memory.l2.hit_rate()},
+      {"l2_merged", memory.l2.merged},
+      {"dram_bytes", memory.dram_bytes},
+      {"warps", warps},
+      {"simd_efficiency", simd_efficiency()},
+      {"interior_tests", p.hrpp.interior_tests},
+      {"tri_tests", p.hrpp.tri_tests},
+      {"predictor",
+       {{"precision", p.precision()},
+        {"recall", p.recall()},
+        {"skipped_interior_fraction", p.skipped_interior_fraction()},
+        {"lookups", predictor.lookups},
+        {"updates", predictor.updates},
+        {"stall_cycles", predictor.stall_cycles},
+        {"entry_wait_cycles", entry_wait},
+        {"true_positive", p.true_positive},
+        {"false_positive", p.false_positive},
+        {"false_negative", p.false_negative},
+        {"true_negative", p.true_negative}}},
+      {"wrong_results", p.wrong_results},
+      {"exact_mismatches", p.exact_mismatches},
+      {"by_kind", kinds},
+      {"units", g.units}};
+}
+
+}  // namespace hrpp::sim

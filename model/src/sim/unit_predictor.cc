@@ -1,0 +1,210 @@
+#include "hrpp/sim/unit_predictor.h"
+
+#include <bit>
+
+namespace hrpp::sim {
+
+// ---- PortPredictor ---------------------------------------------------------------------------
+
+PortPredictor::PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model,
+                             int id_bits)
+    : rays_(rays),
+      model_(std::move(model)),
+      ray_of_(size_t{1} << id_bits, 0),
+      in_use_(size_t{1} << id_bits, 0) {
+  for (uint32_t i = 0; i < (1u << id_bits); ++i) free_ids_.push_back(i);
+}
+
+bool PortPredictor::busy() const {
+  if (offered_) return true;
+  for (uint8_t u : in_use_)
+    if (u) return true;
+  return false;
+}
+
+std::string PortPredictor::error() const {
+  if (!error_.empty()) return error_;
+  return model_->error();
+}
+
+void PortPredictor::cycle(uint64_t now, UnitIo* io) {
+  DutIn in;
+  // A ray, once offered, stays offered (same id and fields) until taken.
+  if (!offered_ && !io->entering.empty() && !free_ids_.empty()) {
+    offered_ = {free_ids_.front(), io->entering.front()};
+    free_ids_.pop_front();
+    io->entering.pop_front();
+  }
+  const bool waiting = offered_ || !io->entering.empty();
+  if (offered_) {
+    const RayRecord& r = rays_[offered_->second];
+    in.ray_valid = true;
+    in.ray_id = offered_->first;
+    in.ray_kind = static_cast<uint8_t>(r.kind);
+    for (int i = 0; i < 3; ++i) {
+      in.org[i] = std::bit_cast<uint32_t>(r.ray.org[i]);
+      in.dir[i] = std::bit_cast<uint32_t>(r.ray.dir[i]);
+    }
+  }
+  in.pred_ready = true;
+  in.skip_ready = true;
+  if (!io->pw.empty()) {
+    const EngineMsg& m = io->pw.front();
+    in.pw_valid = true;
+    in.pw_id = id_of_.at(m.ray);
+    in.pw_hit = m.hit;
+    in.pw_node = m.node;
+  }
+  if (!io->outcomes.empty()) {
+    const EngineMsg& m = io->outcomes.front();
+    in.outcome_valid = true;
+    in.outcome_id = id_of_.at(m.ray);
+    in.outcome_hit = m.hit;
+    in.outcome_node = m.node;
+  }
+  const DutOut out = model_->outputs();
+  auto release = [&](uint32_t id) {
+    id_of_.erase(ray_of_[id]);
+    in_use_[id] = 0;
+    free_ids_.push_back(id);
+  };
+  bool took = false;
+  if (in.ray_valid && out.ray_ready) {
+    const auto [id, ray] = *offered_;
+    ray_of_[id] = ray;
+    in_use_[id] = 1;
+    id_of_[ray] = id;
+    offered_.reset();
+    stats_.lookups++;
+    took = true;
+  }
+  if (waiting && !took) stats_.stall_cycles++;
+  if (out.pred_valid) {
+    if (out.pred_id >= in_use_.size() || !in_use_[out.pred_id]) {
+      error_ = "cycle " + std::to_string(now) + ": prediction for ray id " +
+               std::to_string(out.pred_id) + " that is not in flight";
+    } else {
+      Prediction p;
+      p.count = out.pred_invalid ? 0 : out.pred_count;
+      if (p.count > uint32_t(kMaxNodesPerEntry)) {
+        error_ = "cycle " + std::to_string(now) + ": prediction of " + std::to_string(p.count) +
+                 " nodes";
+        p.count = 0;
+      }
+      for (uint32_t i = 0; i < p.count; ++i) p.nodes[i] = out.pred_nodes[i];
+      io->predictions.emplace_back(ray_of_[out.pred_id], p);
+    }
+  }
+  if (out.skip_valid) {
+    if (out.skip_id >= in_use_.size() || !in_use_[out.skip_id]) {
+      error_ = "cycle " + std::to_string(now) + ": skip decision for ray id " +
+               std::to_string(out.skip_id) + " that is not in flight";
+    } else {
+      io->decisions.emplace_back(ray_of_[out.skip_id], out.skip_action);
+      if (out.skip_action == Action::kSkip) {  // the final result: no outcome follows
+        release(out.skip_id);
+        stats_.updates++;  // the skip controller refreshes the verified node
+      }
+    }
+  }
+  if (in.pw_valid && out.pw_ready) io->pw.pop_front();
+  if (in.outcome_valid && out.outcome_ready) {
+    stats_.updates += in.outcome_hit;
+    io->outcomes.pop_front();
+    release(in.outcome_id);
+  }
+  stats_.mismatches = model_->mismatches();
+  model_->tick(in);
+}
+
+// ---- TimedPredictor --------------------------------------------------------------------------
+
+nlohmann::json TimedConfig::to_json() const {
+  return {{"lookup_latency", lookup_latency},     {"decision_latency", decision_latency},
+          {"update_latency", update_latency},     {"lookups_per_cycle", lookups_per_cycle},
+          {"updates_per_cycle", updates_per_cycle}, {"credits", credits},
+          {"oracle", oracle}};
+}
+
+TimedPredictor::TimedPredictor(const Bvh& bvh, const std::vector<RayRecord>& rays,
+                               const PredictorConfig& pc, const TimedConfig& tc)
+    : bvh_(bvh), rays_(rays), pc_(pc), tc_(tc), table_(pc.table) {}
+
+bool TimedPredictor::busy() const {
+  return held_ > 0 || !preds_.empty() || !decisions_.empty() || !writes_.empty();
+}
+
+Prediction TimedPredictor::predict(uint32_t ray) {
+  const RayRecord& r = rays_[ray];
+  Prediction p;
+  if (tc_.oracle) {  // the baseline walk's hit, told at no cost
+    Counters c;
+    const Hit h = engine_walk(bvh_, r.ray, answers_any_hit(r.kind, pc_.mode), 0, &c);
+    if (h.hit()) {
+      p.count = 1;
+      p.nodes[0] = bvh_.ancestor(h.leaf, pc_.go_up);
+    }
+    return p;
+  }
+  const HashKey key = hash_ray(r.ray, pc_.hash);
+  key_of_[ray] = key;
+  return table_.lookup(key.index, key.tag, key.key);
+}
+
+void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
+  // Writes visible by this cycle land before this cycle's lookups.
+  while (!writes_.empty() && writes_.front().due <= now) {
+    const Write& w = writes_.front();
+    table_.update(w.key.index, w.key.tag, w.key.key, w.node);
+    writes_.pop_front();
+  }
+  const bool waiting = !io->entering.empty();
+  uint32_t took = 0;
+  while (took < tc_.lookups_per_cycle && !io->entering.empty() &&
+         (tc_.credits == 0 || held_ < tc_.credits)) {
+    const uint32_t ray = io->entering.front();
+    io->entering.pop_front();
+    preds_.push_back({now + tc_.lookup_latency, ray, predict(ray)});
+    ++held_;
+    ++took;
+    stats_.lookups++;
+  }
+  if (waiting && took == 0) stats_.stall_cycles++;
+  while (!preds_.empty() && preds_.front().due <= now) {
+    io->predictions.emplace_back(preds_.front().ray, preds_.front().p);
+    preds_.pop_front();
+  }
+  auto write = [&](uint32_t ray, uint32_t node) {
+    if (tc_.oracle) return;
+    writes_.push_back({now + tc_.update_latency, key_of_.at(ray), node});
+    stats_.updates++;
+  };
+  auto release = [&](uint32_t ray) {
+    key_of_.erase(ray);
+    --held_;
+  };
+  for (uint32_t n = 0; n < tc_.lookups_per_cycle && !io->pw.empty(); ++n) {
+    const EngineMsg m = io->pw.front();
+    io->pw.pop_front();
+    const RayRecord& r = rays_[m.ray];
+    const Action a = skip_action(m.hit, answers_any_hit(r.kind, pc_.mode), pc_.mode);
+    decisions_.push_back({now + tc_.decision_latency, m.ray, a, m.node});
+  }
+  while (!decisions_.empty() && decisions_.front().due <= now) {
+    const Decision& d = decisions_.front();
+    io->decisions.emplace_back(d.ray, d.action);
+    if (d.action == Action::kSkip) {  // the verified node's recency refreshed; no outcome follows
+      write(d.ray, d.node);
+      release(d.ray);
+    }
+    decisions_.pop_front();
+  }
+  for (uint32_t n = 0; n < tc_.updates_per_cycle && !io->outcomes.empty(); ++n) {
+    const EngineMsg m = io->outcomes.front();
+    io->outcomes.pop_front();
+    if (m.hit) write(m.ray, m.node);
+    release(m.ray);
+  }
+}
+
+}  // namespace hrpp::sim

@@ -1,0 +1,437 @@
+// hrpp simulate: time on RT units (docs/timing_model.md). The same rays run on the GPU
+// configuration with no predictor, with the oracle, and with the chosen predictor; the report
+// gives cycles, speed-ups, the memory system's and the predictor's figures.
+// cmd_simulate coordinates: configure_simulate (options, scene, rays, predictor), run_all (the
+// runs, with progress), simulate_json and print_simulate.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "common.h"
+#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/scene/scene.h"
+#include "hrpp/sim/simulator.h"
+#include "hrpp/trace/bvh.h"
+#include "hrpp/workload/ray_stream.h"
+#include "hrpp/workload/workload.h"
+#include "subcommands.h"
+
+namespace hrpp::cli {
+namespace {
+
+struct SimulateArgs {
+  std::string scene, json_path, stream, gpu = "mobile", kinds = "all";
+  WorkloadArgs w;
+  PredictorArgs p;
+  uint64_t max_rays = 0;
+  bool no_oracle = false, rtl = false, repack = false;
+  // Timing of golden-model presets (docs/timing_model.md, "Presets"); < 0: the preset's.
+  int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
+      updates_per_cycle = -1, credits = -1;
+};
+
+/// One simulated configuration.
+struct RunSpec {
+  std::string name;
+  sim::SimOptions opt;
+  std::string timing;  // how the predictor is timed, for the report
+};
+
+struct SimulateSetup {
+  Scene scene;
+  Bvh bvh;
+  sim::GpuConfig gpu;
+  std::vector<RayRecord> rays;
+  nlohmann::json workload;
+  WorkloadOptions wo;
+  std::vector<RunSpec> runs;  // none, [oracle], preset
+  std::string preset;
+  PredictorConfig pcfg;
+  std::string predictor_line;
+};
+
+/// --gpu NAME (model/gpu/NAME.json) or a file.
+std::string gpu_path(const std::string& g) {
+  if (g.find('/') != std::string::npos || g.ends_with(".json")) return g;
+  return std::string(HRPP_SOURCE_DIR) + "/model/gpu/" + g + ".json";
+}
+
+/// --kinds: "all" or a comma-separated list of ray kinds.
+bool parse_kinds(const std::string& spec, std::array<bool, kNumRayKinds>* on, std::string* err) {
+  on->fill(spec == "all");
+  if (spec == "all") return true;
+  size_t pos = 0;
+  while (pos <= spec.size()) {
+    const size_t end = std::min(spec.find(',', pos), spec.size());
+    RayKind k;
+    const std::string name = spec.substr(pos, end - pos);
+    if (!parse_ray_kind(name, &k)) {
+      *err = "--kinds: unknown ray kind '" + name +
+             "' (primary, shadow, ao, reflection, refraction, diffuse, or all)";
+      return false;
+    }
+    (*on)[int(k)] = true;
+    pos = end + 1;
+  }
+  return true;
+}
+
+sim::TimedConfig timed_for(const SimulateArgs& a, sim::TimedConfig t) {
+  auto set = [](int v, uint32_t* f) {
+    if (v >= 0) *f = uint32_t(v);
+  };
+  set(a.lookup_latency, &t.lookup_latency);
+  set(a.decision_latency, &t.decision_latency);
+  set(a.update_latency, &t.update_latency);
+  set(a.lookups_per_cycle, &t.lookups_per_cycle);
+  set(a.updates_per_cycle, &t.updates_per_cycle);
+  set(a.credits, &t.credits);
+  return t;
+}
+
+/// The golden presets' timing: the RTL's pipeline latencies and port rate (one lookup and one
+/// outcome per cycle), without its credit limit (docs/timing_model.md, "Presets").
+sim::TimedConfig rtl_like_timing() {
+  sim::TimedConfig t;
+  t.lookup_latency = rtl::kPredictionLatency;
+  t.decision_latency = rtl::kDecisionLatency;
+  t.update_latency = rtl::kUpdateLanding;
+  t.lookups_per_cycle = 1;
+  t.updates_per_cycle = 1;
+  t.credits = 0;
+  return t;
+}
+
+int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
+  const char* cmd = "simulate";
+  std::array<bool, kNumRayKinds> kinds;
+  std::string err;
+  if (!parse_kinds(a.kinds, &kinds, &err)) {
+    std::fprintf(stderr, "hrpp simulate: %s\n", err.c_str());
+    return 2;
+  }
+  if (!check_workload_args(cmd, a.w)) return 2;
+  try {
+    s->gpu = sim::load_gpu_config(gpu_path(a.gpu));
+  } catch (const sim::GpuConfigError& e) {
+    std::fprintf(stderr, "hrpp simulate: --gpu %s: %s\n", a.gpu.c_str(), e.what());
+    return 2;
+  }
+  const bool rtl_preset = a.p.preset.starts_with("rtl-");
+  if (a.rtl && !rtl_preset) {
+    std::fprintf(stderr, "hrpp simulate: --rtl needs an RTL preset (--preset rtl-NAME), got %s\n",
+                 a.p.preset.c_str());
+    return 2;
+  }
+  PredictorConfig& cfg = s->pcfg;
+  if (!parse_predictor_args(cmd, a.p, &cfg)) return 2;
+  std::unique_ptr<RayStreamReader> stream;
+  if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
+  s->scene = load_scene(a.scene);
+  s->bvh = build_bvh(s->scene.triangles);
+  if (!finish_predictor_config(cmd, a.p, s->scene, s->bvh, &cfg)) return 2;
+
+  // The rays, in issue order, of the chosen kinds.
+  auto take = [&](const RayRecord& r) {
+    if (kinds[int(r.kind)] && (a.max_rays == 0 || s->rays.size() < a.max_rays))
+      s->rays.push_back(r);
+  };
+  if (stream) {
+    if (stream->header().scene_fingerprint != scene_fingerprint(s->scene)) {
+      std::fprintf(stderr, "hrpp simulate: %s was generated from another scene\n",
+                   a.stream.c_str());
+      return 2;
+    }
+    s->workload = nlohmann::json::parse(stream->header().options, nullptr, false);
+    if (s->workload.is_discarded()) s->workload = stream->header().options;
+    s->workload["stream"] = a.stream;
+    RayRecord r;
+    while (stream->next(&r)) take(r);
+  } else {
+    if (!make_workload(cmd, a.w, s->scene, &s->wo)) return 2;
+    s->workload = workload_json(s->scene, s->wo);
+    generate_rays(s->scene, s->bvh, s->wo, [&](const RayRecord& r, const Hit*) { take(r); });
+  }
+  s->workload["kinds"] = a.kinds;
+  if (a.max_rays) s->workload["max_rays"] = a.max_rays;
+  if (s->rays.empty()) {
+    std::fprintf(stderr, "hrpp simulate: no rays of the kinds '%s' in the workload\n",
+                 a.kinds.c_str());
+    return 2;
+  }
+
+  // The runs: no predictor, the oracle, the preset.
+  sim::SimOptions base;
+  base.gpu = s->gpu;
+  base.pred = cfg;
+  s->runs.push_back({"none", base, "no predictor"});
+  s->preset = a.p.preset.empty() ? "custom" : a.p.preset;
+  if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
+    RunSpec o{"oracle", base, ""};
+    o.opt.kind = sim::PredictorKind::kTimed;
+    o.opt.pred.go_up = 0;
+    o.opt.timed.oracle = true;
+    o.opt.timed.lookup_latency = 0;
+    o.opt.timed.decision_latency = 0;
+    o.opt.timed.lookups_per_cycle = s->gpu.warp_size;
+    o.opt.timed.updates_per_cycle = s->gpu.warp_size;
+    o.opt.timed.credits = 0;
+    o.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
+    s->runs.push_back(o);
+  }
+  if (s->preset == "none") return 0;
+  RunSpec r{s->preset, base, ""};
+  if (s->preset == "oracle") {
+    r = s->runs.size() > 1 ? s->runs[1] : RunSpec{"oracle", base, ""};
+    r.opt.kind = sim::PredictorKind::kTimed;
+    r.opt.pred.go_up = 0;
+    r.opt.timed.oracle = true;
+    r.opt.timed.lookup_latency = 0;
+    r.opt.timed.decision_latency = 0;
+    r.opt.timed.lookups_per_cycle = s->gpu.warp_size;
+    r.opt.timed.updates_per_cycle = s->gpu.warp_size;
+    r.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
+    s->runs.push_back(r);
+    return 0;
+  }
+  // An RTL preset whose table and hash options were not overridden runs the RTL's cycle model.
+  bool overridden = false;
+  for (const auto& [name, opt] : a.p.given) overridden = overridden || opt->count() > 0;
+  if (rtl_preset && !overridden) {
+    const RtlConfig rc = rtl_config(a.p.preset.substr(4));
+    CycleConfig cc = rc.cycle(cfg.mode);
+    err = resolve_for_scene(s->scene, s->bvh, &cc.hash, &cc.table,
+                            {.node_bits = rc.node_id_width, .tag_bits = rc.table.tag_bits});
+    if (err.empty()) err = cc.validate();
+    if (!err.empty()) {
+      std::fprintf(stderr, "hrpp simulate: configuration %s: %s\n", rc.name.c_str(), err.c_str());
+      return 2;
+    }
+    r.opt.kind = sim::PredictorKind::kPort;
+    r.opt.cycle = cc;
+    r.timing = "the RTL's cycle model at its ports (" + std::to_string(1 << cc.id_bits) +
+               " ray ids, prediction " + std::to_string(rtl::kPredictionLatency) +
+               " cycles, decision " + std::to_string(rtl::kDecisionLatency) + ")";
+  } else {
+    if (a.rtl) {
+      std::fprintf(stderr,
+                   "hrpp simulate: --rtl runs an RTL configuration as it is; drop the options "
+                   "that override %s's hash or table\n",
+                   a.p.preset.c_str());
+      return 2;
+    }
+    r.opt.kind = sim::PredictorKind::kTimed;
+    r.opt.timed = timed_for(a, rtl_like_timing());
+    r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
+  }
+  s->runs.push_back(r);
+  return 0;
+}
+
+double speedup(uint64_t base, uint64_t cycles) { return cycles ? double(base) / cycles : 0; }
+
+nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
+                             const SimulateArgs& a) {
+  const sim::SimStats& b = st.front();
+  const sim::SimStats& p = st.back();
+  nlohmann::json j = p.to_json(s.gpu);
+  j["baseline_cycles"] = b.cycles;
+  j["speedup"] = speedup(b.cycles, p.cycles);
+  j["baseline"] = b.to_json(s.gpu);
+  for (auto& [kind, v] : j["by_kind"].items()) {
+    const double bl = j["baseline"]["by_kind"][kind]["mean_latency"].get<double>();
+    v["baseline_mean_latency"] = bl;
+    const double l = v["mean_latency"].get<double>();
+    v["latency_speedup"] = l > 0 ? bl / l : 0.0;
+  }
+  for (size_t i = 0; i < st.size(); ++i)
+    if (s.runs[i].name == "oracle") {
+      j["oracle"] = st[i].to_json(s.gpu);
+      const double og = speedup(b.cycles, st[i].cycles) - 1;
+      j["oracle"]["speedup"] = speedup(b.cycles, st[i].cycles);
+      j["fraction_of_oracle"] = og != 0 ? (speedup(b.cycles, p.cycles) - 1) / og : 0.0;
+    }
+  j["scene"] = s.scene.path;
+  j["workload"] = s.workload;
+  j["gpu"] = s.gpu.to_json();
+  nlohmann::json pr = {{"name", s.preset}, {"timing", s.runs.back().timing}};
+  const sim::SimOptions& o = s.runs.back().opt;
+  pr["kind"] = o.kind == sim::PredictorKind::kNone   ? "none"
+               : o.kind == sim::PredictorKind::kPort ? "cycle-model"
+                                                     : "golden";
+  if (o.kind == sim::PredictorKind::kTimed) pr["timed"] = o.timed.to_json();
+  pr["mode"] = predict_mode_name(s.pcfg.mode);
+  pr["go_up"] = o.pred.go_up;
+  pr["any_hit_only"] = o.any_hit_only;
+  if (s.preset != "none" && s.preset != "oracle") pr["line"] = s.predictor_line;
+  j["preset"] = pr;
+  j["rtl"] = a.rtl;
+  j["repack"] = a.repack;
+  return j;
+}
+
+void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
+                    const SimulateArgs& a, double secs) {
+  const sim::GpuConfig& g = s.gpu;
+  if (!a.stream.empty())
+    std::printf("simulate %s: %zu rays from %s (kinds %s)\n", s.scene.path.c_str(), s.rays.size(),
+                a.stream.c_str(), a.kinds.c_str());
+  else
+    std::printf("simulate %s: %s; %zu rays (kinds %s)\n", s.scene.path.c_str(),
+                workload_line(s.wo).c_str(), s.rays.size(), a.kinds.c_str());
+  std::printf(
+      "  gpu %s: %u RT units x %u warps x %u rays; L1 %llu KB %u-way %u B lines, %u cycles; L2 "
+      "%llu KB, +%u cycles, %.0f B/cycle; DRAM +%u cycles, %.1f B/cycle; box %u/cycle, triangle "
+      "%u/cycle\n",
+      g.name.c_str(), g.units, g.warps_per_unit, g.warp_size,
+      (unsigned long long)(g.l1.bytes / 1024), g.l1.ways, g.l1.line_bytes, g.l1.hit_latency,
+      (unsigned long long)(g.l2.bytes / 1024), g.l2.hit_latency, g.l2.bytes_per_cycle,
+      g.dram.latency, g.dram.bytes_per_cycle, g.box.per_cycle, g.triangle.per_cycle);
+  if (s.preset != "none" && s.preset != "oracle")
+    std::printf("  predictor %s: %s\n    timing: %s\n", s.preset.c_str(), s.predictor_line.c_str(),
+                s.runs.back().timing.c_str());
+  std::printf("  %-12s %11s %8s %9s %9s %9s %7s %7s %9s %6s %11s %11s\n", "run", "cycles",
+              "speed-up", "rays/kcyc", "latency", "in flight", "L1 hit", "L2 hit", "DRAM MB",
+              "SIMD", "node fetch", "tri fetch");
+  const uint64_t base = st.front().cycles;
+  for (size_t i = 0; i < st.size(); ++i) {
+    const sim::SimStats& x = st[i];
+    std::printf("  %-12s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
+                s.runs[i].name.c_str(), (unsigned long long)x.cycles, speedup(base, x.cycles),
+                1000.0 * x.rays / std::max<uint64_t>(1, x.cycles), x.mean_latency(),
+                x.mean_in_flight(), 100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(),
+                x.memory.dram_bytes / 1e6, 100 * x.simd_efficiency(),
+                (unsigned long long)x.node_fetches, (unsigned long long)x.triangle_fetches);
+  }
+  const sim::SimStats& p = st.back();
+  if (st.size() > 1 && s.preset != "oracle") {
+    const PredictStats t = p.predict_total();
+    std::printf(
+        "  %s: precision %.4f, recall %.4f, %.2f%% of interior tests skipped, %llu lookups, %llu "
+        "stall cycles (%.2f%% of unit cycles), %.1f cycles per predicted ray waiting to enter, "
+        "%llu wrong results\n",
+        s.preset.c_str(), t.precision(), t.recall(), 100 * t.skipped_interior_fraction(),
+        (unsigned long long)p.predictor.lookups, (unsigned long long)p.predictor.stall_cycles,
+        100.0 * p.predictor.stall_cycles / std::max<uint64_t>(1, p.cycles * g.units),
+        double(p.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
+        (unsigned long long)t.wrong_results);
+    for (size_t i = 0; i < st.size(); ++i)
+      if (s.runs[i].name == "oracle" && st.size() > 2) {
+        const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
+        std::printf("  %s's gain is %.1f%% of the oracle's\n", s.preset.c_str(),
+                    og != 0 ? 100 * pg / og : 0.0);
+      }
+  }
+  std::printf("  %-10s %9s %12s", "kind", "rays", "latency none");
+  for (size_t i = 1; i < st.size(); ++i) std::printf(" %12s", s.runs[i].name.c_str());
+  std::printf("\n");
+  for (int k = 0; k < kNumRayKinds; ++k) {
+    const sim::KindTime& kb = st.front().by_kind[k];
+    if (!kb.rays) continue;
+    std::printf("  %-10s %9llu %12.1f", std::string(ray_kind_name(RayKind(k))).c_str(),
+                (unsigned long long)kb.rays, double(kb.latency) / kb.rays);
+    for (size_t i = 1; i < st.size(); ++i)
+      std::printf(" %12.1f", double(st[i].by_kind[k].latency) / std::max<uint64_t>(1, st[i].by_kind[k].rays));
+    std::printf("\n");
+  }
+  std::printf("  (latency: mean cycles from a ray's warp entering a unit to its answer); %.1f s\n",
+              secs);
+}
+
+int cmd_simulate(const SimulateArgs& a) {
+  SimulateSetup s;
+  if (const int rc = configure_simulate(a, &s)) return rc;
+  if (s.preset != "none" && s.preset != "oracle") {
+    PredictorConfig shown = s.runs.back().opt.pred;
+    if (s.runs.back().opt.kind == sim::PredictorKind::kPort) {
+      shown.hash = s.runs.back().opt.cycle.hash;
+      shown.table = s.runs.back().opt.cycle.table;
+    }
+    s.predictor_line = predictor_line(a.p, shown, (shown.table.total_bits() + 7) / 8, 0);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<sim::SimStats> st;
+  for (RunSpec& r : s.runs) {
+    auto last = std::chrono::steady_clock::now();
+    r.opt.progress = [&](const sim::SimProgress& p) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last < std::chrono::seconds(2)) return;
+      last = now;
+      std::fprintf(stderr, "simulate %s: %5.1f%% of %llu rays, cycle %llu\n", r.name.c_str(),
+                   100.0 * p.finished / std::max<uint64_t>(1, p.rays),
+                   (unsigned long long)p.rays, (unsigned long long)p.cycle);
+    };
+    st.push_back(sim::simulate(s.bvh, s.rays, r.opt));
+  }
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  print_simulate(s, st, a, secs);
+  for (size_t i = 0; i < st.size(); ++i)
+    if (st[i].predict_total().exact_mismatches) {
+      std::fprintf(stderr, "hrpp simulate: BUG: %s answered %llu rays differently from the "
+                   "baseline in an exact mode\n", s.runs[i].name.c_str(),
+                   (unsigned long long)st[i].predict_total().exact_mismatches);
+      return 1;
+    }
+  if (!a.json_path.empty()) {
+    nlohmann::json j = simulate_json(s, st, a);
+    j["seconds"] = secs;
+    if (!write_json_file(a.json_path, j)) return 2;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Subcommand add_simulate(CLI::App& app) {
+  auto sa = std::make_shared<SimulateArgs>();
+  auto* sc = app.add_subcommand(
+      "simulate",
+      "Time the rays on RT units with caches, DRAM and warps (docs/timing_model.md), with no "
+      "predictor, the oracle and the chosen predictor");
+  sc->add_option("scene", sa->scene, "glTF scene (.glb or .gltf)")->required();
+  add_predictor_options(sc, sa->p, {"none", "oracle"});
+  sa->p.preset = "rtl-default";
+  std::vector<CLI::Option*> wopts = add_workload_options(sc, sa->w, "shadow,ao");
+  auto* stream_opt = sc->add_option("--stream", sa->stream,
+                                    "read the rays from this ray-stream file (hrpp trace)");
+  for (CLI::Option* o : wopts) stream_opt->excludes(o);
+  sc->add_option("--kinds", sa->kinds,
+                 "ray kinds to simulate: all, or a comma-separated list (e.g. ao); the others "
+                 "are generated (to spawn their children) but not simulated")
+      ->capture_default_str();
+  sc->add_option("--max-rays", sa->max_rays, "simulate only the first N rays (0: all)");
+  sc->add_option("--gpu", sa->gpu, "GPU configuration: mobile, desktop (model/gpu/) or a JSON file")
+      ->capture_default_str();
+  sc->add_option("--json", sa->json_path, "write the report as JSON to this file");
+  sc->add_flag("--no-oracle", sa->no_oracle, "do not run the oracle");
+  sc->add_flag("--rtl", sa->rtl,
+               "run the Verilated RTL in every unit, in lockstep with the cycle model");
+  sc->add_flag("--repack", sa->repack, "regroup rays into warps after their lookups");
+  sc->add_option("--lookup-latency", sa->lookup_latency,
+                 "golden presets: cycles from a ray's entry to its prediction")
+      ->check(CLI::Range(0, 100000));
+  sc->add_option("--decision-latency", sa->decision_latency,
+                 "golden presets: cycles from a predicted-walk result to the skip decision")
+      ->check(CLI::Range(0, 100000));
+  sc->add_option("--update-latency", sa->update_latency,
+                 "golden presets: cycles from an outcome to its table write's visibility")
+      ->check(CLI::Range(0, 100000));
+  sc->add_option("--lookups-per-cycle", sa->lookups_per_cycle,
+                 "golden presets: rays taken per cycle")
+      ->check(CLI::Range(1, 1024));
+  sc->add_option("--updates-per-cycle", sa->updates_per_cycle,
+                 "golden presets: outcomes taken per cycle")
+      ->check(CLI::Range(1, 1024));
+  sc->add_option("--credits", sa->credits, "golden presets: rays held at once (0: unlimited)")
+      ->check(CLI::Range(0, 1 << 24));
+  return {sc, [sa] {
+            if (sa->p.preset.starts_with("rtl-")) apply_preset(sa->p);
+            return cmd_simulate(*sa);
+          }};
+}
+
+}  // namespace hrpp::cli
