@@ -312,6 +312,7 @@ void Simulator::finish_ray(uint32_t si, uint64_t now) {
   Slot& s = slots_[si];
   const RayRecord& r = rays_[s.ray];
   classify(bvh_, r.ray, s.er, opt_.pred.mode, &st_.predict[int(r.kind)]);
+  if (opt_.answers) (*opt_.answers)[s.ray] = s.er.answer;
   const uint64_t lat = now - admitted_at_[si];
   st_.lane_cycles += lat;
   st_.by_kind[int(r.kind)].rays++;
@@ -343,6 +344,7 @@ SimStats Simulator::run() {
     valid_.push_back(i);
   }
   st_.rays = valid_.size();
+  if (opt_.answers) opt_.answers->assign(rays_.size(), Hit{});
   admitted_at_.assign(slots_.size(), 0);
   warps_.resize((valid_.size() + g_.warp_size - 1) / g_.warp_size);
   uint32_t next_warp = 0;

@@ -51,6 +51,8 @@ struct SimOptions {
   bool any_hit_only = false;  // only rays answered as any-hit queries use the predictor
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
+  /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).
+  std::vector<Hit>* answers = nullptr;
   /// Called every 2^14 finished rays.
   std::function<void(const SimProgress&)> progress;
 };
