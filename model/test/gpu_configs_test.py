@@ -19,7 +19,7 @@ SCHEMA = {
     "units": int,
     "warps_per_unit": int,
     "warp_size": int,
-    "l1": CACHE,
+    "l1": {**CACHE, "requests_per_cycle": int},
     "l2": {**CACHE, "bytes_per_cycle": int},
     "dram": {"latency": int, "bytes_per_cycle": float},
     "box": {"latency": int, "per_cycle": int},

@@ -47,6 +47,7 @@ GpuConfig ideal_memory(GpuConfig g) {
   g.l1.hit_latency = g.l2.hit_latency = g.dram.latency = 0;
   g.l2.bytes_per_cycle = g.dram.bytes_per_cycle = 0;
   g.l1.mshrs = g.l2.mshrs = 1 << 30;
+  g.l1.requests_per_cycle = 0;
   return g;
 }
 

@@ -62,6 +62,7 @@ CacheConfig read_cache(const nlohmann::json& j, const std::string& where, bool l
   c.hit_latency = r.integer("hit_latency", true);
   c.mshrs = r.integer("mshrs");
   if (l2) c.bytes_per_cycle = r.number("bytes_per_cycle", true);
+  if (!l2) c.requests_per_cycle = r.integer("requests_per_cycle", true);
   r.done();
   return c;
 }
@@ -109,6 +110,7 @@ nlohmann::json GpuConfig::to_json() const {
                         {"hit_latency", c.hit_latency},
                         {"mshrs", c.mshrs}};
     if (l2) j["bytes_per_cycle"] = c.bytes_per_cycle;
+    if (!l2) j["requests_per_cycle"] = c.requests_per_cycle;
     return j;
   };
   auto pipe = [](const PipeConfig& p) {

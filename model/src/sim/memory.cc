@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <stdexcept>
 
 namespace hrpp::sim {
 
@@ -59,6 +60,24 @@ uint64_t Cache::mshr_free_at(uint64_t t) {
   return start;
 }
 
+uint64_t IssueSlots::issue(uint64_t now, uint64_t t, uint32_t n) {
+  if (c_.per_cycle == 0 || n == 0) return t + c_.latency;
+  uint64_t c = t, last = t;
+  while (n > 0) {
+    if (c - now >= kRing) throw std::runtime_error("issue reservation too far ahead");
+    Slot& s = ring_[c & (kRing - 1)];
+    if (s.cycle != c) s = {c, 0};
+    const uint32_t take = std::min(n, c_.per_cycle - s.count);
+    if (take) {
+      s.count += take;
+      n -= take;
+      last = c;
+    }
+    ++c;
+  }
+  return last + c_.latency;
+}
+
 uint64_t Link::transfer(uint64_t t, uint32_t bytes) {
   if (bpc_ <= 0) return t;
   const double start = std::max(double(t), free_);
@@ -71,6 +90,7 @@ uint64_t Link::transfer(uint64_t t, uint32_t bytes) {
 MemorySystem::MemorySystem(const GpuConfig& g)
     : g_(g),
       l1_(g.units, Cache(g.l1)),
+      l1_port_(g.units, IssueSlots({.latency = 0, .per_cycle = g.l1.requests_per_cycle})),
       l2_(g.l2),
       l2_link_(g.l2.bytes_per_cycle),
       dram_link_(g.dram.bytes_per_cycle),
@@ -119,8 +139,11 @@ uint64_t MemorySystem::load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64
   loads_++;
   uint64_t ready = now;
   const uint64_t first = addr >> l1_shift_, last = (addr + std::max(bytes, 1u) - 1) >> l1_shift_;
-  for (uint64_t line = first; line <= last; ++line)
-    ready = std::max(ready, l1_line(unit, line, now));
+  for (uint64_t line = first; line <= last; ++line) {
+    const uint64_t t = l1_port_[unit].issue(now, now, 1);  // the L1's request port
+    port_wait_ += t - now;
+    ready = std::max(ready, l1_line(unit, line, t));
+  }
   return ready;
 }
 
@@ -130,6 +153,7 @@ MemoryStats MemorySystem::stats() const {
   s.l2 = l2_.stats;
   s.dram_bytes = dram_bytes_;
   s.loads = loads_;
+  s.port_wait_cycles = port_wait_;
   return s;
 }
 

@@ -21,40 +21,6 @@ PredictStats SimStats::predict_total() const {
 
 namespace {
 
-/// One issue-limited test pipeline of one unit: per_cycle tests issued per cycle (a ring of
-/// reservations over the cycles ahead), results `latency` cycles after issue.
-class Pipe {
- public:
-  explicit Pipe(const PipeConfig& c) : c_(c), ring_(c.per_cycle ? kRing : 0) {}
-  /// n tests ready to issue at cycle t (t >= now): the cycle the last one's result is there.
-  uint64_t issue(uint64_t now, uint64_t t, uint32_t n) {
-    if (c_.per_cycle == 0 || n == 0) return t + c_.latency;
-    uint64_t c = t, last = t;
-    while (n > 0) {
-      if (c - now >= kRing) throw std::runtime_error("test pipeline reservation too far ahead");
-      Slot& s = ring_[c & (kRing - 1)];
-      if (s.cycle != c) s = {c, 0};
-      const uint32_t take = std::min(n, c_.per_cycle - s.count);
-      if (take) {
-        s.count += take;
-        n -= take;
-        last = c;
-      }
-      ++c;
-    }
-    return last + c_.latency;
-  }
-
- private:
-  static constexpr uint64_t kRing = 1 << 16;
-  struct Slot {
-    uint64_t cycle = ~0ull;
-    uint32_t count = 0;
-  };
-  PipeConfig c_;
-  std::vector<Slot> ring_;
-};
-
 struct Step {
   uint64_t addr;
   uint32_t bytes;
@@ -140,7 +106,7 @@ class Simulator {
   const GpuConfig& g_;
   MemorySystem mem_;
   uint64_t tri_base_;
-  std::vector<Pipe> box_, tri_;
+  std::vector<IssueSlots> box_, tri_;
   std::vector<UnitIo> io_;
   std::vector<std::unique_ptr<UnitPredictor>> pred_;
   std::vector<uint32_t> warps_in_unit_;

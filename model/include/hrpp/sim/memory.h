@@ -28,6 +28,26 @@ struct CacheStats {
   CacheStats& operator+=(const CacheStats& o);
 };
 
+/// An issue-limited resource (a test pipeline, a cache port): per_cycle issues per cycle (0:
+/// unbounded), each result `latency` cycles after its issue. Reservations are kept in a ring over
+/// the cycles ahead of the simulator's current cycle.
+class IssueSlots {
+ public:
+  explicit IssueSlots(const PipeConfig& c) : c_(c), ring_(c.per_cycle ? kRing : 0) {}
+  /// n issues that may start at cycle t (t >= now), each in the first cycle with room: the cycle
+  /// the last one's result is there.
+  uint64_t issue(uint64_t now, uint64_t t, uint32_t n);
+
+ private:
+  static constexpr uint64_t kRing = 1 << 16;
+  struct Slot {
+    uint64_t cycle = ~0ull;
+    uint32_t count = 0;
+  };
+  PipeConfig c_;
+  std::vector<Slot> ring_;
+};
+
 /// Tags, LRU order and MSHRs of one cache.
 class Cache {
  public:
@@ -70,7 +90,8 @@ class Link {
 struct MemoryStats {
   CacheStats l1, l2;  // l1: all units together
   uint64_t dram_bytes = 0;
-  uint64_t loads = 0;  // load() calls
+  uint64_t loads = 0;             // load() calls
+  uint64_t port_wait_cycles = 0;  // sum over line requests of cycles waiting for an L1 port
 };
 
 class MemorySystem {
@@ -85,9 +106,10 @@ class MemorySystem {
   uint64_t l2_line(uint64_t l2line, uint64_t t);
   GpuConfig g_;
   std::vector<Cache> l1_;
+  std::vector<IssueSlots> l1_port_;  // requests_per_cycle
   Cache l2_;
   Link l2_link_, dram_link_;
-  uint64_t dram_bytes_ = 0, loads_ = 0;
+  uint64_t dram_bytes_ = 0, loads_ = 0, port_wait_ = 0;
   uint32_t l1_shift_, l2_shift_;
 };
 
