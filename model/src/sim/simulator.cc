@@ -1,6 +1,7 @@
 #include "hrpp/sim/simulator.h"
 
 #include <algorithm>
+#include <map>
 #include <queue>
 #include <stdexcept>
 #include <unordered_map>
@@ -40,7 +41,7 @@ struct Slot {
 };
 
 struct Warp {
-  uint64_t admit = 0;
+  uint64_t admit = 0;  // entered its unit (repacked: formed)
   uint32_t left = 0;  // rays not yet answered
   uint64_t last = 0;  // the latest answer
 };
@@ -66,6 +67,8 @@ class Simulator {
     }
     io_.resize(g_.units);
     warps_in_unit_.assign(g_.units, 0);
+    repack_.resize(g_.units);
+    buffered_.assign(g_.units, 0);
     if (opt.kind == PredictorKind::kPort) {
       for (uint32_t u = 0; u < g_.units; ++u) {
         std::unique_ptr<PortModel> m = opt.port_model ? opt.port_model(u)
@@ -88,6 +91,11 @@ class Simulator {
   void step(uint32_t slot, uint64_t now);
   void walk_end(uint32_t slot, uint64_t now);
   void finish_ray(uint32_t slot, uint64_t now);
+  void leave_warp(const Slot& s, uint64_t now);
+  void form_warps(uint32_t unit, uint64_t now);
+  uint32_t warps_held(uint32_t unit) const {
+    return warps_in_unit_[unit] + (buffered_[unit] + g_.warp_size - 1) / g_.warp_size;
+  }
   void add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& path, const Hit& hit);
   void on_prediction(uint32_t ray, const Prediction& p, uint64_t now);
   void on_decision(uint32_t ray, Action a, uint64_t now);
@@ -110,6 +118,9 @@ class Simulator {
   std::vector<UnitIo> io_;
   std::vector<std::unique_ptr<UnitPredictor>> pred_;
   std::vector<uint32_t> warps_in_unit_;
+  // Repacking: per unit, the buffers by category (slot, cycle it arrived), and their ray count.
+  std::vector<std::map<uint64_t, std::deque<std::pair<uint32_t, uint64_t>>>> repack_;
+  std::vector<uint32_t> buffered_;
   std::vector<uint32_t> valid_;  // stream indices of the valid rays, in issue order
   std::vector<Warp> warps_;
   std::vector<Slot> slots_;
@@ -230,7 +241,34 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
     add_walk(s, p.nodes[i], path_, h);
     if (!more) break;
   }
-  schedule(si, now + 1);
+  if (opt_.repack == SimOptions::Repack::kNone) return schedule(si, now + 1);
+  // The ray leaves its warp for its category's buffer.
+  const uint64_t key = p.count == 0 ? 0 : opt_.repack == SimOptions::Repack::kPredicted ? 1 : uint64_t(p.nodes[0]) + 1;
+  leave_warp(s, now);
+  repack_[s.unit][key].emplace_back(si, now);
+  buffered_[s.unit]++;
+}
+
+void Simulator::form_warps(uint32_t unit, uint64_t now) {
+  for (auto it = repack_[unit].begin(); it != repack_[unit].end();) {
+    auto& q = it->second;
+    while (!q.empty() && (q.size() >= g_.warp_size || now - q.front().second >= opt_.repack_timer)) {
+      const uint32_t n = uint32_t(std::min<size_t>(q.size(), g_.warp_size));
+      const uint32_t w = uint32_t(warps_.size());
+      warps_.push_back({now, n, now});
+      warps_in_unit_[unit]++;
+      st_.warps++;
+      st_.repacked_warps++;
+      for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t si = q.front().first;
+        q.pop_front();
+        slots_[si].warp = w;
+        schedule(si, now + 1);
+      }
+      buffered_[unit] -= n;
+    }
+    it = q.empty() ? repack_[unit].erase(it) : std::next(it);
+  }
 }
 
 void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
@@ -280,16 +318,10 @@ void Simulator::finish_ray(uint32_t si, uint64_t now) {
   classify(bvh_, r.ray, s.er, opt_.pred.mode, &st_.predict[int(r.kind)]);
   if (opt_.answers) (*opt_.answers)[s.ray] = s.er.answer;
   const uint64_t lat = now - admitted_at_[si];
-  st_.lane_cycles += lat;
+  st_.latency += lat;
   st_.by_kind[int(r.kind)].rays++;
   st_.by_kind[int(r.kind)].latency += lat;
-  Warp& w = warps_[s.warp];
-  w.last = std::max(w.last, now);
-  if (--w.left == 0) {
-    st_.warp_cycles += uint64_t(g_.warp_size) * (w.last - w.admit);
-    warps_in_unit_[s.unit]--;
-    retired_ = true;
-  }
+  leave_warp(s, now);
   slot_of_.erase(s.ray);
   free_slots_.push_back(si);
   --in_flight_;
@@ -297,6 +329,17 @@ void Simulator::finish_ray(uint32_t si, uint64_t now) {
   st_.cycles = std::max(st_.cycles, now);
   if (opt_.progress && (finished_ & 0x3FFF) == 0)
     opt_.progress({finished_, uint64_t(valid_.size()), now});
+}
+
+void Simulator::leave_warp(const Slot& s, uint64_t now) {
+  Warp& w = warps_[s.warp];
+  st_.lane_cycles += now - w.admit;
+  w.last = std::max(w.last, now);
+  if (--w.left == 0) {
+    st_.warp_cycles += uint64_t(g_.warp_size) * (w.last - w.admit);
+    warps_in_unit_[s.unit]--;
+    retired_ = true;
+  }
 }
 
 SimStats Simulator::run() {
@@ -312,14 +355,15 @@ SimStats Simulator::run() {
   st_.rays = valid_.size();
   if (opt_.answers) opt_.answers->assign(rays_.size(), Hit{});
   admitted_at_.assign(slots_.size(), 0);
-  warps_.resize((valid_.size() + g_.warp_size - 1) / g_.warp_size);
+  const uint32_t num_warps = uint32_t((valid_.size() + g_.warp_size - 1) / g_.warp_size);
+  warps_.resize(num_warps);  // repacking appends the warps it forms
   uint32_t next_warp = 0;
   uint64_t now = 0, idle = 0;
   const bool clocked = !pred_.empty();
   while (finished_ < valid_.size()) {
     // 1. Warps enter units with a free slot, in issue order, units in order.
     for (uint32_t u = 0; u < g_.units; ++u)
-      while (warps_in_unit_[u] < g_.warps_per_unit && next_warp < warps_.size())
+      while (warps_held(u) < g_.warps_per_unit && next_warp < num_warps)
         admit(next_warp++, u, now);
     const uint64_t finished_before = finished_;
     // 2. The steps due now.
@@ -338,18 +382,19 @@ SimStats Simulator::run() {
       for (const auto& [ray, a] : io.decisions) on_decision(ray, a, now);
       io.predictions.clear();
       io.decisions.clear();
+      if (opt_.repack != SimOptions::Repack::kNone) form_warps(u, now);
       st_.entry_wait += io.entering.size();  // rays that waited to enter in this cycle
     }
     // 4. The next cycle: the next one while a predictor is clocked or a warp left (its slot
     // takes a warp next cycle); otherwise the next step's.
     uint64_t next = now + 1;
-    if (!clocked && !(retired_ && next_warp < warps_.size()) && !events_.empty())
+    if (!clocked && !(retired_ && next_warp < num_warps) && !events_.empty())
       next = std::max(next, events_.top().time);
     retired_ = false;
     st_.in_flight_area += in_flight_ * (next - now);
     // No answer for kMaxIdle cycles, or nothing left that could make progress: a deadlock.
     idle = finished_ != finished_before ? 0 : idle + (next - now);
-    if (idle > kMaxIdle || (!clocked && events_.empty() && next_warp == warps_.size() &&
+    if (idle > kMaxIdle || (!clocked && events_.empty() && next_warp == num_warps &&
                             finished_ < valid_.size()))
       throw std::runtime_error("the simulation stopped making progress at cycle " +
                                std::to_string(now) + " with " +
@@ -415,6 +460,7 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
       {"dram_bytes", memory.dram_bytes},
       {"warps", warps},
       {"simd_efficiency", simd_efficiency()},
+      {"repacked_warps", repacked_warps},
       {"interior_tests", p.hrpp.interior_tests},
       {"tri_tests", p.hrpp.tri_tests},
       {"predictor",

@@ -28,6 +28,7 @@ struct SimulateArgs {
   PredictorArgs p;
   uint64_t max_rays = 0;
   bool no_oracle = false, rtl = false, repack = false;
+  std::string repack_by = "predicted";
   // Timing of golden-model presets (docs/timing_model.md, "Presets"); < 0: the preset's.
   int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
       updates_per_cycle = -1, credits = -1;
@@ -47,7 +48,9 @@ struct SimulateSetup {
   std::vector<RayRecord> rays;
   nlohmann::json workload;
   WorkloadOptions wo;
-  std::vector<RunSpec> runs;  // none, [oracle], preset
+  std::vector<RunSpec> runs;  // none, [oracle], preset, [preset with repacking]
+  size_t main = 0;            // the preset's run
+  int repacked = -1;          // the preset's run with repacking (--repack)
   std::string preset;
   PredictorConfig pcfg;
   std::string predictor_line;
@@ -182,7 +185,13 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     o.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
     s->runs.push_back(o);
   }
-  if (s->preset == "none") return 0;
+  if (s->preset == "none") {
+    if (a.repack) {
+      std::fprintf(stderr, "hrpp simulate: --repack needs a predictor (--preset none has none)\n");
+      return 2;
+    }
+    return 0;
+  }
   RunSpec r{s->preset, base, ""};
   if (s->preset == "oracle") {
     r = s->runs.size() > 1 ? s->runs[1] : RunSpec{"oracle", base, ""};
@@ -195,6 +204,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r.opt.timed.updates_per_cycle = s->gpu.warp_size;
     r.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
     s->runs.push_back(r);
+    s->main = s->runs.size() - 1;
     return 0;
   }
   // An RTL preset whose table and hash options were not overridden runs the RTL's cycle model.
@@ -228,6 +238,15 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
   }
   s->runs.push_back(r);
+  s->main = s->runs.size() - 1;
+  if (a.repack) {
+    RunSpec rr = r;
+    rr.name = s->preset + "+repack";
+    rr.opt.repack = a.repack_by == "node" ? sim::SimOptions::Repack::kNode
+                                          : sim::SimOptions::Repack::kPredicted;
+    s->runs.push_back(rr);
+    s->repacked = int(s->runs.size() - 1);
+  }
   return 0;
 }
 
@@ -236,7 +255,7 @@ double speedup(uint64_t base, uint64_t cycles) { return cycles ? double(base) / 
 nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
                              const SimulateArgs& a) {
   const sim::SimStats& b = st.front();
-  const sim::SimStats& p = st.back();
+  const sim::SimStats& p = st[s.main];
   nlohmann::json j = p.to_json(s.gpu);
   j["baseline_cycles"] = b.cycles;
   j["speedup"] = speedup(b.cycles, p.cycles);
@@ -254,11 +273,16 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
       j["oracle"]["speedup"] = speedup(b.cycles, st[i].cycles);
       j["fraction_of_oracle"] = og != 0 ? (speedup(b.cycles, p.cycles) - 1) / og : 0.0;
     }
+  if (s.repacked >= 0) {
+    j["repacked"] = st[s.repacked].to_json(s.gpu);
+    j["repacked"]["speedup"] = speedup(b.cycles, st[s.repacked].cycles);
+    j["repacked"]["by"] = a.repack_by;
+  }
   j["scene"] = s.scene.path;
   j["workload"] = s.workload;
   j["gpu"] = s.gpu.to_json();
-  nlohmann::json pr = {{"name", s.preset}, {"timing", s.runs.back().timing}};
-  const sim::SimOptions& o = s.runs.back().opt;
+  nlohmann::json pr = {{"name", s.preset}, {"timing", s.runs[s.main].timing}};
+  const sim::SimOptions& o = s.runs[s.main].opt;
   pr["kind"] = o.kind == sim::PredictorKind::kNone   ? "none"
                : o.kind == sim::PredictorKind::kPort ? "cycle-model"
                                                      : "golden";
@@ -292,21 +316,21 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
       g.dram.latency, g.dram.bytes_per_cycle, g.box.per_cycle, g.triangle.per_cycle);
   if (s.preset != "none" && s.preset != "oracle")
     std::printf("  predictor %s: %s\n    timing: %s\n", s.preset.c_str(), s.predictor_line.c_str(),
-                s.runs.back().timing.c_str());
-  std::printf("  %-12s %11s %8s %9s %9s %9s %7s %7s %9s %6s %11s %11s\n", "run", "cycles",
+                s.runs[s.main].timing.c_str());
+  std::printf("  %-20s %11s %8s %9s %9s %9s %7s %7s %9s %6s %11s %11s\n", "run", "cycles",
               "speed-up", "rays/kcyc", "latency", "in flight", "L1 hit", "L2 hit", "DRAM MB",
               "SIMD", "node fetch", "tri fetch");
   const uint64_t base = st.front().cycles;
   for (size_t i = 0; i < st.size(); ++i) {
     const sim::SimStats& x = st[i];
-    std::printf("  %-12s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
+    std::printf("  %-20s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
                 s.runs[i].name.c_str(), (unsigned long long)x.cycles, speedup(base, x.cycles),
                 1000.0 * x.rays / std::max<uint64_t>(1, x.cycles), x.mean_latency(),
                 x.mean_in_flight(), 100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(),
                 x.memory.dram_bytes / 1e6, 100 * x.simd_efficiency(),
                 (unsigned long long)x.node_fetches, (unsigned long long)x.triangle_fetches);
   }
-  const sim::SimStats& p = st.back();
+  const sim::SimStats& p = st[s.main];
   if (st.size() > 1 && s.preset != "oracle") {
     const PredictStats t = p.predict_total();
     std::printf(
@@ -319,7 +343,7 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
         double(p.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
         (unsigned long long)t.wrong_results);
     for (size_t i = 0; i < st.size(); ++i)
-      if (s.runs[i].name == "oracle" && st.size() > 2) {
+      if (s.runs[i].name == "oracle" && s.main != i) {
         const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
         std::printf("  %s's gain is %.1f%% of the oracle's\n", s.preset.c_str(),
                     og != 0 ? 100 * pg / og : 0.0);
@@ -345,10 +369,11 @@ int cmd_simulate(const SimulateArgs& a) {
   SimulateSetup s;
   if (const int rc = configure_simulate(a, &s)) return rc;
   if (s.preset != "none" && s.preset != "oracle") {
-    PredictorConfig shown = s.runs.back().opt.pred;
-    if (s.runs.back().opt.kind == sim::PredictorKind::kPort) {
-      shown.hash = s.runs.back().opt.cycle.hash;
-      shown.table = s.runs.back().opt.cycle.table;
+    const sim::SimOptions& o = s.runs[s.main].opt;
+    PredictorConfig shown = o.pred;
+    if (o.kind == sim::PredictorKind::kPort) {
+      shown.hash = o.cycle.hash;
+      shown.table = o.cycle.table;
     }
     s.predictor_line = predictor_line(a.p, shown, (shown.table.total_bits() + 7) / 8, 0);
   }
@@ -410,7 +435,14 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_flag("--no-oracle", sa->no_oracle, "do not run the oracle");
   sc->add_flag("--rtl", sa->rtl,
                "run the Verilated RTL in every unit, in lockstep with the cycle model");
-  sc->add_flag("--repack", sa->repack, "regroup rays into warps after their lookups");
+  sc->add_flag("--repack", sa->repack,
+               "also run the predictor with warp repacking: rays regrouped into warps after "
+               "their predictions (docs/timing_model.md)");
+  sc->add_option("--repack-by", sa->repack_by,
+                 "repacking categories: predicted (MICRO 2021: predicted or not) or node (by "
+                 "first predicted node)")
+      ->check(CLI::IsMember({"predicted", "node"}))
+      ->capture_default_str();
   sc->add_option("--lookup-latency", sa->lookup_latency,
                  "golden presets: cycles from a ray's entry to its prediction")
       ->check(CLI::Range(0, 100000));

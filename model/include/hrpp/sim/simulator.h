@@ -49,6 +49,15 @@ struct SimOptions {
   CycleConfig cycle;     // kPort
   TimedConfig timed;     // kTimed
   bool any_hit_only = false;  // only rays answered as any-hit queries use the predictor
+  /// Warp repacking (docs/timing_model.md, "Repacking"): after its prediction a ray waits in its
+  /// unit's buffer of its category until warp_size rays of that category are there or the oldest
+  /// has waited repack_timer cycles; they then walk as a new warp.
+  enum class Repack : uint8_t {
+    kNone = 0,
+    kPredicted = 1,  // MICRO 2021: two categories, predicted and not predicted
+    kNode = 2,       // one category per first predicted node, and not predicted
+  } repack = Repack::kNone;
+  uint32_t repack_timer = 20;  // MICRO 2021's -gpgpu_rt_predictor_repacking_timer
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).
@@ -71,7 +80,9 @@ struct SimStats {
   uint64_t triangle_fetches = 0;  // triangles fetched (= triangle tests)
   MemoryStats memory;
   uint64_t warps = 0;
-  uint64_t lane_cycles = 0;  // sum over rays of their latencies
+  uint64_t latency = 0;      // sum over rays of their latencies (admission to answer)
+  uint64_t lane_cycles = 0;  // sum over rays and the warps they were in of their cycles there
+  uint64_t repacked_warps = 0;  // warps formed by repacking (counted in `warps` too)
   uint64_t warp_cycles = 0;  // sum over warps of warp_size x cycles in a unit
   uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
   std::array<KindTime, kNumRayKinds> by_kind{};
@@ -80,7 +91,7 @@ struct SimStats {
   std::array<PredictStats, kNumRayKinds> predict{};  // classify(), per kind
   PredictStats predict_total() const;
   double simd_efficiency() const { return warp_cycles ? double(lane_cycles) / warp_cycles : 0; }
-  double mean_latency() const { return rays ? double(lane_cycles) / rays : 0; }
+  double mean_latency() const { return rays ? double(latency) / rays : 0; }
   double mean_in_flight() const { return cycles ? double(in_flight_area) / cycles : 0; }
   nlohmann::json to_json(const GpuConfig& g) const;
 };
