@@ -79,6 +79,9 @@ run: build
 	$(BUILD)/hrpp predict $(SCENE) $(PREDICT_DEFAULT) --json $(OUT)/predict.json
 	$(BUILD)/hrpp render $(SCENE) $(PREDICT_DEFAULT) --out $(OUT)/render
 	$(BUILD)/tb_hrpp --scene $(SCENE) --rays 100000 --config default
+	$(BUILD)/hrpp simulate $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --json $(OUT)/simulate.json
+	$(BUILD)/hrpp simulate $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --res 64x64 --rtl \
+	  --json $(OUT)/simulate-rtl.json
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

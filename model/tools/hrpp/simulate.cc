@@ -27,7 +27,7 @@ struct SimulateArgs {
   WorkloadArgs w;
   PredictorArgs p;
   uint64_t max_rays = 0;
-  bool no_oracle = false, rtl = false, repack = false;
+  bool no_oracle = false, rtl = false, repack = false, no_per_kind = false;
   std::string repack_by = "predicted";
   // Timing of golden-model presets (docs/timing_model.md, "Presets"); < 0: the preset's.
   int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
@@ -51,6 +51,7 @@ struct SimulateSetup {
   std::vector<RunSpec> runs;  // none, [oracle], preset, [preset with repacking]
   size_t main = 0;            // the preset's run
   int repacked = -1;          // the preset's run with repacking (--repack)
+  std::vector<std::vector<sim::SimStats>> per_kind;  // [kind][run]: each kind's rays alone
   std::string preset;
   PredictorConfig pcfg;
   std::string predictor_line;
@@ -265,13 +266,28 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
     v["baseline_mean_latency"] = bl;
     const double l = v["mean_latency"].get<double>();
     v["latency_speedup"] = l > 0 ? bl / l : 0.0;
+    RayKind k;
+    parse_ray_kind(kind, &k);
+    // The kind alone: its own runs' cycles (the mixed run's, when it is the only kind).
+    const std::vector<sim::SimStats>& alone =
+        s.per_kind[int(k)].empty() ? st : s.per_kind[int(k)];
+    const uint64_t base = alone.front().cycles;
+    v["baseline_cycles"] = base;
+    v["cycles"] = alone[s.main].cycles;
+    v["speedup"] = speedup(base, alone[s.main].cycles);
+    for (size_t i = 0; i < alone.size(); ++i) {
+      if (s.runs[i].name == "oracle") v["oracle_speedup"] = speedup(base, alone[i].cycles);
+      if (int(i) == s.repacked) v["repacked_speedup"] = speedup(base, alone[i].cycles);
+    }
   }
   for (size_t i = 0; i < st.size(); ++i)
     if (s.runs[i].name == "oracle") {
       j["oracle"] = st[i].to_json(s.gpu);
       const double og = speedup(b.cycles, st[i].cycles) - 1;
       j["oracle"]["speedup"] = speedup(b.cycles, st[i].cycles);
-      j["fraction_of_oracle"] = og != 0 ? (speedup(b.cycles, p.cycles) - 1) / og : 0.0;
+      // Meaningful only when the oracle gains (null otherwise).
+      j["fraction_of_oracle"] =
+          og > 0 ? nlohmann::json((speedup(b.cycles, p.cycles) - 1) / og) : nlohmann::json();
     }
   if (s.repacked >= 0) {
     j["repacked"] = st[s.repacked].to_json(s.gpu);
@@ -345,8 +361,11 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     for (size_t i = 0; i < st.size(); ++i)
       if (s.runs[i].name == "oracle" && s.main != i) {
         const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
-        std::printf("  %s's gain is %.1f%% of the oracle's\n", s.preset.c_str(),
-                    og != 0 ? 100 * pg / og : 0.0);
+        if (og > 0)
+          std::printf("  %s's gain (speed-up - 1) is %.1f%% of the oracle's\n", s.preset.c_str(),
+                      100 * pg / og);
+        else
+          std::printf("  the oracle gains nothing on these rays (speed-up %.3fx)\n", og + 1);
       }
   }
   std::printf("  %-10s %9s %12s", "kind", "rays", "latency none");
@@ -361,8 +380,24 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
       std::printf(" %12.1f", double(st[i].by_kind[k].latency) / std::max<uint64_t>(1, st[i].by_kind[k].rays));
     std::printf("\n");
   }
-  std::printf("  (latency: mean cycles from a ray's warp entering a unit to its answer); %.1f s\n",
-              secs);
+  std::printf("  (latency: mean cycles from a ray's warp entering a unit to its answer)\n");
+  bool alone = false;
+  for (const auto& v : s.per_kind) alone = alone || !v.empty();
+  if (alone) {
+    std::printf("  each kind alone: %-10s %9s %12s", "kind", "rays", "cycles none");
+    for (size_t i = 1; i < st.size(); ++i) std::printf(" %20s", s.runs[i].name.c_str());
+    std::printf("\n");
+    for (int k = 0; k < kNumRayKinds; ++k) {
+      const std::vector<sim::SimStats>& v = s.per_kind[k];
+      if (v.empty()) continue;
+      std::printf("                   %-10s %9llu %12llu", std::string(ray_kind_name(RayKind(k))).c_str(),
+                  (unsigned long long)v.front().rays, (unsigned long long)v.front().cycles);
+      for (size_t i = 1; i < v.size(); ++i)
+        std::printf(" %19.3fx", speedup(v.front().cycles, v[i].cycles));
+      std::printf("\n");
+    }
+  }
+  std::printf("  %.1f s\n", secs);
 }
 
 int cmd_simulate(const SimulateArgs& a) {
@@ -378,19 +413,38 @@ int cmd_simulate(const SimulateArgs& a) {
     s.predictor_line = predictor_line(a.p, shown, (shown.table.total_bits() + 7) / 8, 0);
   }
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<sim::SimStats> st;
-  for (RunSpec& r : s.runs) {
-    auto last = std::chrono::steady_clock::now();
-    r.opt.progress = [&](const sim::SimProgress& p) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::seconds(2)) return;
-      last = now;
-      std::fprintf(stderr, "simulate %s: %5.1f%% of %llu rays, cycle %llu\n", r.name.c_str(),
-                   100.0 * p.finished / std::max<uint64_t>(1, p.rays),
-                   (unsigned long long)p.rays, (unsigned long long)p.cycle);
-    };
-    st.push_back(sim::simulate(s.bvh, s.rays, r.opt));
-  }
+  // Every run on a set of rays, with a progress line every 2 s.
+  auto run_all = [&](const std::vector<RayRecord>& rays, const std::string& label) {
+    std::vector<sim::SimStats> out;
+    for (RunSpec& r : s.runs) {
+      auto last = std::chrono::steady_clock::now();
+      sim::SimOptions o = r.opt;
+      o.progress = [&](const sim::SimProgress& p) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last < std::chrono::seconds(2)) return;
+        last = now;
+        std::fprintf(stderr, "simulate %s%s: %5.1f%% of %llu rays, cycle %llu\n", r.name.c_str(),
+                     label.c_str(), 100.0 * p.finished / std::max<uint64_t>(1, p.rays),
+                     (unsigned long long)p.rays, (unsigned long long)p.cycle);
+      };
+      out.push_back(sim::simulate(s.bvh, rays, o));
+    }
+    return out;
+  };
+  const std::vector<sim::SimStats> st = run_all(s.rays, "");
+  // Each ray kind alone (its own rays, an empty table), when the rays have several kinds.
+  std::vector<std::vector<sim::SimStats>>& per_kind = s.per_kind;
+  per_kind.assign(kNumRayKinds, {});
+  int kinds_present = 0;
+  for (int k = 0; k < kNumRayKinds; ++k) kinds_present += st.front().by_kind[k].rays > 0;
+  if (kinds_present > 1 && !a.no_per_kind)
+    for (int k = 0; k < kNumRayKinds; ++k) {
+      if (!st.front().by_kind[k].rays) continue;
+      std::vector<RayRecord> rays;
+      for (const RayRecord& r : s.rays)
+        if (int(r.kind) == k) rays.push_back(r);
+      per_kind[k] = run_all(rays, " (" + std::string(ray_kind_name(RayKind(k))) + " alone)");
+    }
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   print_simulate(s, st, a, secs);
@@ -433,6 +487,9 @@ Subcommand add_simulate(CLI::App& app) {
       ->capture_default_str();
   sc->add_option("--json", sa->json_path, "write the report as JSON to this file");
   sc->add_flag("--no-oracle", sa->no_oracle, "do not run the oracle");
+  sc->add_flag("--no-per-kind", sa->no_per_kind,
+               "do not run each ray kind alone (by default, when the rays have several kinds, "
+               "every run is repeated on each kind's rays alone for its cycles and speed-up)");
   sc->add_flag("--rtl", sa->rtl,
                "run the Verilated RTL in every unit, in lockstep with the cycle model");
   sc->add_flag("--repack", sa->repack,
