@@ -433,13 +433,15 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
   auto rate = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
   nlohmann::json kinds = nlohmann::json::object();
   for (int k = 0; k < kNumRayKinds; ++k)
-    if (by_kind[k].rays)
-      kinds[std::string(ray_kind_name(RayKind(k)))] = {
-          {"rays", by_kind[k].rays},
-          {"mean_latency", rate(by_kind[k].latency, by_kind[k].rays)},
-          {"skipped_interior_fraction", predict[k].skipped_interior_fraction()},
-          {"precision", predict[k].precision()},
-          {"recall", predict[k].recall()}};
+    if (by_kind[k].rays) {
+      // The predictor's statistics of the kind (PredictStats::to_json), and its time.
+      nlohmann::json v = predict[k].to_json();
+      v.erase("baseline_ns");
+      v.erase("hrpp_ns");
+      v["rays"] = by_kind[k].rays;
+      v["mean_latency"] = rate(by_kind[k].latency, by_kind[k].rays);
+      kinds[std::string(ray_kind_name(RayKind(k)))] = v;
+    }
   return {
       {"rays", rays},
       {"invalid_rays", invalid_rays},

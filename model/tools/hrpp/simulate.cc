@@ -55,6 +55,7 @@ struct SimulateSetup {
   std::string preset;
   PredictorConfig pcfg;
   std::string predictor_line;
+  uint64_t table_bytes = 0;  // the preset's table, as the RTL stores it (unbounded: 0)
 };
 
 /// --gpu NAME (model/gpu/NAME.json) or a file.
@@ -306,7 +307,10 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
   pr["mode"] = predict_mode_name(s.pcfg.mode);
   pr["go_up"] = o.pred.go_up;
   pr["any_hit_only"] = o.any_hit_only;
-  if (s.preset != "none" && s.preset != "oracle") pr["line"] = s.predictor_line;
+  if (s.preset != "none" && s.preset != "oracle") {
+    pr["line"] = s.predictor_line;
+    pr["table_bytes"] = s.table_bytes;
+  }
   j["preset"] = pr;
   j["rtl"] = a.rtl;
   j["repack"] = a.repack;
@@ -410,7 +414,8 @@ int cmd_simulate(const SimulateArgs& a) {
       shown.hash = o.cycle.hash;
       shown.table = o.cycle.table;
     }
-    s.predictor_line = predictor_line(a.p, shown, (shown.table.total_bits() + 7) / 8, 0);
+    s.table_bytes = shown.table.unbounded ? 0 : (shown.table.total_bits() + 7) / 8;
+    s.predictor_line = predictor_line(a.p, shown, s.table_bytes, 0);
   }
   const auto t0 = std::chrono::steady_clock::now();
   // Every run on a set of rays, with a progress line every 2 s.
@@ -473,7 +478,6 @@ Subcommand add_simulate(CLI::App& app) {
       "predictor, the oracle and the chosen predictor");
   sc->add_option("scene", sa->scene, "glTF scene (.glb or .gltf)")->required();
   add_predictor_options(sc, sa->p, {"none", "oracle"});
-  sa->p.preset = "rtl-default";
   std::vector<CLI::Option*> wopts = add_workload_options(sc, sa->w, "shadow,ao");
   auto* stream_opt = sc->add_option("--stream", sa->stream,
                                     "read the rays from this ray-stream file (hrpp trace)");
@@ -518,6 +522,13 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_option("--credits", sa->credits, "golden presets: rays held at once (0: unlimited)")
       ->check(CLI::Range(0, 1 << 24));
   return {sc, [sa] {
+            // No preset: the RTL's default configuration, unless predictor options are given
+            // (then the golden model's defaults with those options, as hrpp predict).
+            if (sa->p.preset.empty()) {
+              bool given = false;
+              for (const auto& [name, opt] : sa->p.given) given = given || opt->count() > 0;
+              if (!given) sa->p.preset = "rtl-default";
+            }
             if (sa->p.preset.starts_with("rtl-")) apply_preset(sa->p);
             return cmd_simulate(*sa);
           }};
