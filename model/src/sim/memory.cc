@@ -117,11 +117,13 @@ uint64_t MemorySystem::l2_line(uint64_t line, uint64_t t) {
   return arrive;
 }
 
-uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now) {
+uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now, bool* hit) {
   Cache& c = l1_[unit];
   c.stats.accesses++;
   uint64_t ready;
+  *hit = false;
   if (c.lookup(line, &ready)) {
+    *hit = ready <= now;
     (ready <= now ? c.stats.hits : c.stats.merged)++;
     return std::max(ready, now + c.config().hit_latency);
   }
@@ -135,15 +137,20 @@ uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now) {
   return arrive;
 }
 
-uint64_t MemorySystem::load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now) {
+uint64_t MemorySystem::load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now,
+                            bool* l1_hit) {
   loads_++;
+  bool all = true;
   uint64_t ready = now;
   const uint64_t first = addr >> l1_shift_, last = (addr + std::max(bytes, 1u) - 1) >> l1_shift_;
   for (uint64_t line = first; line <= last; ++line) {
     const uint64_t t = l1_port_[unit].issue(now, now, 1);  // the L1's request port
     port_wait_ += t - now;
-    ready = std::max(ready, l1_line(unit, line, t));
+    bool hit;
+    ready = std::max(ready, l1_line(unit, line, t, &hit));
+    all = all && hit;
   }
+  if (l1_hit) *l1_hit = all;
   return ready;
 }
 

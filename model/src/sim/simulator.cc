@@ -26,6 +26,7 @@ struct Step {
   uint64_t addr;
   uint32_t bytes;
   uint32_t tests;  // triangle tests (0: a node test)
+  uint32_t node;   // the node whose pair or triangles are fetched
 };
 
 enum class Phase : uint8_t { kEntering, kPredicting, kPredWalk, kDeciding, kRootWalk };
@@ -140,13 +141,14 @@ void Simulator::add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& p
   // A walk from a node other than the root first tests the node's own box, which sits in its
   // parent's pair; the root's box is the scene's, held by the unit.
   if (start != 0 && bvh_.parent[start] != kNoNode) {
-    s.steps.push_back({uint64_t(bvh_.pair_of[bvh_.parent[start]]) * kPairBytes, kPairBytes, 0});
+    s.steps.push_back({uint64_t(bvh_.pair_of[bvh_.parent[start]]) * kPairBytes, kPairBytes, 0,
+                       bvh_.parent[start]});
     st_.start_fetches++;
   }
   for (size_t i = 0; i < path.size(); ++i) {
     const BvhNode& n = bvh_.nodes[path[i]];
     if (!n.is_leaf()) {
-      s.steps.push_back({uint64_t(bvh_.pair_of[path[i]]) * kPairBytes, kPairBytes, 0});
+      s.steps.push_back({uint64_t(bvh_.pair_of[path[i]]) * kPairBytes, kPairBytes, 0, path[i]});
       continue;
     }
     uint32_t tests = n.count;
@@ -157,8 +159,8 @@ void Simulator::add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& p
           tests = k + 1;
           break;
         }
-    s.steps.push_back(
-        {tri_base_ + uint64_t(n.right_or_first) * kTriangleBytes, tests * kTriangleBytes, tests});
+    s.steps.push_back({tri_base_ + uint64_t(n.right_or_first) * kTriangleBytes,
+                       tests * kTriangleBytes, tests, path[i]});
   }
 }
 
@@ -285,10 +287,18 @@ void Simulator::step(uint32_t si, uint64_t now) {
   Slot& s = slots_[si];
   if (s.next == s.steps.size()) return walk_end(si, now);
   const Step& st = s.steps[s.next++];
-  const uint64_t ready = mem_.load(s.unit, st.addr, st.bytes, now);
+  bool hit;
+  const uint64_t ready = mem_.load(s.unit, st.addr, st.bytes, now, &hit);
   uint64_t done;
   if (st.tests == 0) {
     st_.node_fetches++;
+    if (bvh_.depth[st.node] < SimStats::kTopLevels) {
+      st_.top_fetches++;
+      st_.top_hits += hit;
+    } else {
+      st_.deep_fetches++;
+      st_.deep_hits += hit;
+    }
     done = box_[s.unit].issue(now, ready, 1);
   } else {
     st_.triangle_fetches += st.tests;
@@ -456,6 +466,12 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
       {"l1_hit_rate", memory.l1.hit_rate()},
       {"l1_merged", memory.l1.merged},
       {"l1_mshr_wait_cycles", memory.l1.mshr_cycles},
+      {"top_levels", kTopLevels},
+      {"top_node_fetches", top_fetches},
+      {"top_node_l1_hit_rate", rate(top_hits, top_fetches)},
+      {"deep_node_fetches", deep_fetches},
+      {"deep_node_l1_hit_rate", rate(deep_hits, deep_fetches)},
+      {"l1_port_wait_cycles", memory.port_wait_cycles},
       {"l2_accesses", memory.l2.accesses},
       {"l2_hit_rate", memory.l2.hit_rate()},
       {"l2_merged", memory.l2.merged},

@@ -98,11 +98,13 @@ class MemorySystem {
  public:
   explicit MemorySystem(const GpuConfig& g);
   /// Unit `unit` reads [addr, addr + bytes) at cycle `now`: the cycle every line of it is there.
-  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now);
+  /// *l1_hit (if set): every line was an L1 hit.
+  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now,
+                bool* l1_hit = nullptr);
   MemoryStats stats() const;
 
  private:
-  uint64_t l1_line(uint32_t unit, uint64_t line, uint64_t now);
+  uint64_t l1_line(uint32_t unit, uint64_t line, uint64_t now, bool* hit);
   uint64_t l2_line(uint64_t l2line, uint64_t t);
   GpuConfig g_;
   std::vector<Cache> l1_;

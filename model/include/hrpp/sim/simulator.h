@@ -79,6 +79,9 @@ struct SimStats {
   uint64_t start_fetches = 0;     // of which: a predicted node's own box (its parent's pair)
   uint64_t triangle_fetches = 0;  // triangles fetched (= triangle tests)
   MemoryStats memory;
+  // Node fetches that were L1 hits, for the top kTopLevels levels of the BVH and below them.
+  static constexpr uint32_t kTopLevels = 8;
+  uint64_t top_fetches = 0, top_hits = 0, deep_fetches = 0, deep_hits = 0;
   uint64_t warps = 0;
   uint64_t latency = 0;      // sum over rays of their latencies (admission to answer)
   uint64_t lane_cycles = 0;  // sum over rays and the warps they were in of their cycles there
