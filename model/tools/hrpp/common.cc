@@ -66,7 +66,13 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
   o.push_back(app->add_option("--ao-distance", a.ao_distance,
                               "AO ray length (default or 0: 5% of the scene diagonal; 'inf': "
                               "unbounded, as in the MICRO 2021 study)")
-                  ->check(CLI::NonNegativeNumber));
+                  ->check(CLI::Validator(
+                      [](std::string& v) -> std::string {
+                        double d = 0;  // CLI11's NonNegativeNumber stops at DBL_MAX
+                        if (CLI::detail::lexical_cast(v, d) && d >= 0) return {};
+                        return "must be a number >= 0 or 'inf', got " + v;
+                      },
+                      "NONNEGATIVE or inf")));
   return o;
 }
 
