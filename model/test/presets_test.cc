@@ -84,13 +84,13 @@ TEST(Micro21Hash, OriginGrid) {
 
 TEST(Micro21Hash, DirectionSphere) {
   const Vec3 lo{-1.f, -2.f, -3.f};  // origin code 0: the key is the direction code
-  EXPECT_EQ(key_of(lo, {0.f, 0.f, 1.f}), sphere(180, 0));    // +z: theta 0, atan2(0, 0) = 0
-  EXPECT_EQ(key_of(lo, {0.f, 0.f, -1.f}), sphere(180, 180)); // -z: theta 180
-  EXPECT_EQ(key_of(lo, {1.f, 0.f, 0.f}), sphere(180, 90));   // +x: phi 0 + 180
-  EXPECT_EQ(key_of(lo, {-1.f, 0.f, 0.f}), sphere(360, 90));  // -x: atan2(+0, -1) = pi: 360
-  EXPECT_EQ(key_of(lo, {-1.f, -0.f, 0.f}), sphere(0, 90));   // atan2(-0, -1) = -pi: 0
-  EXPECT_EQ(key_of(lo, {0.f, 1.f, 0.f}), sphere(270, 90));   // +y
-  EXPECT_EQ(key_of(lo, {0.f, -1.f, 0.f}), sphere(90, 90));   // -y
+  EXPECT_EQ(key_of(lo, {0.f, 0.f, 1.f}), sphere(180, 0));     // +z: theta 0, atan2(0, 0) = 0
+  EXPECT_EQ(key_of(lo, {0.f, 0.f, -1.f}), sphere(180, 180));  // -z: theta 180
+  EXPECT_EQ(key_of(lo, {1.f, 0.f, 0.f}), sphere(180, 90));    // +x: phi 0 + 180
+  EXPECT_EQ(key_of(lo, {-1.f, 0.f, 0.f}), sphere(360, 90));   // -x: atan2(+0, -1) = pi: 360
+  EXPECT_EQ(key_of(lo, {-1.f, -0.f, 0.f}), sphere(0, 90));    // atan2(-0, -1) = -pi: 0
+  EXPECT_EQ(key_of(lo, {0.f, 1.f, 0.f}), sphere(270, 90));    // +y
+  EXPECT_EQ(key_of(lo, {0.f, -1.f, 0.f}), sphere(90, 90));    // -y
   const float s = 1.f / std::sqrt(3.f);
   EXPECT_EQ(key_of(lo, {s, s, s}), sphere(225, 54));  // theta 54.7 -> 54, phi 45 + 180
   EXPECT_EQ(key_of(lo, {s, s, s}), 57u);              // 7 << 3 | 1

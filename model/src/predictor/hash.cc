@@ -158,8 +158,8 @@ uint32_t micro21_origin_field(const std::array<float, 3>& o, const HashConfig& c
     // Theirs divides by zero on a flat axis (0/0 = NaN, converted to an integer: undefined);
     // here that axis's cell is 0.
     if (ext > 0.f) {
-      const float v = micro21_clamp((o[a] - cfg.bounds_lo[a]) / ext * static_cast<float>(grid),
-                                    0.f, static_cast<float>(grid) - 1.f);
+      const float v = micro21_clamp((o[a] - cfg.bounds_lo[a]) / ext * static_cast<float>(grid), 0.f,
+                                    static_cast<float>(grid) - 1.f);
       c = v >= 0.f ? static_cast<uint32_t>(v) : 0;  // NaN (never for valid rays): 0
     }
     f = (f << n) | c;

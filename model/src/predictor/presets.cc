@@ -30,8 +30,9 @@ PredictorPreset predictor_preset(const std::string& name) {
     // ubc-aamodt-group/ray-intersection-predictor sets it: grid-spherical hash (5 grid bits, 3
     // sphere bits), 1024 entries 4-way set-associative LRU, 1 node per entry, go-up level 3,
     // full-hash tags; the predictor sees any-hit rays only (docs/hash.md, "micro21").
-    p.description = "MICRO 2021's predictor: grid-spherical hash, 256x4 table, K=1, go-up 3, "
-                    "any-hit rays only";
+    p.description =
+        "MICRO 2021's predictor: grid-spherical hash, 256x4 table, K=1, go-up 3, "
+        "any-hit rays only";
     p.hash.variant = HashVariant::kMicro21;
     p.hash.origin_bits = 5;
     p.hash.dir_bits = 3;
@@ -49,8 +50,9 @@ PredictorPreset predictor_preset(const std::string& name) {
   if (name == "study2019") {
     // The 2019 limit study's setting as docs/results.md reproduces its Table 1: faithful hash
     // (P = 6, E = 3, origin XOR direction), an unbounded table with 2 node ids per entry, go-up 0.
-    p.description = "the 2019 study's limit setting: faithful hash P=6 E=3 xor, unbounded table, "
-                    "K=2, go-up 0";
+    p.description =
+        "the 2019 study's limit setting: faithful hash P=6 E=3 xor, unbounded table, "
+        "K=2, go-up 0";
     p.hash.variant = HashVariant::kFaithful;
     p.hash.precision = 6;
     p.hash.exp_bits = 3;

@@ -146,7 +146,8 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a) {
       ->check(CLI::Range(1, 23));
   app->add_option("--exp-bits", a.exp_bits, "faithful hash: top exponent bits per component (E)")
       ->check(CLI::Range(0, 8));
-  app->add_option("--origin-bits", a.origin_bits, "improved and micro21 hashes: bits per origin axis")
+  app->add_option("--origin-bits", a.origin_bits,
+                  "improved and micro21 hashes: bits per origin axis")
       ->check(CLI::Range(1, 16));
   app->add_option("--dir-bits", a.dir_bits,
                   "improved hash: bits per direction component; micro21: theta bits (1..8, phi "
@@ -170,9 +171,9 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a) {
                   "any-hit queries; the others walk from the root with no lookup and no table "
                   "update, and count as not predicted)")
       ->check(CLI::IsMember({"all", "any-hit"}));
-  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
-                        "--combine", "--table", "--tag-bits", "--nodes-per-entry", "--go-up",
-                        "--mode", "--predict-kinds"})
+  for (const char* o :
+       {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits", "--combine",
+        "--table", "--tag-bits", "--nodes-per-entry", "--go-up", "--mode", "--predict-kinds"})
     a.given[o] = app->get_option(o);
 }
 
@@ -192,12 +193,14 @@ void apply_preset(PredictorArgs& a) {
   set("--dir-bits", &a.dir_bits, h.dir_bits);
   set("--combine", &a.combine, std::string(combine_mode_name(h.combine)));
   set("--table", &a.table,
-      t.unbounded ? std::string("unbounded") : std::to_string(t.sets) + "x" + std::to_string(t.ways));
+      t.unbounded ? std::string("unbounded")
+                  : std::to_string(t.sets) + "x" + std::to_string(t.ways));
   set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
   set("--tag-bits", &a.tag_bits, p.tag_bits);
   if (p.go_up) set("--go-up", &a.go_up, *p.go_up);
   if (p.mode) set("--mode", &a.mode, std::string(predict_mode_name(*p.mode)));
-  if (p.any_hit_only) set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
+  if (p.any_hit_only)
+    set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
 }
 
 /// The parts of the predictor configuration that need no scene; prints the error.
@@ -252,8 +255,8 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
   char b[512];
   std::string hash;
   if (h.variant == HashVariant::kFaithful)
-    hash = "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " +
-           a.combine;
+    hash =
+        "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine;
   else if (h.variant == HashVariant::kMicro21)
     hash = "origin grid " + std::to_string(h.origin_bits) + " bits over the BVH's bounds, theta " +
            std::to_string(h.dir_bits) + " / phi " + std::to_string(h.dir_bits + 1) + " bits " +

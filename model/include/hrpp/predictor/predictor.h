@@ -77,10 +77,10 @@ struct PredictStats {
   uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
-  uint64_t table_updates = 0;  // rays whose outcome wrote the table
+  uint64_t table_updates = 0;   // rays whose outcome wrote the table
   uint64_t unoffered_rays = 0;  // any_hit_only: closest-hit rays never offered to the predictor
-  uint64_t baseline_ns = 0;    // measure_time: CPU time of the baseline walks
-  uint64_t hrpp_ns = 0;        // measure_time: hash, lookup, predicted and full walks, update
+  uint64_t baseline_ns = 0;     // measure_time: CPU time of the baseline walks
+  uint64_t hrpp_ns = 0;         // measure_time: hash, lookup, predicted and full walks, update
 
   PredictStats& operator+=(const PredictStats& o);
   double skipped_interior_fraction() const;
