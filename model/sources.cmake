@@ -15,6 +15,7 @@ set(HRPP_MODEL_SOURCES
   model/src/predictor/hash.cc
   model/src/predictor/pred_table.cc
   model/src/predictor/predictor.cc
+  model/src/predictor/presets.cc
   model/src/trace/ray.cc
   model/src/workload/ray_generator.cc
   model/src/workload/ray_stream.cc

@@ -119,6 +119,43 @@ def main():
     for tool in ("hrpp", "tb_hrpp", "hrpp_bench"):
         run([tools[tool], "--help"], 0, stdout_re=r"--version", limit=5)
 
+    # --ao-distance inf: unbounded AO rays (tfar = +inf) are valid, recorded as "inf" in the JSON,
+    # and hit at least as often as the default 5%-of-the-diagonal rays (here strictly more). With
+    # --preset micro21 only the AO rays (any hit) are offered to the predictor.
+    import json
+    ao_hits = {}
+    for dist in ("0", "inf"):
+        out = os.path.join(tmp, "ao_%s.json" % dist)
+
+        def ao_check(p, out=out, dist=dist):
+            try:
+                j = json.load(open(out))
+            except (OSError, ValueError) as e:
+                return ["no JSON: %s" % e]
+            ao, prim = j["by_kind"]["ao"], j["by_kind"]["primary"]
+            ao_hits[dist] = ao["baseline_hits"]
+            problems = []
+            want = "inf" if dist == "inf" else None
+            if want and j["workload"]["ao_distance"] != want:
+                problems.append("ao_distance %r, expected %r" % (j["workload"]["ao_distance"], want))
+            if dist == "0" and not isinstance(j["workload"]["ao_distance"], float):
+                problems.append("ao_distance %r is not a number" % j["workload"]["ao_distance"])
+            if ao["rays"] == 0 or ao["invalid_rays"] != 0:
+                problems.append("AO rays %d, invalid %d" % (ao["rays"], ao["invalid_rays"]))
+            if j["config"]["hash"] != "micro21" or j["config"]["predict_kinds"] != "any-hit":
+                problems.append("config %r is not micro21's" % j["config"])
+            if prim["unoffered_rays"] != prim["rays"] or prim["table_updates"] != 0:
+                problems.append("primary rays reached the predictor: %r" % prim)
+            if ao["unoffered_rays"] != 0:
+                problems.append("AO rays not offered: %d" % ao["unoffered_rays"])
+            return problems
+        run([hrpp, "predict", scene, "--res", "16x16", "--effects", "ao", "--ao-distance", dist,
+             "--preset", "micro21", "--json", out], 0, stdout_re=r"any-hit rays only",
+            check=ao_check, limit=20)
+    if len(ao_hits) == 2 and not ao_hits["inf"] > ao_hits["0"]:
+        print("FAIL unbounded AO rays hit %d times, bounded ones %d" % (ao_hits["inf"], ao_hits["0"]))
+        failures += 1
+
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):
         return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []

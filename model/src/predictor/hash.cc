@@ -1,12 +1,21 @@
 #include "hrpp/predictor/hash.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
 namespace hrpp {
 
 const char* hash_variant_name(HashVariant v) {
-  return v == HashVariant::kFaithful ? "faithful" : "improved";
+  switch (v) {
+    case HashVariant::kFaithful:
+      return "faithful";
+    case HashVariant::kImproved:
+      return "improved";
+    case HashVariant::kMicro21:
+      return "micro21";
+  }
+  return "?";
 }
 const char* combine_mode_name(CombineMode c) { return c == CombineMode::kXor ? "xor" : "concat"; }
 
@@ -14,10 +23,12 @@ int HashConfig::origin_field_bits() const {
   return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : origin_bits;
 }
 int HashConfig::dir_field_bits() const {
+  if (variant == HashVariant::kMicro21) return 2 * dir_bits + 1;  // phi | theta
   return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : dir_bits;
 }
 int HashConfig::key_bits() const {
-  const int o = 3 * origin_field_bits(), d = 3 * dir_field_bits();
+  const int o = 3 * origin_field_bits();
+  const int d = variant == HashVariant::kMicro21 ? dir_field_bits() : 3 * dir_field_bits();
   return combine == CombineMode::kXor ? std::max(o, d) : o + d;
 }
 
@@ -29,6 +40,17 @@ std::string HashConfig::validate() const {
     if (exp_bits < 0 || exp_bits > 8)
       return "exponent bits must be 0..8 (the float32 exponent has 8 bits), got " +
              std::to_string(exp_bits);
+  } else if (variant == HashVariant::kMicro21) {
+    if (origin_bits < 1 || origin_bits > 16)
+      return "origin grid bits must be 1..16, got " + std::to_string(origin_bits);
+    if (dir_bits < 1 || dir_bits > 8)
+      return "micro21 theta bits (--dir-bits) must be 1..8 (theta has 8 bits of whole degrees), "
+             "got " +
+             std::to_string(dir_bits);
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(bounds_lo[a]) || !std::isfinite(bounds_hi[a]) ||
+          bounds_hi[a] < bounds_lo[a])
+        return "micro21 needs finite scene bounds with lo <= hi on every axis";
   } else {
     if (origin_bits < 1 || origin_bits > 16)
       return "origin grid bits must be 1..16, got " + std::to_string(origin_bits);
@@ -118,7 +140,53 @@ uint32_t grid_dir_field(uint32_t bits, int field_bits) {
   return low_bits(static_cast<uint64_t>(q), field_bits);
 }
 
+// micro21: ubc-aamodt-group/ray-intersection-predictor, src/cuda-sim/rt-sim.cc (commit 06c52d6),
+// hash_origin_grid, hash_direction_spherical and hash_grid_spherical; PI and clamp from
+// src/cuda-sim/vector-math.h (a float constant; std::max(std::min(x, hi), lo)). docs/hash.md.
+namespace {
+constexpr float kMicro21Pi = 3.14159265358979323846f;
+inline float micro21_clamp(float x, float lo, float hi) { return std::max(std::min(x, hi), lo); }
+}  // namespace
+
+uint32_t micro21_origin_field(const std::array<float, 3>& o, const HashConfig& cfg) {
+  const int n = cfg.origin_bits;
+  const uint32_t grid = 1u << n;
+  uint32_t f = 0;
+  for (int a = 0; a < 3; ++a) {
+    const float ext = cfg.bounds_hi[a] - cfg.bounds_lo[a];
+    uint32_t c = 0;
+    // Theirs divides by zero on a flat axis (0/0 = NaN, converted to an integer: undefined);
+    // here that axis's cell is 0.
+    if (ext > 0.f) {
+      const float v = micro21_clamp((o[a] - cfg.bounds_lo[a]) / ext * static_cast<float>(grid), 0.f,
+                                    static_cast<float>(grid) - 1.f);
+      c = v >= 0.f ? static_cast<uint32_t>(v) : 0;  // NaN (never for valid rays): 0
+    }
+    f = (f << n) | c;
+  }
+  return f;
+}
+
+uint32_t micro21_dir_field(const std::array<float, 3>& d, int dir_bits) {
+  const float th = std::acos(micro21_clamp(d[2], -1.f, 1.f)) / kMicro21Pi * 180.f;
+  const float ph = (std::atan2(d[1], d[0]) + kMicro21Pi) / kMicro21Pi * 180.f;
+  // Whole degrees by truncation (float to unsigned conversion), 0..180 and 0..360.
+  const uint32_t theta = th >= 0.f ? static_cast<uint32_t>(th) : 0;
+  const uint32_t phi = ph >= 0.f ? static_cast<uint32_t>(ph) : 0;
+  const uint32_t q_theta = theta >> (8 - dir_bits), q_phi = phi >> (8 - dir_bits);
+  return (q_phi << dir_bits) | q_theta;
+}
+
 uint64_t hash_key(const std::array<uint32_t, 6>& bits, const HashConfig& cfg) {
+  if (cfg.variant == HashVariant::kMicro21) {
+    std::array<float, 3> o, d;
+    for (int i = 0; i < 3; ++i) {
+      o[i] = std::bit_cast<float>(bits[i]);
+      d[i] = std::bit_cast<float>(bits[3 + i]);
+    }
+    const uint64_t of = micro21_origin_field(o, cfg), df = micro21_dir_field(d, cfg.dir_bits);
+    return cfg.combine == CombineMode::kXor ? of ^ df : (of << cfg.dir_field_bits()) | df;
+  }
   const int fo = cfg.origin_field_bits(), fd = cfg.dir_field_bits();
   uint64_t o = 0, d = 0;
   // Origin packed x|y|z, direction z|y|x (x in the most significant field of the origin, z in

@@ -35,6 +35,13 @@ std::string resolve_for_scene(const Scene& scene, const Bvh& bvh, HashConfig* ha
   TableConfig& t = *table;
   h.index_bits = t.unbounded ? 0 : std::countr_zero(t.sets);
   h.origin_cell_exp = cell_exp_for(scene.bounds, h.origin_bits);
+  // micro21's origin grid spans the BVH root's box, as their simulator's world bounds (the union
+  // of the root's two child boxes); the scene's bounds for an empty BVH.
+  const Aabb world = bvh.nodes.empty() ? scene.bounds : bvh.nodes[0].box();
+  for (int a = 0; a < 3; ++a) {
+    h.bounds_lo[a] = world.lo[a];
+    h.bounds_hi[a] = world.hi[a];
+  }
   const size_t nodes = bvh.nodes.size();
   if (opt.node_bits > 0 && opt.node_bits < 64 && nodes > (uint64_t{1} << opt.node_bits))
     return "the BVH has " + std::to_string(nodes) + " nodes; " + std::to_string(opt.node_bits) +
@@ -71,6 +78,7 @@ PredictStats& PredictStats::operator+=(const PredictStats& o) {
   exact_mismatches += o.exact_mismatches;
   baseline_hits += o.baseline_hits;
   table_updates += o.table_updates;
+  unoffered_rays += o.unoffered_rays;
   baseline_ns += o.baseline_ns;
   hrpp_ns += o.hrpp_ns;
   return *this;
@@ -118,6 +126,7 @@ nlohmann::json PredictStats::to_json() const {
           {"exact_mismatches", exact_mismatches},
           {"baseline_hits", baseline_hits},
           {"table_updates", table_updates},
+          {"unoffered_rays", unoffered_rays},
           {"baseline_ns", baseline_ns},
           {"hrpp_ns", hrpp_ns}};
 }
@@ -173,6 +182,26 @@ RayResult Predictor::process(const RayRecord& rec) {
   }
   EngineRay er;
   er.any = answers_any_hit(rec.kind, cfg_.mode);
+  if (cfg_.any_hit_only && !er.any) {
+    // Not offered to the predictor: the plain walk from the root answers (a full walk), and
+    // nothing is looked up or written.
+    Clock::time_point t1;
+    if (timed) t1 = Clock::now();
+    walk_from_root(bvh_, ray, Action::kFull, &er);
+    finish(bvh_, Action::kFull, &er);
+    if (timed) {
+      const uint64_t ns = ns_since(t1);
+      s.baseline_ns += ns;
+      s.hrpp_ns += ns;  // HRPP runs the same walk, nothing else
+    }
+    s.unoffered_rays += 1;
+    classify(bvh_, ray, er, cfg_.mode, &s);
+    res.baseline = er.baseline;
+    res.answer = er.answer;
+    res.base_counters = er.base;
+    res.hrpp_counters = er.hrpp;
+    return res;
+  }
 
   // Lookup and predicted subtree walks, most recently used node first; the walks from the root
   // come after them, so that in closest-exact mode the baseline walk can carry the shortened
@@ -253,7 +282,8 @@ nlohmann::json Predictor::to_json() const {
       {"full_tag_bits", t.unbounded ? 0 : h.tag_bits()},
       {"entry_bits", t.entry_bits()},
       {"go_up", cfg_.go_up},
-      {"mode", predict_mode_name(cfg_.mode)}};
+      {"mode", predict_mode_name(cfg_.mode)},
+      {"predict_kinds", cfg_.any_hit_only ? "any-hit" : "all"}};
   j["table_entries"] = table_.entries_used();
   j["table_bytes"] = table_.bytes();
   nlohmann::json bk = nlohmann::json::object();

@@ -2,6 +2,8 @@
 
 #include <bit>
 
+#include "hrpp/rtl_config_data.h"
+
 namespace hrpp::sim {
 
 // ---- PortPredictor ---------------------------------------------------------------------------
@@ -124,6 +126,32 @@ nlohmann::json TimedConfig::to_json() const {
           {"update_latency", update_latency},     {"lookups_per_cycle", lookups_per_cycle},
           {"updates_per_cycle", updates_per_cycle}, {"credits", credits},
           {"oracle", oracle}};
+}
+
+TimedConfig preset_timing(const std::string& preset) {
+  TimedConfig t;
+  if (preset == "micro21") {
+    // ubc-aamodt-group/ray-intersection-predictor, configs/tested-cfgs/MOBILE/gpgpusim.config:
+    // -gpgpu_rt_predictor_lookup_latency 1, -gpgpu_rt_predictor_lookup_bandwidth 4 (a warp's
+    // 32 rays over 8 cycles), -gpgpu_rt_predictor_update_bandwidth 4; a warp is held by the
+    // predictor (up to 16, the unit's ray buffer: no credit limit of its own). The skip is
+    // decided by the RT unit when the predicted walk ends (no decision latency). When a write
+    // becomes visible is not found in their code: assumed the cycle after the outcome.
+    t.lookup_latency = 1;
+    t.lookups_per_cycle = 4;
+    t.decision_latency = 0;
+    t.update_latency = 1;
+    t.updates_per_cycle = 4;
+    t.credits = 0;
+    return t;
+  }
+  t.lookup_latency = rtl::kPredictionLatency;
+  t.decision_latency = rtl::kDecisionLatency;
+  t.update_latency = rtl::kUpdateLanding;
+  t.lookups_per_cycle = 1;
+  t.updates_per_cycle = 1;
+  t.credits = 0;
+  return t;
 }
 
 TimedPredictor::TimedPredictor(const Bvh& bvh, const std::vector<RayRecord>& rays,

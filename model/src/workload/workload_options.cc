@@ -2,6 +2,7 @@
 // --effects syntax, the resolution and AO distance, and the options as JSON.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 
 #include "hrpp/workload/workload.h"
@@ -233,7 +234,11 @@ nlohmann::json workload_json(const Scene& scene, const WorkloadOptions& opt) {
           {"order", std::string(ray_order_name(opt.order))},
           {"tile", opt.tile},
           {"max_depth", opt.max_depth},
-          {"ao_distance", ao_distance_for(scene, opt)}};
+          // Unbounded AO rays are recorded as the string "inf" (JSON has no infinity, and
+          // nlohmann would write null).
+          {"ao_distance", std::isinf(ao_distance_for(scene, opt))
+                              ? nlohmann::json("inf")
+                              : nlohmann::json(ao_distance_for(scene, opt))}};
 }
 
 }  // namespace hrpp

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hrpp/hardware/rtl_config.h"
+#include "hrpp/predictor/presets.h"
 #include "hrpp/util/atomic_file.h"
 
 namespace hrpp::cli {
@@ -64,8 +64,15 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
           ->capture_default_str());
   o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
   o.push_back(app->add_option("--ao-distance", a.ao_distance,
-                              "AO ray length (default or 0: 5% of the scene diagonal)")
-                  ->check(CLI::NonNegativeNumber));
+                              "AO ray length (default or 0: 5% of the scene diagonal; 'inf': "
+                              "unbounded, as in the MICRO 2021 study)")
+                  ->check(CLI::Validator(
+                      [](std::string& v) -> std::string {
+                        double d = 0;  // CLI11's NonNegativeNumber stops at DBL_MAX
+                        if (CLI::detail::lexical_cast(v, d) && d >= 0) return {};
+                        return "must be a number >= 0 or 'inf', got " + v;
+                      },
+                      "NONNEGATIVE or inf")));
   return o;
 }
 
@@ -77,8 +84,8 @@ bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
                  a.res.c_str());
     return false;
   }
-  if (!std::isfinite(a.ao_distance)) {  // CLI11's NonNegativeNumber lets NaN through
-    std::fprintf(stderr, "hrpp %s: --ao-distance must be a finite number >= 0, got %g\n", cmd,
+  if (std::isnan(a.ao_distance)) {  // CLI11's NonNegativeNumber lets NaN through; +inf is fine
+    std::fprintf(stderr, "hrpp %s: --ao-distance must be a number >= 0 or 'inf', got %g\n", cmd,
                  a.ao_distance);
     return false;
   }
@@ -129,19 +136,25 @@ void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::str
 void add_predictor_options(CLI::App* app, PredictorArgs& a,
                            const std::vector<std::string>& extra_presets) {
   std::vector<std::string> presets = extra_presets;
-  for (const std::string& n : rtl_config_names()) presets.push_back("rtl-" + n);
+  for (const std::string& n : preset_names()) presets.push_back(n);
   app->add_option("--preset", a.preset,
-                  "an RTL configuration's hash and table (rtl/config/hrpp_configs.json); the "
-                  "options below override it")
+                  "a named predictor: rtl-NAME (an RTL configuration's hash and table, "
+                  "rtl/config/hrpp_configs.json), micro21 (MICRO 2021's predictor: grid-spherical "
+                  "hash, 256x4 table, K=1, go-up 3, any-hit rays only) or study2019 (faithful "
+                  "P=6 E=3 xor, unbounded table, K=2, go-up 0); the options below override it")
       ->check(CLI::IsMember(presets));
-  app->add_option("--hash", a.hash, "hash variant")->check(CLI::IsMember({"faithful", "improved"}));
+  app->add_option("--hash", a.hash, "hash variant (micro21: MICRO 2021's grid-spherical hash)")
+      ->check(CLI::IsMember({"faithful", "improved", "micro21"}));
   app->add_option("--precision", a.precision, "faithful hash: mantissa bits per component (P)")
       ->check(CLI::Range(1, 23));
   app->add_option("--exp-bits", a.exp_bits, "faithful hash: top exponent bits per component (E)")
       ->check(CLI::Range(0, 8));
-  app->add_option("--origin-bits", a.origin_bits, "improved hash: bits per origin axis")
+  app->add_option("--origin-bits", a.origin_bits,
+                  "improved and micro21 hashes: bits per origin axis")
       ->check(CLI::Range(1, 16));
-  app->add_option("--dir-bits", a.dir_bits, "improved hash: bits per direction component")
+  app->add_option("--dir-bits", a.dir_bits,
+                  "improved hash: bits per direction component; micro21: theta bits (1..8, phi "
+                  "gets one more)")
       ->check(CLI::Range(1, 16));
   app->add_option("--combine", a.combine, "how origin and direction fields combine")
       ->check(CLI::IsMember({"xor", "concat"}));
@@ -156,17 +169,23 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
       ->check(CLI::Range(1, kMaxNodesPerEntry));
   app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
       ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
-  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
-                        "--combine", "--table", "--tag-bits", "--nodes-per-entry"})
+  app->add_option("--predict-kinds", a.predict_kinds,
+                  "which rays use the predictor: 'all', or 'any-hit' (only rays answered as "
+                  "any-hit queries; the others walk from the root with no lookup and no table "
+                  "update, and count as not predicted)")
+      ->check(CLI::IsMember({"all", "any-hit"}));
+  for (const char* o :
+       {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits", "--combine",
+        "--table", "--tag-bits", "--nodes-per-entry", "--go-up", "--mode", "--predict-kinds"})
     a.given[o] = app->get_option(o);
 }
 
-/// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
+/// --preset NAME: the preset's options (predictor_preset), each unless given on the command line.
 void apply_preset(PredictorArgs& a) {
   if (a.preset.empty()) return;
-  const RtlConfig rc = rtl_config(a.preset.substr(4));  // "rtl-"
-  const HashConfig& h = rc.hash;
-  const TableConfig& t = rc.table;
+  const PredictorPreset p = predictor_preset(a.preset);  // checked by CLI11
+  const HashConfig& h = p.hash;
+  const TableConfig& t = p.table;
   auto set = [&](const char* opt, auto* field, auto value) {
     if (a.given.at(opt)->count() == 0) *field = value;
   };
@@ -176,15 +195,23 @@ void apply_preset(PredictorArgs& a) {
   set("--origin-bits", &a.origin_bits, h.origin_bits);
   set("--dir-bits", &a.dir_bits, h.dir_bits);
   set("--combine", &a.combine, std::string(combine_mode_name(h.combine)));
-  set("--table", &a.table, std::to_string(t.sets) + "x" + std::to_string(t.ways));
+  set("--table", &a.table,
+      t.unbounded ? std::string("unbounded")
+                  : std::to_string(t.sets) + "x" + std::to_string(t.ways));
   set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
-  set("--tag-bits", &a.tag_bits, t.tag_bits);
+  set("--tag-bits", &a.tag_bits, p.tag_bits);
+  if (p.go_up) set("--go-up", &a.go_up, *p.go_up);
+  if (p.mode) set("--mode", &a.mode, std::string(predict_mode_name(*p.mode)));
+  if (p.any_hit_only)
+    set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
 }
 
 /// The parts of the predictor configuration that need no scene; prints the error.
 bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg) {
   HashConfig& h = cfg->hash;
-  h.variant = a.hash == "faithful" ? HashVariant::kFaithful : HashVariant::kImproved;
+  h.variant = a.hash == "faithful"  ? HashVariant::kFaithful
+              : a.hash == "micro21" ? HashVariant::kMicro21
+                                    : HashVariant::kImproved;
   h.precision = a.precision;
   h.exp_bits = a.exp_bits;
   h.origin_bits = a.origin_bits;
@@ -192,6 +219,7 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
   h.combine = a.combine == "xor" ? CombineMode::kXor : CombineMode::kConcat;
   parse_predict_mode(a.mode, &cfg->mode);
   cfg->go_up = a.go_up;
+  cfg->any_hit_only = a.predict_kinds == "any-hit";
   TableConfig& t = cfg->table;
   t.nodes_per_entry = a.nodes_per_entry;
   if (a.table == "unbounded") {
@@ -228,12 +256,18 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
   const HashConfig& h = cfg.hash;
   const TableConfig& t = cfg.table;
   char b[512];
-  const std::string hash = h.variant == HashVariant::kFaithful
-                               ? "P=" + std::to_string(h.precision) +
-                                     " E=" + std::to_string(h.exp_bits) + " " + a.combine
-                               : "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
-                                     std::to_string(h.origin_cell_exp) + ", dir " +
-                                     std::to_string(h.dir_bits) + " bits " + a.combine;
+  std::string hash;
+  if (h.variant == HashVariant::kFaithful)
+    hash =
+        "P=" + std::to_string(h.precision) + " E=" + std::to_string(h.exp_bits) + " " + a.combine;
+  else if (h.variant == HashVariant::kMicro21)
+    hash = "origin grid " + std::to_string(h.origin_bits) + " bits over the BVH's bounds, theta " +
+           std::to_string(h.dir_bits) + " / phi " + std::to_string(h.dir_bits + 1) + " bits " +
+           a.combine;
+  else
+    hash = "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
+           std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " +
+           a.combine;
   std::snprintf(
       b, sizeof b,
       "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
@@ -242,6 +276,8 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
       t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
       t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
       (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
+  // Only when restricted, so that the line of every other configuration stays as it was.
+  if (cfg.any_hit_only) return std::string(b) + ", any-hit rays only";
   return b;
 }
 

@@ -53,10 +53,11 @@ void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::str
 
 struct PredictorArgs {
   std::string hash = "faithful", table = "unbounded", mode = "closest-exact", combine = "xor";
+  std::string predict_kinds = "all";  // all | any-hit
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;
   int tag_bits = -1;
-  std::string preset;                         // rtl-NAME: an RTL configuration's hash and table
+  std::string preset;  // a predictor preset (preset_names(): rtl-NAME, micro21, study2019)
   std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
 };
 
@@ -64,7 +65,7 @@ struct PredictorArgs {
 void add_predictor_options(CLI::App* app, PredictorArgs& a,
                            const std::vector<std::string>& extra_presets = {});
 
-/// --preset rtl-NAME: the RTL configuration's hash and table options, each unless given.
+/// --preset NAME: the preset's options (predictor_preset), each unless given on the command line.
 void apply_preset(PredictorArgs& a);
 
 /// The parts of the predictor configuration that need no scene; prints the error.

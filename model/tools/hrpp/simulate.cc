@@ -58,6 +58,12 @@ struct SimulateSetup {
   uint64_t table_bytes = 0;  // the preset's table, as the RTL stores it (unbounded: 0)
 };
 
+/// The options that choose the hash and the table (an RTL configuration fixes them; go-up, mode
+/// and the ray kinds that use the predictor are the traversal engine's choices).
+bool is_table_option(const std::string& name) {
+  return name != "--go-up" && name != "--mode" && name != "--predict-kinds";
+}
+
 /// --gpu NAME (model/gpu/NAME.json) or a file.
 std::string gpu_path(const std::string& g) {
   if (g.find('/') != std::string::npos || g.ends_with(".json")) return g;
@@ -94,19 +100,6 @@ sim::TimedConfig timed_for(const SimulateArgs& a, sim::TimedConfig t) {
   set(a.lookups_per_cycle, &t.lookups_per_cycle);
   set(a.updates_per_cycle, &t.updates_per_cycle);
   set(a.credits, &t.credits);
-  return t;
-}
-
-/// The golden presets' timing: the RTL's pipeline latencies and port rate (one lookup and one
-/// outcome per cycle), without its credit limit (docs/timing_model.md, "Presets").
-sim::TimedConfig rtl_like_timing() {
-  sim::TimedConfig t;
-  t.lookup_latency = rtl::kPredictionLatency;
-  t.decision_latency = rtl::kDecisionLatency;
-  t.update_latency = rtl::kUpdateLanding;
-  t.lookups_per_cycle = 1;
-  t.updates_per_cycle = 1;
-  t.credits = 0;
   return t;
 }
 
@@ -172,6 +165,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   sim::SimOptions base;
   base.gpu = s->gpu;
   base.pred = cfg;
+  base.any_hit_only = cfg.any_hit_only;
   s->runs.push_back({"none", base, "no predictor"});
   s->preset = a.p.preset.empty() ? "custom" : a.p.preset;
   if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
@@ -211,7 +205,8 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   }
   // An RTL preset whose table and hash options were not overridden runs the RTL's cycle model.
   bool overridden = false;
-  for (const auto& [name, opt] : a.p.given) overridden = overridden || opt->count() > 0;
+  for (const auto& [name, opt] : a.p.given)
+    overridden = overridden || (opt->count() > 0 && is_table_option(name));
   if (rtl_preset && !overridden) {
     const RtlConfig rc = rtl_config(a.p.preset.substr(4));
     CycleConfig cc = rc.cycle(cfg.mode);
@@ -236,7 +231,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
       return 2;
     }
     r.opt.kind = sim::PredictorKind::kTimed;
-    r.opt.timed = timed_for(a, rtl_like_timing());
+    r.opt.timed = timed_for(a, sim::preset_timing(s->preset));
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
   }
   s->runs.push_back(r);
@@ -526,7 +521,8 @@ Subcommand add_simulate(CLI::App& app) {
             // (then the golden model's defaults with those options, as hrpp predict).
             if (sa->p.preset.empty()) {
               bool given = false;
-              for (const auto& [name, opt] : sa->p.given) given = given || opt->count() > 0;
+              for (const auto& [name, opt] : sa->p.given)
+                given = given || (opt->count() > 0 && is_table_option(name));
               if (!given) sa->p.preset = "rtl-default";
             }
             if (sa->p.preset.starts_with("rtl-")) apply_preset(sa->p);

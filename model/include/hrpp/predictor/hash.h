@@ -14,6 +14,8 @@ namespace hrpp {
 enum class HashVariant : uint8_t {
   kFaithful = 0,  // the original study: sign | top E exponent bits | top P mantissa bits
   kImproved = 1,  // exact fixed-point grid: origin cells of 2^k, direction on a uniform grid
+  kMicro21 = 2,   // MICRO 2021's grid-spherical hash: origin on a grid over the scene's bounds,
+                  // direction as whole-degree theta / phi (acos, atan2 in float; docs/hash.md)
 };
 enum class CombineMode : uint8_t { kXor = 0, kConcat = 1 };
 
@@ -29,11 +31,15 @@ struct HashConfig {
   int origin_bits = 5;      // G_o: bits of each origin axis's cell index, 1..16
   int origin_cell_exp = 0;  // k: cells are 2^k wide (set from the scene by cell_exp_for)
   int dir_bits = 3;         // G_d: bits of each direction component, 1..16
+                            // (micro21: theta bits, 1..8; phi gets one more)
+  // micro21 variant: the scene's bounds the origin grid spans (set by resolve_for_scene).
+  std::array<float, 3> bounds_lo{0.f, 0.f, 0.f}, bounds_hi{1.f, 1.f, 1.f};
   // Both.
   CombineMode combine = CombineMode::kXor;
   int index_bits = 8;  // the table has 2^index_bits sets (0 for the unbounded table)
 
-  /// Width of one origin / direction component's field.
+  /// Width of one origin / direction component's field (micro21: of one origin axis, and of the
+  /// whole direction field phi | theta, 2 * dir_bits + 1).
   int origin_field_bits() const;
   int dir_field_bits() const;
   /// Width of the combined key (at most 64).
@@ -61,6 +67,15 @@ uint32_t grid_origin_field(uint32_t bits, int cell_exp, int field_bits);
 /// Improved direction field: floor(d * 2^(bits-1)) clamped to [-2^(bits-1), 2^(bits-1) - 1],
 /// as `bits` bits of two's complement.
 uint32_t grid_dir_field(uint32_t bits, int field_bits);
+
+/// micro21 origin field: x | y | z, each min(trunc(clamp((o - lo) / (hi - lo) * 2^bits, 0,
+/// 2^bits - 1)), in float as their simulator computes it; an axis with hi == lo gives 0.
+uint32_t micro21_origin_field(const std::array<float, 3>& o, const HashConfig& cfg);
+
+/// micro21 direction field: phi | theta with theta = trunc(acos(clamp(d.z, -1, 1)) / pi * 180)
+/// >> (8 - dir_bits) and phi = trunc((atan2(d.y, d.x) + pi) / pi * 180) >> (8 - dir_bits), all
+/// in float; the direction is not normalised (as theirs).
+uint32_t micro21_dir_field(const std::array<float, 3>& d, int dir_bits);
 
 struct HashKey {
   uint64_t key = 0;

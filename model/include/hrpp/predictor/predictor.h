@@ -33,6 +33,11 @@ struct PredictorConfig {
   TableConfig table;
   uint32_t go_up = 0;  // L: the stored node is the hit leaf's L-th ancestor
   PredictMode mode = PredictMode::kClosestExact;
+  /// Only rays answered as any-hit queries use the predictor (MICRO 2021 predicts any-hit rays
+  /// only). The others are answered by a plain walk from the root: no lookup, no predicted walk,
+  /// no table update; they count as rays that were not predicted (a false negative when they hit,
+  /// else a true negative) and in `unoffered_rays`.
+  bool any_hit_only = false;
   /// Rays issued between a ray's lookup and the table write of its outcome (0: the untimed
   /// model, where the next ray sees the write). A pipelined unit has many rays in flight, so
   /// later rays look up a staler table (docs/cost_model.md, "Pipeline latency").
@@ -72,9 +77,10 @@ struct PredictStats {
   uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
-  uint64_t table_updates = 0;  // rays whose outcome wrote the table
-  uint64_t baseline_ns = 0;    // measure_time: CPU time of the baseline walks
-  uint64_t hrpp_ns = 0;        // measure_time: hash, lookup, predicted and full walks, update
+  uint64_t table_updates = 0;   // rays whose outcome wrote the table
+  uint64_t unoffered_rays = 0;  // any_hit_only: closest-hit rays never offered to the predictor
+  uint64_t baseline_ns = 0;     // measure_time: CPU time of the baseline walks
+  uint64_t hrpp_ns = 0;         // measure_time: hash, lookup, predicted and full walks, update
 
   PredictStats& operator+=(const PredictStats& o);
   double skipped_interior_fraction() const;

@@ -121,6 +121,11 @@ struct TimedConfig {
   nlohmann::json to_json() const;
 };
 
+/// The timing of a golden-model preset (docs/timing_model.md, "The predictor"): micro21's from
+/// its simulator's configuration; every other name the RTL's latencies and port rate (one lookup
+/// and one outcome per cycle) without its credit limit.
+TimedConfig preset_timing(const std::string& preset);
+
 class TimedPredictor : public UnitPredictor {
  public:
   TimedPredictor(const Bvh& bvh, const std::vector<RayRecord>& rays, const PredictorConfig& pc,

@@ -55,7 +55,7 @@ struct WorkloadOptions {
   bool refraction = false;  // from hits on transmissive materials (is_transmissive)
   bool diffuse = false;     // one cosine-weighted closest-hit bounce per hit
   int max_depth = 2;        // generations of reflection / refraction / diffuse rays
-  float ao_distance = 0.f;  // 0: 5% of the scene's bounding-box diagonal
+  float ao_distance = 0.f;  // 0: 5% of the scene's bounding-box diagonal; +inf: unbounded
   RayOrder order = RayOrder::kScanline;
   int tile = 8;  // tile edge in pixels (tiled and Morton orders)
 };
