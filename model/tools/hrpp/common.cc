@@ -268,14 +268,17 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
     hash = "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
            std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " +
            a.combine;
+  // kUnknownEntries: the table's size only (e.g. one table per simulated unit).
+  const std::string used =
+      table_entries == kUnknownEntries
+          ? (t.unbounded ? "" : ", " + std::to_string(table_bytes) + " bytes")
+          : ", " + std::to_string(table_bytes) + " bytes, " + std::to_string(table_entries) +
+                " entries used";
   std::snprintf(
-      b, sizeof b,
-      "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids, %llu bytes, %llu "
-      "entries used), go-up %u, mode %s",
+      b, sizeof b, "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids%s), go-up %u, mode %s",
       a.hash.c_str(), hash.c_str(), h.key_bits(),
       t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
-      t.nodes_per_entry, t.node_bits, (unsigned long long)table_bytes,
-      (unsigned long long)table_entries, cfg.go_up, a.mode.c_str());
+      t.nodes_per_entry, t.node_bits, used.c_str(), cfg.go_up, a.mode.c_str());
   // Only when restricted, so that the line of every other configuration stays as it was.
   if (cfg.any_hit_only) return std::string(b) + ", any-hit rays only";
   return b;

@@ -75,6 +75,7 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
 bool finish_predictor_config(const char* cmd, const PredictorArgs& a, const Scene& scene,
                              const Bvh& bvh, PredictorConfig* cfg);
 
+constexpr uint64_t kUnknownEntries = ~0ull;
 /// "hash faithful (P=6 E=3 xor), key ... bits, table ..., go-up 0, mode closest-exact"
 std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, uint64_t table_bytes,
                            uint64_t table_entries);

@@ -410,7 +410,7 @@ int cmd_simulate(const SimulateArgs& a) {
       shown.table = o.cycle.table;
     }
     s.table_bytes = shown.table.unbounded ? 0 : (shown.table.total_bits() + 7) / 8;
-    s.predictor_line = predictor_line(a.p, shown, s.table_bytes, 0);
+    s.predictor_line = predictor_line(a.p, shown, s.table_bytes, kUnknownEntries);
   }
   const auto t0 = std::chrono::steady_clock::now();
   // Every run on a set of rays, with a progress line every 2 s.
@@ -525,7 +525,8 @@ Subcommand add_simulate(CLI::App& app) {
                 given = given || (opt->count() > 0 && is_table_option(name));
               if (!given) sa->p.preset = "rtl-default";
             }
-            if (sa->p.preset.starts_with("rtl-")) apply_preset(sa->p);
+            if (!sa->p.preset.empty() && sa->p.preset != "none" && sa->p.preset != "oracle")
+              apply_preset(sa->p);
             return cmd_simulate(*sa);
           }};
 }
