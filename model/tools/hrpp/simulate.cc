@@ -172,6 +172,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     RunSpec o{"oracle", base, ""};
     o.opt.kind = sim::PredictorKind::kTimed;
     o.opt.pred.go_up = 0;
+    o.opt.any_hit_only = false;  // every ray is told
     o.opt.timed.oracle = true;
     o.opt.timed.lookup_latency = 0;
     o.opt.timed.decision_latency = 0;
@@ -193,6 +194,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r = s->runs.size() > 1 ? s->runs[1] : RunSpec{"oracle", base, ""};
     r.opt.kind = sim::PredictorKind::kTimed;
     r.opt.pred.go_up = 0;
+    r.opt.any_hit_only = false;
     r.opt.timed.oracle = true;
     r.opt.timed.lookup_latency = 0;
     r.opt.timed.decision_latency = 0;

@@ -1,0 +1,272 @@
+#!/usr/bin/env python3
+"""Time on RT units (docs/results.md, "Time on RT units"): `hrpp simulate` on every shared and own
+scene x ray kind x preset x GPU configuration, and the tables of docs/results.md made from them.
+
+  make sim-results [SIM_RES=256x256] [JOBS=2]
+  model/tools/sim_results.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
+      [--gpu mobile,desktop] [--scenes bunny,sponza] [--resume] [--doc docs/results.md]
+
+Ray kinds, each simulated alone (`--kinds`, an empty table per run): primary; shadow (scenes
+with lights); ao: MICRO 2021's ambient occlusion (cosine hemisphere, unbounded, 1 spp); ao-short:
+the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-default; every
+`hrpp simulate` run also simulates `none` (the baseline) and the first of a group the `oracle`.
+AO runs of micro21 and rtl-default add `--repack`. Per scene on `mobile`: one mixed run of all
+kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
+
+Writes OUT/GPU/SCENE-KIND-PRESET.json (kept with --resume), OUT/summary.json and the blocks
+sim-mobile, sim-desktop, sim-disagree and sim-repack of --doc.
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import update_blocks  # noqa: E402
+
+KINDS = {
+    "primary": ["--kinds", "primary"],
+    "shadow": ["--kinds", "shadow"],
+    "ao": ["--kinds", "ao", "--ao-distance", "inf"],
+    "ao-short": ["--kinds", "ao"],
+}
+KIND_TITLES = {
+    "primary": "primary rays",
+    "shadow": "shadow rays",
+    "ao": "ambient occlusion as MICRO 2021 (cosine hemisphere, unbounded length, 1 spp)",
+    "ao-short": "short ambient occlusion (5% of the scene diagonal)",
+}
+PRESETS = ["study2019", "micro21", "rtl-default"]
+MICRO21_AO_GAIN = 0.26  # MICRO 2021's geometric-mean AO speed-up (Liu et al., abstract)
+
+
+def scenes_of(shared, names):
+    own = sorted((ROOT / "scenes").glob("*.glb"))
+    sh = sorted(pathlib.Path(shared, "scenes").glob("*.glb")) if shared else []
+    if shared and not sh:
+        print(f"sim_results: no scenes in {shared}/scenes; own scenes only", file=sys.stderr)
+    out = [("shared", p) for p in sh] + [("own", p) for p in own]
+    if names:
+        want = set(names.split(","))
+        out = [(w, p) for w, p in out if p.stem in want or f"{w}:{p.stem}" in want]
+        missing = want - {p.stem for _, p in out} - {f"{w}:{p.stem}" for w, p in out}
+        if missing:
+            raise SystemExit(f"sim_results: unknown scenes {sorted(missing)}")
+    return out
+
+
+def label(where, path):
+    return path.stem if where == "shared" else f"{path.stem} (own)"
+
+
+def tasks_for(args, scenes, out):
+    """(key, command, json path) of every run, in the order the tables read them."""
+    tasks = []
+    for gpu in args.gpu.split(","):
+        for where, scene in scenes:
+            for kind, kopts in KINDS.items():
+                for i, preset in enumerate(PRESETS):
+                    path = out / gpu / f"{where}-{scene.stem}-{kind}-{preset}.json"
+                    cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
+                           "--preset", preset, "--json", str(path)] + kopts
+                    if i > 0:
+                        cmd.append("--no-oracle")  # the group's first run has it
+                    if kind in ("ao", "ao-short") and preset in ("micro21", "rtl-default"):
+                        cmd.append("--repack")
+                    tasks.append(((gpu, where, scene.stem, kind, preset), cmd, path))
+            if gpu == "mobile":  # the cost model beside the simulator, all kinds mixed
+                path = out / gpu / f"{where}-{scene.stem}-mixed-rtl-default.json"
+                cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
+                       "--preset", "rtl-default", "--no-per-kind", "--no-oracle", "--json",
+                       str(path)]
+                tasks.append(((gpu, where, scene.stem, "mixed", "rtl-default"), cmd, path))
+                path = out / gpu / f"{where}-{scene.stem}-mixed-predict.json"
+                cmd = [args.hrpp, "predict", str(scene), "--res", args.res, "--preset",
+                       "rtl-default", "--json", str(path)]
+                tasks.append(((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
+    return tasks
+
+
+def run(task, resume):
+    key, cmd, path = task
+    if resume and path.exists():
+        return key, json.loads(path.read_text()), 0.0, None
+    path.parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.time()
+    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    if proc.returncode != 0:
+        return key, None, time.time() - t0, f"{' '.join(map(str, cmd))} exited {proc.returncode}:" \
+                                             f"\n{proc.stderr.strip()}"
+    return key, json.loads(path.read_text()), time.time() - t0, None
+
+
+def geomean(xs):
+    xs = [x for x in xs if x and x > 0]
+    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
+
+
+def fx(x):
+    return "" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.3f}"
+
+
+def pct(x):
+    return "" if x is None else f"{100 * x:.1f}%"
+
+
+def kind_table(res, gpu, scenes, kind):
+    """One ray kind on one GPU: per scene the speed-up of each preset and the oracle."""
+    rows = ["| scene | rays | cycles, none | study2019 | micro21 | rtl-default | oracle | "
+            "rtl-default: % of oracle's gain | rtl-default: stall cycles |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    cols = {p: [] for p in PRESETS + ["oracle"]}
+    for where, scene in scenes:
+        runs = {p: res.get((gpu, where, scene.stem, kind, p)) for p in PRESETS}
+        first = runs[PRESETS[0]]
+        if not first or first["rays"] == 0:
+            continue
+        sp = {p: (r["speedup"] if r else None) for p, r in runs.items()}
+        sp["oracle"] = first["oracle"]["speedup"] if "oracle" in first else None
+        for p, v in sp.items():
+            cols[p].append(v)
+        rd = runs["rtl-default"]
+        frac = None
+        if rd and sp["oracle"] and sp["oracle"] > 1:
+            frac = (rd["speedup"] - 1) / (sp["oracle"] - 1)
+        stall = ""
+        if rd:
+            stall = pct(rd["predictor"]["stall_cycles"] / max(1, rd["cycles"] * rd["units"]))
+        rows.append(f"| {label(where, scene)} | {first['rays']:,} | {first['baseline_cycles']:,} | "
+                    + " | ".join(fx(sp[p]) for p in PRESETS + ["oracle"])
+                    + f" | {pct(frac)} | {stall} |")
+    g = {p: geomean(v) for p, v in cols.items()}
+    rows.append("| **geometric mean** | | | " + " | ".join(f"**{fx(g[p])}**" for p in PRESETS
+                                                         + ["oracle"]) + " | | |")
+    return "\n".join(rows), g
+
+
+def gpu_block(res, gpu, scenes, args):
+    parts = [f"GPU configuration `{gpu}` (model/gpu/{gpu}.json), {args.res}, 1 spp; speed-up = "
+             "cycles with no predictor / cycles with the preset, each ray kind simulated alone "
+             "(an empty table at the start). Stall cycles: unit cycles in which a ray waited to "
+             "enter the RTL predictor and none was taken (its 64 ray ids are all in use)."]
+    means = {}
+    for kind in KINDS:
+        table, g = kind_table(res, gpu, scenes, kind)
+        means[kind] = g
+        parts.append(f"**{KIND_TITLES[kind]}**\n\n{table}")
+    ao = means["ao"]
+    line = ("AO as MICRO 2021, geometric-mean gain (speed-up - 1): "
+            + ", ".join(f"{p} {100 * (ao[p] - 1):+.1f}%" for p in PRESETS + ["oracle"])
+            + f"; MICRO 2021 published +{100 * MICRO21_AO_GAIN:.0f}% for its predictor on its "
+              "mobile configuration and scenes.")
+    parts.append(line)
+    return "\n\n".join(parts), means
+
+
+def disagree_block(res, scenes):
+    rows = ["| scene | cost model: cycles saved | simulated (mobile): cycles saved | "
+            "interior tests skipped, untimed | simulated | top-8-level node fetches that hit L1 | "
+            "deeper | L1 port wait per request | rays in flight | stall cycles |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for where, scene in scenes:
+        s = res.get(("mobile", where, scene.stem, "mixed", "rtl-default"))
+        p = res.get(("mobile", where, scene.stem, "mixed", "predict"))
+        if not s or not p:
+            continue
+        b = s["baseline"]
+        saved = 1 - s["cycles"] / s["baseline_cycles"]
+        reqs = b["l1_accesses"] or 1
+        rows.append(
+            f"| {label(where, scene)} | {pct(p['cost']['saved_cycle_fraction'])} | {pct(saved)} | "
+            f"{pct(p['skipped_interior_fraction'])} | "
+            f"{pct(s['predictor']['skipped_interior_fraction'])} | "
+            f"{pct(b['top_node_l1_hit_rate'])} | {pct(b['deep_node_l1_hit_rate'])} | "
+            f"{b['l1_port_wait_cycles'] / reqs:.0f} | {b['mean_in_flight']:.0f} | "
+            f"{pct(s['predictor']['stall_cycles'] / max(1, s['cycles'] * s['units']))} |")
+    return "\n".join(rows)
+
+
+def repack_block(res, gpus, scenes):
+    rows = ["| GPU | scene | preset | speed-up | with repacking | SIMD efficiency | "
+            "with repacking | repacked warps |",
+            "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |"]
+    for gpu in gpus:
+        for where, scene in scenes:
+            for preset in ("micro21", "rtl-default"):
+                r = res.get((gpu, where, scene.stem, "ao", preset))
+                if not r or "repacked" not in r:
+                    continue
+                rp = r["repacked"]
+                rows.append(f"| {gpu} | {label(where, scene)} | {preset} | {fx(r['speedup'])} | "
+                            f"{fx(rp['speedup'])} | {pct(r['simd_efficiency'])} | "
+                            f"{pct(rp['simd_efficiency'])} | {rp['repacked_warps']:,} |")
+    return "\n".join(rows)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"))
+    ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
+    ap.add_argument("--out", default=str(ROOT / "out" / "sim"))
+    ap.add_argument("--res", default="256x256")
+    ap.add_argument("--gpu", default="mobile,desktop")
+    ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--resume", action="store_true", help="keep the runs whose JSON exists")
+    ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
+                    help="the Markdown file whose sim-* blocks are rewritten ('' for none)")
+    args = ap.parse_args()
+    if not pathlib.Path(args.hrpp).exists():
+        raise SystemExit(f"sim_results: {args.hrpp} not found (make build)")
+    scenes = scenes_of(args.shared, args.scenes)
+    out = pathlib.Path(args.out)
+    tasks = tasks_for(args, scenes, out)
+    res, errors = {}, []
+    t0 = time.time()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        futs = [pool.submit(run, t, args.resume) for t in tasks]
+        for n, f in enumerate(as_completed(futs), 1):
+            key, data, secs, err = f.result()
+            if err:
+                errors.append(err)
+                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
+                continue
+            res[key] = data
+            sp = f"{data['speedup']:.3f}x" if "speedup" in data else ""
+            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
+                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
+    if errors:
+        for e in errors:
+            print(e, file=sys.stderr)
+        raise SystemExit(f"sim_results: {len(errors)} of {len(tasks)} runs failed; docs untouched")
+    gpus = args.gpu.split(",")
+    blocks, summary = {}, {"res": args.res, "gpus": gpus, "geomean": {}}
+    cmd = (f"make sim-results SIM_RES={args.res}" if args.gpu == "mobile,desktop"
+           else " ".join(sys.argv))
+    for gpu in gpus:
+        body, means = gpu_block(res, gpu, scenes, args)
+        summary["geomean"][gpu] = means
+        blocks[f"sim-{gpu}"] = f"Made by `{cmd}`.\n\n{body}"
+    if "mobile" in gpus:
+        blocks["sim-disagree"] = f"Made by `{cmd}`.\n\n{disagree_block(res, scenes)}"
+    blocks["sim-repack"] = f"Made by `{cmd}`.\n\n{repack_block(res, gpus, scenes)}"
+    summary["runs"] = {"/".join(k): v.get("speedup") for k, v in res.items()}
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    if args.doc:
+        update_blocks(args.doc, blocks)
+    for gpu in gpus:
+        print(f"{gpu}: AO (MICRO 2021) geometric-mean speed-up: "
+              + ", ".join(f"{p} {summary['geomean'][gpu]['ao'][p]:.3f}x"
+                          for p in PRESETS + ["oracle"]))
+
+
+if __name__ == "__main__":
+    main()
