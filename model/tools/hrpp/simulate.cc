@@ -61,9 +61,11 @@ struct SimulateSetup {
   PredictorConfig pcfg;
   std::string predictor_line;
   uint64_t table_bytes = 0;  // the preset's table, as the RTL stores it (unbounded: 0)
-  // --rtl: each unit's first mismatch ("unit U, cycle N: signal ..."), in the order they occurred.
+  // --rtl: each unit's first mismatch in each run ("RUN, unit U, cycle N: signal ..."), in the
+  // order they occurred; the run being simulated.
   std::shared_ptr<std::vector<std::string>> rtl_mismatches =
       std::make_shared<std::vector<std::string>>();
+  std::shared_ptr<std::string> rtl_run = std::make_shared<std::string>();
 };
 
 /// --gpu NAME (model/gpu/NAME.json) or a file.
@@ -246,9 +248,10 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
         return 2;
       }
       auto log = s->rtl_mismatches;
-      r.opt.port_model = [config, cc, log](uint32_t unit) {
-        return tb::make_rtl_port_model(config, cc, [log, unit](const std::string& d) {
-          log->push_back("unit " + std::to_string(unit) + ", " + d);
+      auto run = s->rtl_run;
+      r.opt.port_model = [config, cc, log, run](uint32_t unit) {
+        return tb::make_rtl_port_model(config, cc, [log, run, unit](const std::string& d) {
+          log->push_back(*run + ", unit " + std::to_string(unit) + ", " + d);
           std::fprintf(stderr, "hrpp simulate --rtl: MISMATCH in %s\n", log->back().c_str());
         });
       };
@@ -404,8 +407,8 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
   const sim::SimStats& p = st[s.main];
   if (a.rtl) {
     const uint64_t n = rtl_mismatch_count(s, st);
-    std::printf("  rtl: the Verilated RTL in each of the %u units, in lockstep with the cycle "
-                "model: %llu mismatching cycles%s%s\n",
+    std::printf("  rtl: the Verilated RTL in each of the %u units of every run of the preset, in "
+                "lockstep with the cycle model: %llu mismatching cycles%s%s\n",
                 g.units, (unsigned long long)n, s.rtl_mismatches->empty() ? "" : "; the first: ",
                 s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front().c_str());
   }
@@ -483,6 +486,7 @@ int cmd_simulate(const SimulateArgs& a) {
     for (RunSpec& r : s.runs) {
       auto last = std::chrono::steady_clock::now();
       sim::SimOptions o = r.opt;
+      *s.rtl_run = r.name + label;
       o.progress = [&](const sim::SimProgress& p) {
         const auto now = std::chrono::steady_clock::now();
         if (now - last < std::chrono::seconds(2)) return;
