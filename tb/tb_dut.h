@@ -7,6 +7,7 @@
 #include <verilated.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -68,6 +69,44 @@ DutOut read(const M* dut, uint32_t k, int node_bits) {
   return o;
 }
 
+// Compares every output of the cycle model (exp) and the DUT (act); payloads are compared while
+// their valid is set (a FIFO's head is undefined while it is empty). Returns a description of the
+// first difference, or "". tb_hrpp's lockstep run and hrpp simulate --rtl (rtl_port.cc) use it.
+inline std::string compare_outputs(const DutOut& exp, const DutOut& act, uint32_t k) {
+  char buf[256];
+  auto diff = [&](const char* sig, uint64_t e, uint64_t a, uint32_t id) {
+    std::snprintf(buf, sizeof buf, "signal %s: expected 0x%llx, actual 0x%llx (ray id %u)", sig,
+                  (unsigned long long)e, (unsigned long long)a, id);
+    return std::string(buf);
+  };
+  if (exp.ray_ready != act.ray_ready) return diff("ray_ready_o", exp.ray_ready, act.ray_ready, 0);
+  if (exp.pw_ready != act.pw_ready) return diff("pw_ready_o", exp.pw_ready, act.pw_ready, 0);
+  if (exp.outcome_ready != act.outcome_ready)
+    return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
+  if (exp.pred_valid != act.pred_valid)
+    return diff("pred_valid_o", exp.pred_valid, act.pred_valid, exp.pred_id);
+  if (exp.pred_valid) {
+    if (exp.pred_id != act.pred_id) return diff("pred_id_o", exp.pred_id, act.pred_id, exp.pred_id);
+    if (exp.pred_invalid != act.pred_invalid)
+      return diff("pred_invalid_o", exp.pred_invalid, act.pred_invalid, exp.pred_id);
+    if (exp.pred_count != act.pred_count)
+      return diff("pred_count_o", exp.pred_count, act.pred_count, exp.pred_id);
+    for (uint32_t i = 0; i < k; ++i)
+      if (exp.pred_nodes[i] != act.pred_nodes[i])
+        return diff(("pred_nodes_o[" + std::to_string(i) + "]").c_str(), exp.pred_nodes[i],
+                    act.pred_nodes[i], exp.pred_id);
+  }
+  if (exp.skip_valid != act.skip_valid)
+    return diff("skip_valid_o", exp.skip_valid, act.skip_valid, exp.skip_id);
+  if (exp.skip_valid) {
+    if (exp.skip_id != act.skip_id) return diff("skip_id_o", exp.skip_id, act.skip_id, exp.skip_id);
+    if (exp.skip_action != act.skip_action)
+      return diff("skip_action_o", uint64_t(exp.skip_action), uint64_t(act.skip_action),
+                  exp.skip_id);
+  }
+  return {};
+}
+
 // The start of every DUT run: the configuration inputs driven, two clock cycles with rst_ni low
 // (dump() after each evaluation, for a waveform), then the reset released at clock low.
 template <typename M, typename Dump>
@@ -93,7 +132,7 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "large") return f.template operator()<Vhrpp_large>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
-  throw std::invalid_argument("tb_hrpp has no Verilated model of configuration " + name);
+  throw std::invalid_argument("no Verilated model of RTL configuration " + name);
 }
 
 }  // namespace hrpp::tb

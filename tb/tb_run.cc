@@ -14,43 +14,6 @@
 namespace hrpp::tb {
 namespace {
 
-// Compares every output; payloads are compared while their valid is set (a FIFO's head is
-// undefined while it is empty). Returns a description of the first difference, or "".
-std::string compare(const DutOut& exp, const DutOut& act, uint32_t k) {
-  char buf[256];
-  auto diff = [&](const char* sig, uint64_t e, uint64_t a, uint32_t id) {
-    std::snprintf(buf, sizeof buf, "signal %s: expected 0x%llx, actual 0x%llx (ray id %u)", sig,
-                  (unsigned long long)e, (unsigned long long)a, id);
-    return std::string(buf);
-  };
-  if (exp.ray_ready != act.ray_ready) return diff("ray_ready_o", exp.ray_ready, act.ray_ready, 0);
-  if (exp.pw_ready != act.pw_ready) return diff("pw_ready_o", exp.pw_ready, act.pw_ready, 0);
-  if (exp.outcome_ready != act.outcome_ready)
-    return diff("outcome_ready_o", exp.outcome_ready, act.outcome_ready, 0);
-  if (exp.pred_valid != act.pred_valid)
-    return diff("pred_valid_o", exp.pred_valid, act.pred_valid, exp.pred_id);
-  if (exp.pred_valid) {
-    if (exp.pred_id != act.pred_id) return diff("pred_id_o", exp.pred_id, act.pred_id, exp.pred_id);
-    if (exp.pred_invalid != act.pred_invalid)
-      return diff("pred_invalid_o", exp.pred_invalid, act.pred_invalid, exp.pred_id);
-    if (exp.pred_count != act.pred_count)
-      return diff("pred_count_o", exp.pred_count, act.pred_count, exp.pred_id);
-    for (uint32_t i = 0; i < k; ++i)
-      if (exp.pred_nodes[i] != act.pred_nodes[i])
-        return diff(("pred_nodes_o[" + std::to_string(i) + "]").c_str(), exp.pred_nodes[i],
-                    act.pred_nodes[i], exp.pred_id);
-  }
-  if (exp.skip_valid != act.skip_valid)
-    return diff("skip_valid_o", exp.skip_valid, act.skip_valid, exp.skip_id);
-  if (exp.skip_valid) {
-    if (exp.skip_id != act.skip_id) return diff("skip_id_o", exp.skip_id, act.skip_id, exp.skip_id);
-    if (exp.skip_action != act.skip_action)
-      return diff("skip_action_o", uint64_t(exp.skip_action), uint64_t(act.skip_action),
-                  exp.skip_id);
-  }
-  return {};
-}
-
 constexpr uint64_t kMaxCyclesPerRay = 200;
 
 // A reset begins: the engine drops the rays in flight (it offers them again); counted in `run`.
@@ -159,7 +122,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     if (vcd) vcd->dump(time++);
     const DutOut act = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
     const DutOut exp = model.outputs();
-    const std::string d = compare(exp, act, cc.table.nodes_per_entry);
+    const std::string d = compare_outputs(exp, act, cc.table.nodes_per_entry);
     if (!d.empty()) {
       std::printf("MISMATCH at cycle %llu: %s\n", (unsigned long long)cycle, d.c_str());
       run.mismatches++;

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "common.h"
 #include "hrpp/hardware/rtl_config.h"
@@ -18,6 +20,9 @@
 #include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
+#ifdef HRPP_HAVE_RTL
+#include "rtl_port.h"  // tb/: the Verilated RTL (library hrpp_rtl)
+#endif
 
 namespace hrpp::cli {
 namespace {
@@ -56,6 +61,11 @@ struct SimulateSetup {
   PredictorConfig pcfg;
   std::string predictor_line;
   uint64_t table_bytes = 0;  // the preset's table, as the RTL stores it (unbounded: 0)
+  // --rtl: each unit's first mismatch in each run ("RUN, unit U, cycle N: signal ..."), in the
+  // order they occurred; the run being simulated.
+  std::shared_ptr<std::vector<std::string>> rtl_mismatches =
+      std::make_shared<std::vector<std::string>>();
+  std::shared_ptr<std::string> rtl_run = std::make_shared<std::string>();
 };
 
 /// The options that choose the hash and the table (an RTL configuration fixes them; go-up, mode
@@ -224,6 +234,36 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r.timing = "the RTL's cycle model at its ports (" + std::to_string(1 << cc.id_bits) +
                " ray ids, prediction " + std::to_string(rtl::kPredictionLatency) +
                " cycles, decision " + std::to_string(rtl::kDecisionLatency) + ")";
+    if (a.rtl) {
+#ifdef HRPP_HAVE_RTL
+      // The Verilated RTL of the configuration in every unit, in lockstep with the cycle model.
+      const std::string config = rc.name;
+      try {
+        tb::make_rtl_port_model(config, cc);  // a configuration without a Verilated model
+      } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "hrpp simulate: --rtl: %s\n", e.what());
+        return 2;
+      }
+      auto log = s->rtl_mismatches;
+      auto run = s->rtl_run;
+      r.opt.port_model = [config, cc, log, run](uint32_t unit) {
+        return tb::make_rtl_port_model(config, cc, [log, run, unit](const std::string& d) {
+          log->push_back(*run + ", unit " + std::to_string(unit) + ", " + d);
+          std::fprintf(stderr, "hrpp simulate --rtl: MISMATCH in %s\n", log->back().c_str());
+        });
+      };
+      r.timing = "the Verilated RTL (configuration " + config +
+                 ") at its ports, compared with its cycle model on every cycle (" +
+                 std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
+                 std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
+                 std::to_string(rtl::kDecisionLatency) + ")";
+#else
+      std::fprintf(stderr,
+                   "hrpp simulate: --rtl: this hrpp was built without the Verilated RTL "
+                   "(cmake -DHRPP_TB=OFF)\n");
+      return 2;
+#endif
+    }
   } else {
     if (a.rtl) {
       std::fprintf(stderr,
@@ -250,6 +290,16 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
 }
 
 double speedup(uint64_t base, uint64_t cycles) { return cycles ? double(base) / cycles : 0; }
+
+/// --rtl: the cycles in which the RTL's outputs differed from the cycle model's, over every run
+/// (the preset's, with repacking, each kind alone).
+uint64_t rtl_mismatch_count(const SimulateSetup& s, const std::vector<sim::SimStats>& st) {
+  uint64_t n = 0;
+  for (const sim::SimStats& x : st) n += x.predictor.mismatches;
+  for (const auto& v : s.per_kind)
+    for (const sim::SimStats& x : v) n += x.predictor.mismatches;
+  return n;
+}
 
 nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
                              const SimulateArgs& a) {
@@ -310,6 +360,10 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
   }
   j["preset"] = pr;
   j["rtl"] = a.rtl;
+  if (a.rtl) {
+    j["rtl_mismatches"] = rtl_mismatch_count(s, st);
+    j["rtl_first_mismatch"] = s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front();
+  }
   j["repack"] = a.repack;
   return j;
 }
@@ -348,6 +402,13 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
                 (unsigned long long)x.node_fetches, (unsigned long long)x.triangle_fetches);
   }
   const sim::SimStats& p = st[s.main];
+  if (a.rtl) {
+    const uint64_t n = rtl_mismatch_count(s, st);
+    std::printf("  rtl: the Verilated RTL in each of the %u units of every run of the preset, in "
+                "lockstep with the cycle model: %llu mismatching cycles%s%s\n",
+                g.units, (unsigned long long)n, s.rtl_mismatches->empty() ? "" : "; the first: ",
+                s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front().c_str());
+  }
   if (st.size() > 1 && s.preset != "oracle") {
     const PredictStats t = p.predict_total();
     std::printf(
@@ -416,11 +477,13 @@ int cmd_simulate(const SimulateArgs& a) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   // Every run on a set of rays, with a progress line every 2 s.
+  bool rtl_failed = false;
   auto run_all = [&](const std::vector<RayRecord>& rays, const std::string& label) {
     std::vector<sim::SimStats> out;
     for (RunSpec& r : s.runs) {
       auto last = std::chrono::steady_clock::now();
       sim::SimOptions o = r.opt;
+      *s.rtl_run = r.name + label;
       o.progress = [&](const sim::SimProgress& p) {
         const auto now = std::chrono::steady_clock::now();
         if (now - last < std::chrono::seconds(2)) return;
@@ -429,11 +492,21 @@ int cmd_simulate(const SimulateArgs& a) {
                      label.c_str(), 100.0 * p.finished / std::max<uint64_t>(1, p.rays),
                      (unsigned long long)p.rays, (unsigned long long)p.cycle);
       };
-      out.push_back(sim::simulate(s.bvh, rays, o));
+      try {
+        out.push_back(sim::simulate(s.bvh, rays, o));
+      } catch (const std::exception& e) {
+        if (!o.port_model) throw;
+        // --rtl: an error of the RTL (or of the run it drives) fails the run.
+        std::fprintf(stderr, "hrpp simulate --rtl: FAIL: %s%s: %s\n", r.name.c_str(),
+                     label.c_str(), e.what());
+        rtl_failed = true;
+        break;
+      }
     }
     return out;
   };
   const std::vector<sim::SimStats> st = run_all(s.rays, "");
+  if (rtl_failed) return 1;
   // Each ray kind alone (its own rays, an empty table), when the rays have several kinds.
   std::vector<std::vector<sim::SimStats>>& per_kind = s.per_kind;
   per_kind.assign(kNumRayKinds, {});
@@ -446,10 +519,27 @@ int cmd_simulate(const SimulateArgs& a) {
       for (const RayRecord& r : s.rays)
         if (int(r.kind) == k) rays.push_back(r);
       per_kind[k] = run_all(rays, " (" + std::string(ray_kind_name(RayKind(k))) + " alone)");
+      if (rtl_failed) return 1;
     }
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   print_simulate(s, st, a, secs);
+  auto write_json = [&] {
+    if (a.json_path.empty()) return true;
+    nlohmann::json j = simulate_json(s, st, a);
+    j["seconds"] = secs;
+    return write_json_file(a.json_path, j);
+  };
+  // --rtl: a mismatch comes first (it explains any wrong answer after it); the report is written.
+  if (a.rtl && rtl_mismatch_count(s, st)) {
+    std::fprintf(stderr,
+                 "hrpp simulate --rtl: FAIL: the RTL's outputs differed from the cycle model's in "
+                 "%llu cycles; the first: %s\n",
+                 (unsigned long long)rtl_mismatch_count(s, st),
+                 s.rtl_mismatches->front().c_str());
+    write_json();
+    return 1;
+  }
   for (size_t i = 0; i < st.size(); ++i)
     if (st[i].predict_total().exact_mismatches) {
       std::fprintf(stderr, "hrpp simulate: BUG: %s answered %llu rays differently from the "
@@ -457,11 +547,7 @@ int cmd_simulate(const SimulateArgs& a) {
                    (unsigned long long)st[i].predict_total().exact_mismatches);
       return 1;
     }
-  if (!a.json_path.empty()) {
-    nlohmann::json j = simulate_json(s, st, a);
-    j["seconds"] = secs;
-    if (!write_json_file(a.json_path, j)) return 2;
-  }
+  if (!write_json()) return 2;
   return 0;
 }
 
