@@ -116,8 +116,8 @@ TEST(Sim, IdealMemoryGivesTheComputeBoundFigure) {
   o.gpu.triangle = {.latency = 5, .per_cycle = 1};
   const SimStats s = run(w, o);
   const Golden g = golden(w, o.pred.mode);
-  const uint64_t expect = g.work.interior_tests * 3 + g.work.tri_tests +
-                          g.work.leaf_visits * (5 - 1) + g.rays;
+  const uint64_t expect =
+      g.work.interior_tests * 3 + g.work.tri_tests + g.work.leaf_visits * (5 - 1) + g.rays;
   EXPECT_EQ(s.cycles, expect);
   EXPECT_DOUBLE_EQ(s.simd_efficiency(), 1.0);
   // Many rays at once: the box pipeline's issue rate bounds the cycles from below.

@@ -14,7 +14,9 @@ class Reader {
   Reader(const nlohmann::json& j, std::string where) : j_(j), where_(std::move(where)) {
     if (!j.is_object()) fail("is not a JSON object");
   }
-  [[noreturn]] void fail(const std::string& what) const { throw GpuConfigError(where_ + " " + what); }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw GpuConfigError(where_ + " " + what);
+  }
   const nlohmann::json& at(const char* key) {
     seen_.insert(key);
     if (!j_.contains(key)) fail("has no \"" + std::string(key) + "\"");

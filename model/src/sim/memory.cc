@@ -109,8 +109,8 @@ uint64_t MemorySystem::l2_line(uint64_t line, uint64_t t) {
   const uint64_t start = c.mshr_free_at(t);
   // The miss reaches DRAM after the L2's tag check; DRAM answers after its latency, then the
   // line crosses the DRAM link.
-  const uint64_t arrive = dram_link_.transfer(start + c.config().hit_latency + g_.dram.latency,
-                                              c.config().line_bytes);
+  const uint64_t arrive =
+      dram_link_.transfer(start + c.config().hit_latency + g_.dram.latency, c.config().line_bytes);
   dram_bytes_ += c.config().line_bytes;
   c.hold_mshr(arrive);
   c.insert(line, arrive);
@@ -130,7 +130,8 @@ uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now, bool*
   c.stats.misses++;
   const uint64_t start = c.mshr_free_at(now);
   // The L1's tag check, then the L2 (its line holds this one), then the L2-to-L1 link.
-  const uint64_t l2_ready = l2_line((line << l1_shift_) >> l2_shift_, start + c.config().hit_latency);
+  const uint64_t l2_ready =
+      l2_line((line << l1_shift_) >> l2_shift_, start + c.config().hit_latency);
   const uint64_t arrive = l2_link_.transfer(l2_ready, g_.l1.line_bytes);
   c.hold_mshr(arrive);
   c.insert(line, arrive);

@@ -43,8 +43,8 @@ struct Slot {
 
 struct Warp {
   uint64_t admit = 0;  // entered its unit (repacked: formed)
-  uint32_t left = 0;  // rays not yet answered
-  uint64_t last = 0;  // the latest answer
+  uint32_t left = 0;   // rays not yet answered
+  uint64_t last = 0;   // the latest answer
 };
 
 constexpr uint64_t kMaxIdle = 50'000'000;  // cycles without an answer
@@ -58,10 +58,16 @@ struct Event {
 class Simulator {
  public:
   Simulator(const Bvh& bvh, const std::vector<RayRecord>& rays, const SimOptions& opt)
-      : bvh_(bvh), rays_(rays), opt_(opt), g_(opt.gpu), mem_(opt.gpu), tri_base_(triangle_base(bvh)) {
+      : bvh_(bvh),
+        rays_(rays),
+        opt_(opt),
+        g_(opt.gpu),
+        mem_(opt.gpu),
+        tri_base_(triangle_base(bvh)) {
     if (bvh.pairs.empty() && !bvh.nodes.empty() && !bvh.nodes[0].is_leaf())
-      throw std::runtime_error("the simulator needs the BVH's pair layout (a leaf holds more "
-                               "than 65535 triangles)");
+      throw std::runtime_error(
+          "the simulator needs the BVH's pair layout (a leaf holds more "
+          "than 65535 triangles)");
     for (uint32_t u = 0; u < g_.units; ++u) {
       box_.emplace_back(g_.box);
       tri_.emplace_back(g_.triangle);
@@ -72,8 +78,8 @@ class Simulator {
     buffered_.assign(g_.units, 0);
     if (opt.kind == PredictorKind::kPort) {
       for (uint32_t u = 0; u < g_.units; ++u) {
-        std::unique_ptr<PortModel> m = opt.port_model ? opt.port_model(u)
-                                                      : std::make_unique<CyclePortModel>(opt.cycle);
+        std::unique_ptr<PortModel> m =
+            opt.port_model ? opt.port_model(u) : std::make_unique<CyclePortModel>(opt.cycle);
         pred_.push_back(std::make_unique<PortPredictor>(rays, std::move(m), opt.cycle.id_bits));
       }
     } else if (opt.kind == PredictorKind::kTimed) {
@@ -81,7 +87,8 @@ class Simulator {
         pred_.push_back(std::make_unique<TimedPredictor>(bvh, rays, opt.pred, opt.timed));
     }
     slots_.resize(size_t(g_.units) * g_.warps_per_unit * g_.warp_size);
-    for (uint32_t i = 0; i < slots_.size(); ++i) free_slots_.push_back(uint32_t(slots_.size()) - 1 - i);
+    for (uint32_t i = 0; i < slots_.size(); ++i)
+      free_slots_.push_back(uint32_t(slots_.size()) - 1 - i);
   }
 
   SimStats run();
@@ -234,8 +241,7 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
   s.er.predicted = p.count > 0;
   for (uint32_t i = 0; i < p.count; ++i) {
     if (p.nodes[i] >= bvh_.nodes.size())
-      throw std::runtime_error("predicted node " + std::to_string(p.nodes[i]) +
-                               " outside the BVH");
+      throw std::runtime_error("predicted node " + std::to_string(p.nodes[i]) + " outside the BVH");
     path_.clear();
     const bool more = walk_predicted_node(bvh_, r, p.nodes[i], &s.er, &path_);
     // The walk's own hit: the ray's best when this walk found a nearer one.
@@ -245,7 +251,9 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
   }
   if (opt_.repack == SimOptions::Repack::kNone) return schedule(si, now + 1);
   // The ray leaves its warp for its category's buffer.
-  const uint64_t key = p.count == 0 ? 0 : opt_.repack == SimOptions::Repack::kPredicted ? 1 : uint64_t(p.nodes[0]) + 1;
+  const uint64_t key = p.count == 0                                    ? 0
+                       : opt_.repack == SimOptions::Repack::kPredicted ? 1
+                                                                       : uint64_t(p.nodes[0]) + 1;
   leave_warp(s, now);
   repack_[s.unit][key].emplace_back(si, now);
   buffered_[s.unit]++;
@@ -254,7 +262,8 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
 void Simulator::form_warps(uint32_t unit, uint64_t now) {
   for (auto it = repack_[unit].begin(); it != repack_[unit].end();) {
     auto& q = it->second;
-    while (!q.empty() && (q.size() >= g_.warp_size || now - q.front().second >= opt_.repack_timer)) {
+    while (!q.empty() &&
+           (q.size() >= g_.warp_size || now - q.front().second >= opt_.repack_timer)) {
       const uint32_t n = uint32_t(std::min<size_t>(q.size(), g_.warp_size));
       const uint32_t w = uint32_t(warps_.size());
       warps_.push_back({now, n, now});
@@ -373,8 +382,7 @@ SimStats Simulator::run() {
   while (finished_ < valid_.size()) {
     // 1. Warps enter units with a free slot, in issue order, units in order.
     for (uint32_t u = 0; u < g_.units; ++u)
-      while (warps_held(u) < g_.warps_per_unit && next_warp < num_warps)
-        admit(next_warp++, u, now);
+      while (warps_held(u) < g_.warps_per_unit && next_warp < num_warps) admit(next_warp++, u, now);
     const uint64_t finished_before = finished_;
     // 2. The steps due now.
     while (!events_.empty() && events_.top().time <= now) {
@@ -404,8 +412,8 @@ SimStats Simulator::run() {
     st_.in_flight_area += in_flight_ * (next - now);
     // No answer for kMaxIdle cycles, or nothing left that could make progress: a deadlock.
     idle = finished_ != finished_before ? 0 : idle + (next - now);
-    if (idle > kMaxIdle || (!clocked && events_.empty() && next_warp == num_warps &&
-                            finished_ < valid_.size()))
+    if (idle > kMaxIdle ||
+        (!clocked && events_.empty() && next_warp == num_warps && finished_ < valid_.size()))
       throw std::runtime_error("the simulation stopped making progress at cycle " +
                                std::to_string(now) + " with " +
                                std::to_string(valid_.size() - finished_) + " rays left");
@@ -452,51 +460,50 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
       v["mean_latency"] = rate(by_kind[k].latency, by_kind[k].rays);
       kinds[std::string(ray_kind_name(RayKind(k)))] = v;
     }
-  return {
-      {"rays", rays},
-      {"invalid_rays", invalid_rays},
-      {"cycles", cycles},
-      {"rays_per_cycle", rate(rays, cycles)},
-      {"mean_latency", mean_latency()},
-      {"mean_in_flight", mean_in_flight()},
-      {"node_fetches", node_fetches},
-      {"start_fetches", start_fetches},
-      {"triangle_fetches", triangle_fetches},
-      {"l1_accesses", memory.l1.accesses},
-      {"l1_hit_rate", memory.l1.hit_rate()},
-      {"l1_merged", memory.l1.merged},
-      {"l1_mshr_wait_cycles", memory.l1.mshr_cycles},
-      {"top_levels", kTopLevels},
-      {"top_node_fetches", top_fetches},
-      {"top_node_l1_hit_rate", rate(top_hits, top_fetches)},
-      {"deep_node_fetches", deep_fetches},
-      {"deep_node_l1_hit_rate", rate(deep_hits, deep_fetches)},
-      {"l1_port_wait_cycles", memory.port_wait_cycles},
-      {"l2_accesses", memory.l2.accesses},
-      {"l2_hit_rate", memory.l2.hit_rate()},
-      {"l2_merged", memory.l2.merged},
-      {"dram_bytes", memory.dram_bytes},
-      {"warps", warps},
-      {"simd_efficiency", simd_efficiency()},
-      {"repacked_warps", repacked_warps},
-      {"interior_tests", p.hrpp.interior_tests},
-      {"tri_tests", p.hrpp.tri_tests},
-      {"predictor",
-       {{"precision", p.precision()},
-        {"recall", p.recall()},
-        {"skipped_interior_fraction", p.skipped_interior_fraction()},
-        {"lookups", predictor.lookups},
-        {"updates", predictor.updates},
-        {"stall_cycles", predictor.stall_cycles},
-        {"entry_wait_cycles", entry_wait},
-        {"true_positive", p.true_positive},
-        {"false_positive", p.false_positive},
-        {"false_negative", p.false_negative},
-        {"true_negative", p.true_negative}}},
-      {"wrong_results", p.wrong_results},
-      {"exact_mismatches", p.exact_mismatches},
-      {"by_kind", kinds},
-      {"units", g.units}};
+  return {{"rays", rays},
+          {"invalid_rays", invalid_rays},
+          {"cycles", cycles},
+          {"rays_per_cycle", rate(rays, cycles)},
+          {"mean_latency", mean_latency()},
+          {"mean_in_flight", mean_in_flight()},
+          {"node_fetches", node_fetches},
+          {"start_fetches", start_fetches},
+          {"triangle_fetches", triangle_fetches},
+          {"l1_accesses", memory.l1.accesses},
+          {"l1_hit_rate", memory.l1.hit_rate()},
+          {"l1_merged", memory.l1.merged},
+          {"l1_mshr_wait_cycles", memory.l1.mshr_cycles},
+          {"top_levels", kTopLevels},
+          {"top_node_fetches", top_fetches},
+          {"top_node_l1_hit_rate", rate(top_hits, top_fetches)},
+          {"deep_node_fetches", deep_fetches},
+          {"deep_node_l1_hit_rate", rate(deep_hits, deep_fetches)},
+          {"l1_port_wait_cycles", memory.port_wait_cycles},
+          {"l2_accesses", memory.l2.accesses},
+          {"l2_hit_rate", memory.l2.hit_rate()},
+          {"l2_merged", memory.l2.merged},
+          {"dram_bytes", memory.dram_bytes},
+          {"warps", warps},
+          {"simd_efficiency", simd_efficiency()},
+          {"repacked_warps", repacked_warps},
+          {"interior_tests", p.hrpp.interior_tests},
+          {"tri_tests", p.hrpp.tri_tests},
+          {"predictor",
+           {{"precision", p.precision()},
+            {"recall", p.recall()},
+            {"skipped_interior_fraction", p.skipped_interior_fraction()},
+            {"lookups", predictor.lookups},
+            {"updates", predictor.updates},
+            {"stall_cycles", predictor.stall_cycles},
+            {"entry_wait_cycles", entry_wait},
+            {"true_positive", p.true_positive},
+            {"false_positive", p.false_positive},
+            {"false_negative", p.false_negative},
+            {"true_negative", p.true_negative}}},
+          {"wrong_results", p.wrong_results},
+          {"exact_mismatches", p.exact_mismatches},
+          {"by_kind", kinds},
+          {"units", g.units}};
 }
 
 }  // namespace hrpp::sim

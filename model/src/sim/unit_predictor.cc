@@ -122,9 +122,12 @@ void PortPredictor::cycle(uint64_t now, UnitIo* io) {
 // ---- TimedPredictor --------------------------------------------------------------------------
 
 nlohmann::json TimedConfig::to_json() const {
-  return {{"lookup_latency", lookup_latency},     {"decision_latency", decision_latency},
-          {"update_latency", update_latency},     {"lookups_per_cycle", lookups_per_cycle},
-          {"updates_per_cycle", updates_per_cycle}, {"credits", credits},
+  return {{"lookup_latency", lookup_latency},
+          {"decision_latency", decision_latency},
+          {"update_latency", update_latency},
+          {"lookups_per_cycle", lookups_per_cycle},
+          {"updates_per_cycle", updates_per_cycle},
+          {"credits", credits},
           {"oracle", oracle}};
 }
 

@@ -269,13 +269,13 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
            std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " +
            a.combine;
   // kUnknownEntries: the table's size only (e.g. one table per simulated unit).
-  const std::string used =
-      table_entries == kUnknownEntries
-          ? (t.unbounded ? "" : ", " + std::to_string(table_bytes) + " bytes")
-          : ", " + std::to_string(table_bytes) + " bytes, " + std::to_string(table_entries) +
-                " entries used";
+  const std::string used = table_entries == kUnknownEntries
+                               ? (t.unbounded ? "" : ", " + std::to_string(table_bytes) + " bytes")
+                               : ", " + std::to_string(table_bytes) + " bytes, " +
+                                     std::to_string(table_entries) + " entries used";
   std::snprintf(
-      b, sizeof b, "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids%s), go-up %u, mode %s",
+      b, sizeof b,
+      "hash %s (%s), key %d bits, table %s (K=%u, %u-bit node ids%s), go-up %u, mode %s",
       a.hash.c_str(), hash.c_str(), h.key_bits(),
       t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
       t.nodes_per_entry, t.node_bits, used.c_str(), cfg.go_up, a.mode.c_str());

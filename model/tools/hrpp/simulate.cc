@@ -317,8 +317,7 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
     RayKind k;
     parse_ray_kind(kind, &k);
     // The kind alone: its own runs' cycles (the mixed run's, when it is the only kind).
-    const std::vector<sim::SimStats>& alone =
-        s.per_kind[int(k)].empty() ? st : s.per_kind[int(k)];
+    const std::vector<sim::SimStats>& alone = s.per_kind[int(k)].empty() ? st : s.per_kind[int(k)];
     const uint64_t base = alone.front().cycles;
     v["baseline_cycles"] = base;
     v["cycles"] = alone[s.main].cycles;
@@ -394,20 +393,22 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
   const uint64_t base = st.front().cycles;
   for (size_t i = 0; i < st.size(); ++i) {
     const sim::SimStats& x = st[i];
-    std::printf("  %-20s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
-                s.runs[i].name.c_str(), (unsigned long long)x.cycles, speedup(base, x.cycles),
-                1000.0 * x.rays / std::max<uint64_t>(1, x.cycles), x.mean_latency(),
-                x.mean_in_flight(), 100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(),
-                x.memory.dram_bytes / 1e6, 100 * x.simd_efficiency(),
-                (unsigned long long)x.node_fetches, (unsigned long long)x.triangle_fetches);
+    std::printf(
+        "  %-20s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
+        s.runs[i].name.c_str(), (unsigned long long)x.cycles, speedup(base, x.cycles),
+        1000.0 * x.rays / std::max<uint64_t>(1, x.cycles), x.mean_latency(), x.mean_in_flight(),
+        100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(), x.memory.dram_bytes / 1e6,
+        100 * x.simd_efficiency(), (unsigned long long)x.node_fetches,
+        (unsigned long long)x.triangle_fetches);
   }
   const sim::SimStats& p = st[s.main];
   if (a.rtl) {
     const uint64_t n = rtl_mismatch_count(s, st);
-    std::printf("  rtl: the Verilated RTL in each of the %u units of every run of the preset, in "
-                "lockstep with the cycle model: %llu mismatching cycles%s%s\n",
-                g.units, (unsigned long long)n, s.rtl_mismatches->empty() ? "" : "; the first: ",
-                s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front().c_str());
+    std::printf(
+        "  rtl: the Verilated RTL in each of the %u units of every run of the preset, in "
+        "lockstep with the cycle model: %llu mismatching cycles%s%s\n",
+        g.units, (unsigned long long)n, s.rtl_mismatches->empty() ? "" : "; the first: ",
+        s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front().c_str());
   }
   if (st.size() > 1 && s.preset != "oracle") {
     const PredictStats t = p.predict_total();
@@ -439,7 +440,8 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     std::printf("  %-10s %9llu %12.1f", std::string(ray_kind_name(RayKind(k))).c_str(),
                 (unsigned long long)kb.rays, double(kb.latency) / kb.rays);
     for (size_t i = 1; i < st.size(); ++i)
-      std::printf(" %12.1f", double(st[i].by_kind[k].latency) / std::max<uint64_t>(1, st[i].by_kind[k].rays));
+      std::printf(" %12.1f",
+                  double(st[i].by_kind[k].latency) / std::max<uint64_t>(1, st[i].by_kind[k].rays));
     std::printf("\n");
   }
   std::printf("  (latency: mean cycles from a ray's warp entering a unit to its answer)\n");
@@ -452,7 +454,8 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     for (int k = 0; k < kNumRayKinds; ++k) {
       const std::vector<sim::SimStats>& v = s.per_kind[k];
       if (v.empty()) continue;
-      std::printf("                   %-10s %9llu %12llu", std::string(ray_kind_name(RayKind(k))).c_str(),
+      std::printf("                   %-10s %9llu %12llu",
+                  std::string(ray_kind_name(RayKind(k))).c_str(),
                   (unsigned long long)v.front().rays, (unsigned long long)v.front().cycles);
       for (size_t i = 1; i < v.size(); ++i)
         std::printf(" %19.3fx", speedup(v.front().cycles, v[i].cycles));
@@ -497,8 +500,8 @@ int cmd_simulate(const SimulateArgs& a) {
       } catch (const std::exception& e) {
         if (!o.port_model) throw;
         // --rtl: an error of the RTL (or of the run it drives) fails the run.
-        std::fprintf(stderr, "hrpp simulate --rtl: FAIL: %s%s: %s\n", r.name.c_str(),
-                     label.c_str(), e.what());
+        std::fprintf(stderr, "hrpp simulate --rtl: FAIL: %s%s: %s\n", r.name.c_str(), label.c_str(),
+                     e.what());
         rtl_failed = true;
         break;
       }
@@ -521,8 +524,7 @@ int cmd_simulate(const SimulateArgs& a) {
       per_kind[k] = run_all(rays, " (" + std::string(ray_kind_name(RayKind(k))) + " alone)");
       if (rtl_failed) return 1;
     }
-  const double secs =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   print_simulate(s, st, a, secs);
   auto write_json = [&] {
     if (a.json_path.empty()) return true;
@@ -535,15 +537,16 @@ int cmd_simulate(const SimulateArgs& a) {
     std::fprintf(stderr,
                  "hrpp simulate --rtl: FAIL: the RTL's outputs differed from the cycle model's in "
                  "%llu cycles; the first: %s\n",
-                 (unsigned long long)rtl_mismatch_count(s, st),
-                 s.rtl_mismatches->front().c_str());
+                 (unsigned long long)rtl_mismatch_count(s, st), s.rtl_mismatches->front().c_str());
     write_json();
     return 1;
   }
   for (size_t i = 0; i < st.size(); ++i)
     if (st[i].predict_total().exact_mismatches) {
-      std::fprintf(stderr, "hrpp simulate: BUG: %s answered %llu rays differently from the "
-                   "baseline in an exact mode\n", s.runs[i].name.c_str(),
+      std::fprintf(stderr,
+                   "hrpp simulate: BUG: %s answered %llu rays differently from the "
+                   "baseline in an exact mode\n",
+                   s.runs[i].name.c_str(),
                    (unsigned long long)st[i].predict_total().exact_mismatches);
       return 1;
     }

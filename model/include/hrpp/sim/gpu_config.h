@@ -18,9 +18,9 @@ struct PipeConfig {
 struct CacheConfig {
   uint64_t bytes = 0;
   uint32_t ways = 0, line_bytes = 0;
-  uint32_t hit_latency = 0;    // cycles from the request to the data (L2: after the L1's miss)
-  uint32_t mshrs = 0;          // misses outstanding at once (requests to a missing line merge)
-  double bytes_per_cycle = 0;  // L2 only: bandwidth to the L1s (0: unbounded)
+  uint32_t hit_latency = 0;         // cycles from the request to the data (L2: after the L1's miss)
+  uint32_t mshrs = 0;               // misses outstanding at once (requests to a missing line merge)
+  double bytes_per_cycle = 0;       // L2 only: bandwidth to the L1s (0: unbounded)
   uint32_t requests_per_cycle = 0;  // L1 only: line requests a unit sends per cycle (0: unbounded)
   uint32_t sets() const { return uint32_t(bytes / line_bytes / ways); }
 };

@@ -99,8 +99,7 @@ class MemorySystem {
   explicit MemorySystem(const GpuConfig& g);
   /// Unit `unit` reads [addr, addr + bytes) at cycle `now`: the cycle every line of it is there.
   /// *l1_hit (if set): every line was an L1 hit.
-  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now,
-                bool* l1_hit = nullptr);
+  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now, bool* l1_hit = nullptr);
   MemoryStats stats() const;
 
  private:

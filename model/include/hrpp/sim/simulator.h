@@ -45,9 +45,9 @@ struct SimProgress {
 struct SimOptions {
   GpuConfig gpu;
   PredictorKind kind = PredictorKind::kNone;
-  PredictorConfig pred;  // mode and go_up for every kind; hash and table for kTimed
-  CycleConfig cycle;     // kPort
-  TimedConfig timed;     // kTimed
+  PredictorConfig pred;       // mode and go_up for every kind; hash and table for kTimed
+  CycleConfig cycle;          // kPort
+  TimedConfig timed;          // kTimed
   bool any_hit_only = false;  // only rays answered as any-hit queries use the predictor
   /// Warp repacking (docs/timing_model.md, "Repacking"): after its prediction a ray waits in its
   /// unit's buffer of its category until warp_size rays of that category are there or the oldest
@@ -72,9 +72,9 @@ struct KindTime {
 };
 
 struct SimStats {
-  uint64_t rays = 0;          // simulated (valid) rays
-  uint64_t invalid_rays = 0;  // never traced (validate_ray), as in hrpp predict
-  uint64_t cycles = 0;        // from the first admission to the last answer
+  uint64_t rays = 0;              // simulated (valid) rays
+  uint64_t invalid_rays = 0;      // never traced (validate_ray), as in hrpp predict
+  uint64_t cycles = 0;            // from the first admission to the last answer
   uint64_t node_fetches = 0;      // node pairs fetched (start-box fetches included)
   uint64_t start_fetches = 0;     // of which: a predicted node's own box (its parent's pair)
   uint64_t triangle_fetches = 0;  // triangles fetched (= triangle tests)
@@ -83,10 +83,10 @@ struct SimStats {
   static constexpr uint32_t kTopLevels = 8;
   uint64_t top_fetches = 0, top_hits = 0, deep_fetches = 0, deep_hits = 0;
   uint64_t warps = 0;
-  uint64_t latency = 0;      // sum over rays of their latencies (admission to answer)
-  uint64_t lane_cycles = 0;  // sum over rays and the warps they were in of their cycles there
+  uint64_t latency = 0;         // sum over rays of their latencies (admission to answer)
+  uint64_t lane_cycles = 0;     // sum over rays and the warps they were in of their cycles there
   uint64_t repacked_warps = 0;  // warps formed by repacking (counted in `warps` too)
-  uint64_t warp_cycles = 0;  // sum over warps of warp_size x cycles in a unit
+  uint64_t warp_cycles = 0;     // sum over warps of warp_size x cycles in a unit
   uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
   std::array<KindTime, kNumRayKinds> by_kind{};
   UnitPredictorStats predictor;  // summed over the units

@@ -36,8 +36,8 @@ struct EngineMsg {
 /// (messages in the order they became ready); the predictor removes what it takes this cycle and
 /// appends what it delivers.
 struct UnitIo {
-  std::deque<uint32_t> entering;  // rays waiting to enter the predictor, in issue order
-  std::deque<EngineMsg> pw;       // predicted-walk results
+  std::deque<uint32_t> entering;   // rays waiting to enter the predictor, in issue order
+  std::deque<EngineMsg> pw;        // predicted-walk results
   std::deque<EngineMsg> outcomes;  // final outcomes
   std::vector<std::pair<uint32_t, Prediction>> predictions;  // delivered this cycle
   std::vector<std::pair<uint32_t, Action>> decisions;        // delivered this cycle
@@ -101,8 +101,8 @@ class PortPredictor : public UnitPredictor {
   const std::vector<RayRecord>& rays_;
   std::unique_ptr<PortModel> model_;
   std::deque<uint32_t> free_ids_;
-  std::vector<uint32_t> ray_of_;  // by id
-  std::vector<uint8_t> in_use_;   // by id
+  std::vector<uint32_t> ray_of_;                          // by id
+  std::vector<uint8_t> in_use_;                           // by id
   std::optional<std::pair<uint32_t, uint32_t>> offered_;  // id, ray
   std::unordered_map<uint32_t, uint32_t> id_of_;          // ray (stream index) -> id
   UnitPredictorStats stats_;
@@ -161,7 +161,7 @@ class TimedPredictor : public UnitPredictor {
   std::deque<Decision> decisions_;
   std::deque<Write> writes_;
   std::unordered_map<uint32_t, HashKey> key_of_;  // rays held: their keys, for the table write
-  uint64_t held_ = 0;            // rays taken, not yet finished (credits)
+  uint64_t held_ = 0;                             // rays taken, not yet finished (credits)
   UnitPredictorStats stats_;
 };
 
