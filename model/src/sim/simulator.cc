@@ -1,6 +1,7 @@
 #include "hrpp/sim/simulator.h"
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <queue>
 #include <stdexcept>
@@ -438,8 +439,11 @@ SimStats Simulator::run() {
 SimStats simulate(const Bvh& bvh, const std::vector<RayRecord>& rays, const SimOptions& opt) {
   if (const std::string e = opt.gpu.validate(); !e.empty())
     throw std::runtime_error("GPU configuration: " + e);
+  const auto t0 = std::chrono::steady_clock::now();
   Simulator s(bvh, rays, opt);
-  return s.run();
+  SimStats st = s.run();
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return st;
 }
 
 }  // namespace hrpp::sim
@@ -462,6 +466,8 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
     }
   return {{"rays", rays},
           {"invalid_rays", invalid_rays},
+          {"run_seconds", seconds},
+          {"rays_per_second", seconds > 0 ? rays / seconds : 0.0},
           {"cycles", cycles},
           {"rays_per_cycle", rate(rays, cycles)},
           {"mean_latency", mean_latency()},

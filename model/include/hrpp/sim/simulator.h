@@ -72,6 +72,7 @@ struct KindTime {
 };
 
 struct SimStats {
+  double seconds = 0;             // wall-clock time of the simulation (simulate())
   uint64_t rays = 0;              // simulated (valid) rays
   uint64_t invalid_rays = 0;      // never traced (validate_ray), as in hrpp predict
   uint64_t cycles = 0;            // from the first admission to the last answer
