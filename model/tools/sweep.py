@@ -227,7 +227,8 @@ def simulated_rows_of(scene, cfg, res, data):
         r.update(cfg)
         r.update({
             "rays": rays,
-            "table_bytes": data["preset"]["table_bytes"],
+            # An unbounded table has no size here (one table per unit, no count of entries used).
+            "table_bytes": data["preset"]["table_bytes"] if cfg["table"] != "unbounded" else "",
             "table_entries": "",  # one table per RT unit: no single count of entries used
             "update_delay_rays": "",  # follows from the simulated occupancy
             "pred_precision": k["precision"], "pred_recall": k["recall"],
@@ -559,7 +560,7 @@ def plot_all(rows, outdir):
         ax = axes[0][i]
         pts = [r for r in allrows if r["scene"] == s]
         fin = [p for p in pts if p["table"] != "unbounded"]
-        unb = [p for p in pts if p["table"] == "unbounded"]
+        unb = [p for p in pts if p["table"] == "unbounded" and p["table_bytes"] != ""]
         if fin:
             ax.scatter([p["table_bytes"] for p in fin], [100 * p["skipped_interior"] for p in fin],
                        s=12, label="finite")
@@ -633,6 +634,11 @@ def pct(x):
     return f"{100 * x:.2f}%"
 
 
+def table_bytes(r):
+    """A row's table bytes for a table cell ('-' when unknown: an unbounded simulated table)."""
+    return "-" if r["table_bytes"] == "" else f"{int(r['table_bytes']):,}"
+
+
 def report(rows, plots, path, command):
     varied = varied_params(rows)
     gpu = simulated_on(rows)
@@ -679,7 +685,7 @@ def report(rows, plots, path, command):
                 f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
                 f"({p['baseline_cycles_per_ray']:.1f}) | {pct(p['saved_cycles'])} | "
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
-                f"{pct(p['skipped_interior'])} | {int(p['table_bytes']):,} | {cpu} |")
+                f"{pct(p['skipped_interior'])} | {table_bytes(p)} | {cpu} |")
         lines.append("")
     lines += latency_section(rows, varied)
     lines += spec_section(rows, varied, path)
@@ -1079,7 +1085,7 @@ def main():
                                   "desktop or a JSON file")
     ap.add_argument("--oracle", action="store_true",
                     help="--timing simulate: also simulate the oracle (columns oracle_speedup, "
-                         "fraction_of_oracle; about a third more time)")
+                         "fraction_of_oracle; a third simulation of every configuration)")
     ap.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://HOST:PORT)")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                     help="local Dask cluster: worker processes (default: all cores)")
