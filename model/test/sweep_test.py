@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Tests of model/tools/sweep.py (ctest: sweep.pareto, sweep.tiny, sweep.errors, sweep.dask).
+"""Tests of model/tools/sweep.py (ctest: sweep.pareto, sweep.tiny, sweep.errors, sweep.dask,
+sweep.simulate).
 
 Run one class:  .venv/bin/python model/test/sweep_test.py Pareto
 The tool is $HRPP_TOOL (default build/hrpp); scenes are the project's own (scenes/).
 """
 import csv
+import json
 import os
 import pathlib
 import subprocess
@@ -216,6 +218,143 @@ class Errors(unittest.TestCase):
             self.assertEqual(p.returncode, 2)
             self.assertIn("not both", p.stderr)
             self.assertFalse(os.path.exists(out))
+
+
+class Simulate(unittest.TestCase):
+    """--timing simulate: rows carry `hrpp simulate`'s cycles; sweeping the update delay is an
+    error; the default (cost-model) CSV keeps its columns and bytes; timings are never merged."""
+
+    # The cost-model CSV's header as it was before --timing existed.
+    COST_HEADER = ("scene,kind,res,hash,precision,exp_bits,origin_bits,dir_bits,combine,table,"
+                   "tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
+                   "table_bytes,table_entries,update_delay_rays,pred_precision,pred_recall,"
+                   "true_positive,false_positive,false_negative,skipped_interior,skipped_tri,"
+                   "skipped_walks,wrong_results,wrong_fraction,accuracy,baseline_cycles_per_ray,"
+                   "hrpp_cycles_per_ray,saved_cycles,baseline_ns_per_ray,hrpp_ns_per_ray,"
+                   "image_mae,image_differ,spec_image")
+
+    def simulate(self, d, *opts):
+        """`hrpp simulate` run directly on CORNELL at 16x16 with the sweep's default predictor
+        options written out by hand (the golden model's), and OPTS."""
+        out = os.path.join(d, "direct.json")
+        p = subprocess.run([HRPP, "simulate", CORNELL, "--res", "16x16", "--no-oracle",
+                            "--hash", "faithful", "--precision", "6", "--exp-bits", "3",
+                            "--origin-bits", "5", "--dir-bits", "3", "--combine", "xor",
+                            "--nodes-per-entry", "1", "--go-up", "0", "--spp", "1",
+                            "--order", "scanline", "--json", out] + list(opts),
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(out) as f:
+            return json.load(f)
+
+    def test_rows_carry_simulated_cycles(self):
+        with tempfile.TemporaryDirectory() as d:
+            a, b = os.path.join(d, "a.csv"), os.path.join(d, "dask.csv")
+            args = [CORNELL, "--param", "table=16x2", "--param", "mode=closest-exact,anyhit",
+                    "--res", "16x16", "--timing", "simulate"]
+            p = run_sweep(*args, "--no-dask", "--csv", a, "--report", os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = read(a)
+            self.assertEqual(list(rows[0]), self.COST_HEADER.split(",") + sweep.SIM_COLUMNS)
+            self.assertEqual(len(rows), 2 * 4)
+            by = {}
+            for r in rows:
+                by.setdefault(r["mode"], {})[r["kind"]] = r
+            self.assertEqual(set(by), {"closest-exact", "anyhit"})
+            for mode, kinds in by.items():
+                data = self.simulate(d, "--table", "16x2", "--mode", mode, "--gpu", "mobile")
+                want = dict(data["by_kind"])
+                want["all"] = data
+                self.assertEqual(set(kinds), set(want))
+                for kind, r in kinds.items():
+                    w = want[kind]
+                    rays = int(r["rays"])
+                    self.assertEqual(rays, w["rays"])
+                    msg = f"{mode} {kind}"
+                    self.assertAlmostEqual(float(r["hrpp_cycles_per_ray"]) * rays, w["cycles"],
+                                           places=4, msg=msg)
+                    self.assertAlmostEqual(float(r["baseline_cycles_per_ray"]) * rays,
+                                           w["baseline_cycles"], places=4, msg=msg)
+                    self.assertAlmostEqual(float(r["saved_cycles"]),
+                                           1 - w["cycles"] / w["baseline_cycles"], places=8)
+                    self.assertAlmostEqual(float(r["speedup"]), w["speedup"], places=8)
+                    self.assertEqual((r["timing"], r["gpu"]), ("simulate", "mobile"))
+                    self.assertEqual(r["baseline_ns_per_ray"], "")
+                    self.assertEqual(r["oracle_speedup"], "")  # --no-oracle by default
+                    self.assertAlmostEqual(float(r["pred_precision"]), w.get(
+                        "precision", data["predictor"]["precision"]), places=8)
+                self.assertAlmostEqual(float(kinds["all"]["l1_hit_rate"]), data["l1_hit_rate"],
+                                       places=8)
+                self.assertEqual(int(kinds["all"]["stall_cycles"]),
+                                 data["predictor"]["stall_cycles"])
+                self.assertEqual(int(kinds["all"]["table_bytes"]), data["preset"]["table_bytes"])
+            # The modes differ in time (else the comparison above could not tell them apart).
+            self.assertNotEqual(by["anyhit"]["primary"]["hrpp_cycles_per_ray"],
+                                by["closest-exact"]["primary"]["hrpp_cycles_per_ray"])
+            report = pathlib.Path(d, "r.md").read_text()
+            self.assertIn("Time is simulated cycles per ray on the `mobile` GPU", report)
+            self.assertIn("| simulated cycles/ray, mobile (baseline) |", report)
+            # Through the Dask driver (a local cluster of two workers): the same bytes.
+            p = run_sweep(*args, "--workers", "2", "--csv", b)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("on 2 Dask workers", p.stderr)
+            self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())
+            # Never merged with cost-model rows (nor with another GPU's).
+            c = os.path.join(d, "cost.csv")
+            p = run_sweep(CORNELL, "--param", "table=16x2", "--res", "16x16", "--no-dask",
+                          "--no-timing", "--csv", c)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(pathlib.Path(c).read_text().split("\n")[0], self.COST_HEADER)
+            p = run_sweep("--from-csv", c, a, "--report", os.path.join(d, "mixed.md"))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("of the cost model", p.stderr)
+            self.assertIn("of the simulated, mobile", p.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "mixed.md")))
+            p = run_sweep("--from-csv", a, "--doc", os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("cost-model cycles", p.stderr)
+
+    def test_errors(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "a.csv")
+            for param in ("update_delay=0,16", "latency=0"):
+                p = run_sweep(CORNELL, "--param", param, "--timing", "simulate", "--res",
+                              "16x16", "--no-dask", "--csv", out)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(f"--param {param.split('=')[0]}: does not apply to --timing "
+                              "simulate", p.stderr)
+            p = run_sweep(CORNELL, "--param", "table=16x2", "--gpu", "desktop", "--no-dask",
+                          "--csv", out)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--gpu and --oracle need --timing simulate", p.stderr)
+            p = run_sweep(CORNELL, "--param", "table=16x2", "--timing", "simulate", "--gpu",
+                          os.path.join(d, "nope.json"), "--no-dask", "--csv", out)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("not mobile, desktop or a file", p.stderr)
+            self.assertFalse(os.path.exists(out))
+
+    def test_default_is_cost_model(self):
+        with tempfile.TemporaryDirectory() as d:
+            a, b = os.path.join(d, "a.csv"), os.path.join(d, "b.csv")
+            args = [TETRA, "--param", "precision=4,6", "--res", "16x16", "--no-dask",
+                    "--no-timing"]
+            p = run_sweep(*args, "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            p = run_sweep(*args, "--timing", "cost-model", "--csv", b)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            text = pathlib.Path(a).read_text()
+            self.assertEqual(text, pathlib.Path(b).read_text())
+            self.assertEqual(text.split("\n")[0], self.COST_HEADER)
+            # The cost model's figures: hrpp predict's cost fields.
+            out = os.path.join(d, "p.json")
+            p = subprocess.run([HRPP, "predict", TETRA, "--res", "16x16", "--precision", "6",
+                                "--json", out], capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(out) as f:
+                cost = json.load(f)["cost"]
+            row = [r for r in read(a) if r["precision"] == "6" and r["kind"] == "all"][0]
+            self.assertAlmostEqual(float(row["hrpp_cycles_per_ray"]),
+                                   cost["hrpp_cycles_per_ray"], places=6)
 
 
 class Dask(unittest.TestCase):

@@ -2,6 +2,7 @@
 """What accuracy costs in time: sweeps predictor parameters over scenes (docs/cost_model.md).
 
     hrpp sweep SCENE... --param NAME=V1,V2,... [--param ...] [--res WxH] [--spp N] --csv FILE
+               [--timing cost-model | --timing simulate [--gpu mobile|desktop|FILE] [--oracle]]
                [--plots DIR] [--report FILE] [--scheduler ADDRESS | --workers N | --no-dask]
 
 Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
@@ -13,6 +14,15 @@ configuration x ray kind (and kind "all"), sorted by scene, grid order and kind,
 reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
 
 Pareto fronts use the cost model's deterministic cycles, never the noisy CPU times.
+
+--timing simulate takes the time axis from the cycle-level model instead (docs/timing_model.md,
+"Sweeps in simulated time"): each task runs `hrpp simulate` with the same predictor and workload
+options (on --gpu, mobile by default; without the oracle unless --oracle), and the rows' cycles
+per ray and saved cycles are simulated cycles: per ray kind from that kind's rays run alone, the
+"all" row from the mixed run. update_delay and latency do not apply (the simulated table's
+staleness follows from the simulated occupancy). The CSV then has the extra columns timing, gpu,
+speedup, l1_hit_rate, stall_cycles, oracle_speedup and fraction_of_oracle; a cost-model CSV
+keeps its columns. CSVs of different timings (or GPUs) are never merged into one report.
 """
 import argparse
 import csv
@@ -61,13 +71,20 @@ RESULT_COLUMNS = [
     "skipped_interior", "skipped_tri", "skipped_walks", "wrong_results", "wrong_fraction",
     "accuracy", "baseline_cycles_per_ray", "hrpp_cycles_per_ray", "saved_cycles",
     "baseline_ns_per_ray", "hrpp_ns_per_ray", "image_mae", "image_differ", "spec_image"]
+# --timing simulate: columns after RESULT_COLUMNS (a cost-model CSV has none of them; read back,
+# its rows get timing "cost-model" and the others empty).
+SIM_COLUMNS = ["timing", "gpu", "speedup", "l1_hit_rate", "stall_cycles", "oracle_speedup",
+               "fraction_of_oracle"]
+SIM_NUMERIC = ["speedup", "l1_hit_rate", "stall_cycles", "oracle_speedup", "fraction_of_oracle"]
+# Parameters that have no meaning in the cycle-level model.
+NOT_SIMULATED = ("update_delay", "latency")
 
 
 class BadInput(Exception):
     pass
 
 
-def parse_params(specs):
+def parse_params(specs, timing="cost-model"):
     """['precision=5,6', 'table=64x4,unbounded'] -> ordered {name: [values]}."""
     grid = {}
     for spec in specs:
@@ -85,6 +102,12 @@ def parse_params(specs):
         if name in grid:
             raise BadInput(f"--param {name} given twice")
         grid[name] = vals
+    if timing == "simulate":
+        for name in NOT_SIMULATED:
+            if name in grid:
+                raise BadInput(f"--param {name}: does not apply to --timing simulate (the "
+                               "simulated table's staleness follows from the simulated rays in "
+                               "flight, docs/timing_model.md); sweep it with --timing cost-model")
     if "latency" in grid and "update_delay" in grid:
         raise BadInput("sweep either latency (cycles of the traversal engine; the update delay "
                        "then comes from the RTL's cycle model) or update_delay (rays), not both")
@@ -114,10 +137,24 @@ def predict_args(cfg):
     return args
 
 
+def simulate_args(cfg):
+    """hrpp simulate's options for a configuration: predict_args without the update delay and
+    the pipeline latency (parse_params refuses sweeping them; their defaults add nothing)."""
+    args = []
+    for name, (opt, default) in PARAMS.items():
+        v = cfg[name]
+        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full"):
+            continue
+        args += [opt, v]
+    return args
+
+
 def run_one(task):
     """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
     Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
     remote worker need not have the repository on its path."""
+    if len(task) == 8:
+        return run_one_simulated(task)
     index, hrpp, scene, cfg, res, timing, images = task
     t0 = time.time()
     with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
@@ -134,6 +171,92 @@ def run_one(task):
         with open(out) as f:
             data = json.load(f)
     return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
+
+
+def run_one_simulated(task):
+    """run_one for --timing simulate: `hrpp simulate` on one configuration and scene."""
+    index, hrpp, scene, cfg, res, _, _, sim = task
+    t0 = time.time()
+    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
+        out = os.path.join(tmp, "simulate.json")
+        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", out]
+               + simulate_args(cfg) + ([] if sim["oracle"] else ["--no-oracle"]))
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
+                           "rc": proc.returncode}, 0
+        with open(out) as f:
+            data = json.load(f)
+    return index, simulated_rows_of(scene, cfg, res, data), time.time() - t0
+
+
+def simulated_rows_of(scene, cfg, res, data):
+    """The rows of one `hrpp simulate` report: the columns of rows_of with simulated cycles
+    (a kind's from its rays run alone, "all" from the mixed run), and SIM_COLUMNS. The predictor's
+    statistics are the mixed run's (per kind, and summed over the kinds for "all"); the L1 hit
+    rate and the stall cycles are the mixed run's, on the "all" row only."""
+    stem = pathlib.Path(scene).stem
+    kinds = dict(data["by_kind"])
+    total = {"rays": data["rays"], "cycles": data["cycles"],
+             "baseline_cycles": data["baseline_cycles"], "speedup": data["speedup"]}
+    for f in ("true_positive", "false_positive", "false_negative", "skipped_walks",
+              "wrong_results"):
+        total[f] = sum(k[f] for k in kinds.values())
+    counts = {w: {c: sum(k[w][c] for k in kinds.values()) for c in ("interior_tests", "tri_tests")}
+              for w in ("baseline", "hrpp")}
+
+    def frac(c):  # as PredictStats::to_json: 1 - hrpp / baseline
+        b = counts["baseline"][c]
+        return 1.0 - counts["hrpp"][c] / b if b else 0.0
+
+    tp, fp, fn = total["true_positive"], total["false_positive"], total["false_negative"]
+    total.update({"precision": tp / (tp + fp) if tp + fp else 0.0,
+                  "recall": tp / (tp + fn) if tp + fn else 0.0,
+                  "skipped_interior_fraction": frac("interior_tests"),
+                  "skipped_tri_fraction": frac("tri_tests")})
+    if "oracle" in data:
+        total["oracle_speedup"] = data["oracle"]["speedup"]
+    kinds["all"] = total
+    rows = []
+    for kind in sorted(kinds, key=KIND_ORDER.index):
+        k = kinds[kind]
+        rays = k["rays"]
+        wrong = k["wrong_results"]
+        osp = k.get("oracle_speedup", "")
+        r = {"scene": stem, "kind": kind, "res": res}
+        r.update(cfg)
+        r.update({
+            "rays": rays,
+            # An unbounded table has no size here (one table per unit, no count of entries used).
+            "table_bytes": data["preset"]["table_bytes"] if cfg["table"] != "unbounded" else "",
+            "table_entries": "",  # one table per RT unit: no single count of entries used
+            "update_delay_rays": "",  # follows from the simulated occupancy
+            "pred_precision": k["precision"], "pred_recall": k["recall"],
+            "true_positive": k["true_positive"], "false_positive": k["false_positive"],
+            "false_negative": k["false_negative"],
+            "skipped_interior": k["skipped_interior_fraction"],
+            "skipped_tri": k["skipped_tri_fraction"],
+            "skipped_walks": k["skipped_walks"],
+            "wrong_results": wrong,
+            "wrong_fraction": wrong / rays if rays else 0.0,
+            "accuracy": 1.0 - (wrong / rays if rays else 0.0),
+            "baseline_cycles_per_ray": k["baseline_cycles"] / rays if rays else 0.0,
+            "hrpp_cycles_per_ray": k["cycles"] / rays if rays else 0.0,
+            "saved_cycles": 1.0 - k["cycles"] / k["baseline_cycles"] if k["baseline_cycles"]
+            else 0.0,
+            "baseline_ns_per_ray": "", "hrpp_ns_per_ray": "",
+            "image_mae": "", "image_differ": "", "spec_image": "",
+            "timing": "simulate",
+            "gpu": data["gpu"]["name"],
+            "speedup": k["speedup"],
+            "l1_hit_rate": data["l1_hit_rate"] if kind == "all" else "",
+            "stall_cycles": data["predictor"]["stall_cycles"] if kind == "all" else "",
+            "oracle_speedup": osp,
+            "fraction_of_oracle": ((k["speedup"] - 1) / (osp - 1)
+                                   if osp != "" and osp > 1 else ""),
+        })
+        rows.append(r)
+    return rows
 
 
 def rows_of(scene, cfg, res, data, timing):
@@ -184,8 +307,10 @@ def fmt(v):
     return str(v)
 
 
-def write_csv(path, rows):
+def write_csv(path, rows, simulated=False):
     cols = ["scene", "kind", "res"] + list(PARAMS) + RESULT_COLUMNS
+    if simulated:
+        cols += SIM_COLUMNS
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
@@ -196,14 +321,32 @@ def write_csv(path, rows):
     write_atomic(path, buf.getvalue())
 
 
+def timing_of(r):
+    """What a row's time axis is: 'cost model' or 'simulated, GPU'."""
+    return "cost model" if r["timing"] == "cost-model" else f"simulated, {r['gpu']}"
+
+
 def read_csv(paths):
     """Rows of several CSVs; a scene x configuration x kind met again (e.g. the untimed default in
-    two sweeps) is kept once, as first read."""
+    two sweeps) is kept once, as first read. Rows of different time axes (the cost model, or
+    simulated cycles on a GPU) are an error: their cycles are not comparable."""
     rows = []
     seen = set()
+    axes = {}
     for p in paths:
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
+                if r.get("timing") is None:  # a cost-model CSV
+                    r.update({c: "" for c in SIM_COLUMNS})
+                    r["timing"] = "cost-model"
+                axes.setdefault(timing_of(r), p)
+                if len(axes) > 1:
+                    (a, pa), (b, pb) = list(axes.items())[:2]
+                    raise BadInput(f"{pa} has cycles of the {a}, {pb} of the {b}: cycles of "
+                                   "different timings are not comparable; report them separately")
+                for c in SIM_NUMERIC:
+                    if r[c] != "":
+                        r[c] = float(r[c])
                 key = (r["scene"], r["kind"], r["res"]) + tuple(r[n] for n in PARAMS)
                 if key in seen:
                     continue
@@ -244,7 +387,10 @@ def run_sweep(args, configs, scenes):
             if args.images and cfg["mode"] == "closest-spec":
                 images = os.path.join(os.path.abspath(args.images),
                                       f"{pathlib.Path(s).stem}-{ci:04d}")
-            tasks.append(((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images))
+            task = ((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images)
+            if args.timing == "simulate":
+                task += ({"gpu": args.gpu, "oracle": args.oracle},)
+            tasks.append(task)
     n = len(tasks)
     results = {}
     t0 = time.time()
@@ -337,6 +483,12 @@ def groups(rows, by_query=False):
     return out
 
 
+def simulated_on(rows):
+    """The GPU of simulated rows ('mobile', ...), None for the cost model's (read_csv admits one
+    time axis per set of rows)."""
+    return rows[0]["gpu"] if rows and rows[0]["timing"] == "simulate" else None
+
+
 def plot_all(rows, outdir):
     import matplotlib
     matplotlib.use("Agg")
@@ -362,7 +514,10 @@ def plot_all(rows, outdir):
         files.append(p)
 
     # 1. accuracy against time, Pareto front marked.
-    fig, axes = grid_axes("correct answers vs cost-model cycles per ray\nPareto fronts: closest-hit "
+    gpu = simulated_on(rows)
+    fig, axes = grid_axes(("correct answers vs cost-model cycles per ray" if gpu is None else
+                           f"correct answers vs simulated cycles per ray (GPU {gpu})")
+                          + "\nPareto fronts: closest-hit "
                           "queries red, any-hit queries green dashed; dotted: baselines;\n"
                           "marker size: prediction precision")
     g = groups(rows)
@@ -391,7 +546,8 @@ def plot_all(rows, outdir):
                         [p["accuracy"] for p in front], style, lw=1)
                 ax.axvline(sub[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
             ax.set_title(f"{s} / {k}", fontsize=9)
-            ax.set_xlabel("cycles per ray", fontsize=8)
+            ax.set_xlabel("cycles per ray" if gpu is None else
+                          f"cycles per ray (simulated, {gpu})", fontsize=8)
             ax.set_ylabel("correct answers", fontsize=8)
             ax.tick_params(labelsize=7)
             if i == 0 and j == 0:
@@ -404,7 +560,7 @@ def plot_all(rows, outdir):
         ax = axes[0][i]
         pts = [r for r in allrows if r["scene"] == s]
         fin = [p for p in pts if p["table"] != "unbounded"]
-        unb = [p for p in pts if p["table"] == "unbounded"]
+        unb = [p for p in pts if p["table"] == "unbounded" and p["table_bytes"] != ""]
         if fin:
             ax.scatter([p["table_bytes"] for p in fin], [100 * p["skipped_interior"] for p in fin],
                        s=12, label="finite")
@@ -465,7 +621,8 @@ def plot_all(rows, outdir):
             pts = [r for r in spec if r["scene"] == s]
             ax.scatter([100 * p["saved_cycles"] for p in pts],
                        [100 * p["image_differ"] for p in pts], s=12, label=s)
-        ax.set_xlabel("% cost-model cycles saved (all rays)")
+        ax.set_xlabel("% cost-model cycles saved (all rays)" if gpu is None else
+                      f"% simulated cycles saved (all rays, {gpu})")
         ax.set_ylabel("% pixels that differ from the exact image")
         ax.set_title("closest-spec: image error vs time saved", fontsize=9)
         ax.legend(fontsize=6)
@@ -477,17 +634,29 @@ def pct(x):
     return f"{100 * x:.2f}%"
 
 
+def table_bytes(r):
+    """A row's table bytes for a table cell ('-' when unknown: an unbounded simulated table)."""
+    return "-" if r["table_bytes"] == "" else f"{int(r['table_bytes']):,}"
+
+
 def report(rows, plots, path, command):
     varied = varied_params(rows)
+    gpu = simulated_on(rows)
+    time_is = ("Time is the cost model's cycles per ray (docs/cost_model.md; deterministic), and "
+               "the golden model's measured CPU time per ray (noisy, reported only)."
+               if gpu is None else
+               f"Time is simulated cycles per ray on the `{gpu}` GPU (`hrpp simulate`, "
+               "docs/timing_model.md; deterministic): per ray kind from that kind's rays run "
+               "alone, \"all\" from the mixed run; not the cost model.")
     lines = [f"# HRPP sweep report", "",
              f"Regenerate with `{command}`.", "",
-             "Time is the cost model's cycles per ray (docs/cost_model.md; deterministic), and the "
-             "golden model's measured CPU time per ray (noisy, reported only). Accuracy: the share "
+             time_is + " Accuracy: the share "
              "of correct answers (only closest-spec can be wrong), prediction precision and recall, "
              "net skipped interior-node tests. Swept: " + (", ".join(varied) or "nothing") + ".", ""]
     for p in plots:
         lines += [f"![{p.stem}]({os.path.relpath(p, pathlib.Path(path).parent)})", ""]
-    lines += ["## Pareto-optimal configurations (cycles per ray vs correct answers)", "",
+    lines += ["## Pareto-optimal configurations (cycles per ray vs correct answers)"
+              + ("" if gpu is None else f" in simulated time ({gpu})"), "",
               "Per scene, ray kind and query: closest-hit queries (modes closest-exact and "
               "closest-spec) and any-hit queries (shadow and AO rays, and every ray in mode anyhit, "
               "the study's hit-any column) have different baselines and are not compared. The "
@@ -498,8 +667,10 @@ def report(rows, plots, path, command):
         pts = with_baselines(pts)
         front = [pts[i] for i in pareto_front(pts, ["hrpp_cycles_per_ray"], ["accuracy"])]
         lines += [f"### {s} / {k} / {q} queries", "",
-                  "| configuration | cycles/ray (baseline) | saved | correct | precision | recall "
-                  "| skipped nodes | table bytes | CPU ns/ray base / HRPP |",
+                  ("| configuration | cycles/ray (baseline) | saved | correct | precision | recall "
+                   "| skipped nodes | table bytes | CPU ns/ray base / HRPP |" if gpu is None else
+                   f"| configuration | simulated cycles/ray, {gpu} (baseline) | saved | correct | "
+                   "precision | recall | skipped nodes | table bytes | speed-up |"),
                   "|---|---|---|---|---|---|---|---|---|"]
         for p in front:
             if p.get("baseline"):
@@ -508,11 +679,13 @@ def report(rows, plots, path, command):
                 continue
             cpu = (f"{p['baseline_ns_per_ray']:.0f} / {p['hrpp_ns_per_ray']:.0f}"
                    if p["hrpp_ns_per_ray"] != "" else "-")
+            if gpu is not None:
+                cpu = f"{p['speedup']:.3f}x"
             lines.append(
                 f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
                 f"({p['baseline_cycles_per_ray']:.1f}) | {pct(p['saved_cycles'])} | "
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
-                f"{pct(p['skipped_interior'])} | {int(p['table_bytes']):,} | {cpu} |")
+                f"{pct(p['skipped_interior'])} | {table_bytes(p)} | {cpu} |")
         lines.append("")
     lines += latency_section(rows, varied)
     lines += spec_section(rows, varied, path)
@@ -872,6 +1045,9 @@ def write_doc(path, rows):
     """Rewrites the sweep-* blocks of the page PATH that ROWS fill; every block must be marked in
     it. Returns the names of the blocks written."""
     path = pathlib.Path(path)
+    if simulated_on(rows):
+        raise BadInput("--doc: the page's sweep-* blocks are in cost-model cycles; rows in "
+                       "simulated time go in a --report")
     if not path.is_file():
         raise BadInput(f"--doc {path}: no such file")
     text = path.read_text()
@@ -900,6 +1076,16 @@ def main():
     ap.add_argument("--images", help="directory for each closest-spec run's exact | speculative | "
                                      "difference picture")
     ap.add_argument("--from-csv", nargs="+", help="plot and report these CSVs; run nothing")
+    ap.add_argument("--timing", choices=("cost-model", "simulate"), default="cost-model",
+                    help="the time axis: cost-model (hrpp predict's additive cost model, "
+                         "docs/cost_model.md; the default) or simulate (hrpp simulate's cycles "
+                         "on RT units with caches and warps, docs/timing_model.md; update_delay "
+                         "and latency cannot be swept)")
+    ap.add_argument("--gpu", help="--timing simulate: GPU configuration, mobile (default), "
+                                  "desktop or a JSON file")
+    ap.add_argument("--oracle", action="store_true",
+                    help="--timing simulate: also simulate the oracle (columns oracle_speedup, "
+                         "fraction_of_oracle; a third simulation of every configuration)")
     ap.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://HOST:PORT)")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                     help="local Dask cluster: worker processes (default: all cores)")
@@ -918,6 +1104,17 @@ def main():
                 raise BadInput("no scene given")
             if not args.csv:
                 raise BadInput("--csv FILE is required")
+            if args.timing == "simulate":
+                if args.images:
+                    raise BadInput("--images: hrpp simulate draws no pictures; use "
+                                   "--timing cost-model")
+                args.gpu = args.gpu or "mobile"
+                if args.gpu not in ("mobile", "desktop"):
+                    if not os.path.isfile(args.gpu):
+                        raise BadInput(f"--gpu {args.gpu}: not mobile, desktop or a file")
+                    args.gpu = os.path.abspath(args.gpu)  # workers may run elsewhere
+            elif args.gpu or args.oracle:
+                raise BadInput("--gpu and --oracle need --timing simulate")
             for s in args.scenes:
                 if not os.path.isfile(s):
                     raise BadInput(f"{s}: no such scene file")
@@ -933,10 +1130,10 @@ def main():
                 raise BadInput("--workers must be at least 1")
             if not os.access(args.hrpp, os.X_OK):
                 raise BadInput(f"{args.hrpp}: not an executable (build it: make build)")
-            configs = expand(parse_params(params))
+            configs = expand(parse_params(params, args.timing))
             scenes = [os.path.abspath(s) for s in args.scenes]
             rows = run_sweep(args, configs, scenes)
-            write_csv(args.csv, rows)
+            write_csv(args.csv, rows, simulated=args.timing == "simulate")
             print(f"sweep: wrote {args.csv} ({len(rows)} rows, {len(configs)} configurations x "
                   f"{len(scenes)} scenes)", file=sys.stderr)
             rows = read_csv([args.csv])

@@ -35,7 +35,8 @@ int cmd_sweep(const std::vector<std::string>& remaining) {
 Subcommand add_sweep(CLI::App& app) {
   auto* sw = app.add_subcommand("sweep",
                                 "Sweep predictor parameters over scenes: CSV, Pareto "
-                                "fronts, plots (model/tools/sweep.py --help)");
+                                "fronts, plots; time from the cost model or, with --timing "
+                                "simulate, from hrpp simulate (model/tools/sweep.py --help)");
   sw->allow_extras();
   sw->prefix_command();
   sw->set_help_flag();
