@@ -125,6 +125,76 @@ json run_cosim(const DriverArgs& a, const std::string& stream, bool full_rate, d
   return j;
 }
 
+// hrpp simulate on a 256x256 AO frame as MICRO 2021 (unbounded AO rays from the primary hits,
+// the `mobile` GPU, the RTL's default predictor; no oracle, no per-kind runs): the arguments after
+// the scene and --json. rtl: the Verilated RTL in every unit, in lockstep with the cycle model.
+std::vector<std::string> simulate_args(bool rtl) {
+  std::vector<std::string> v{"--res",         "256x256",     "--kinds",     "ao",
+                             "--ao-distance", "inf",         "--gpu",       "mobile",
+                             "--preset",      "rtl-default", "--no-oracle", "--no-per-kind"};
+  if (rtl) v.push_back("--rtl");
+  return v;
+}
+
+// One `hrpp simulate` run (simulate_args) on the scene: from its --json report, the preset run's
+// and the baseline run's simulated rays per second (wall clock of each run), the whole command's
+// seconds (its own wall clock; from wait4, its CPU time), the cycles and, with rtl, the RTL's
+// mismatches. Throws when the command fails, its report lacks a figure, or (rtl) the RTL and the
+// cycle model differed in any cycle.
+json run_simulate(const DriverArgs& a, const std::string& scene, const std::string& dir, bool rtl,
+                  double* rss) {
+  const std::string report =
+      dir + "/" + fs::path(scene).stem().string() + (rtl ? "-simulate-rtl.json" : "-simulate.json");
+  fs::remove(report);  // a stale report must not pass for this run's
+  std::vector<std::string> argv{a.hrpp, "simulate", scene};
+  for (const std::string& x : simulate_args(rtl)) argv.push_back(x);
+  argv.insert(argv.end(), {"--json", report});
+  std::string cmd;
+  for (const std::string& x : argv) cmd.append(cmd.empty() ? "" : " ").append(x);
+  const Proc p = run_process(argv);
+  if (!WIFEXITED(p.status) || WEXITSTATUS(p.status) != 0)
+    throw std::runtime_error(cmd + " failed (" +
+                             (WIFEXITED(p.status)
+                                  ? "exit code " + std::to_string(WEXITSTATUS(p.status))
+                                  : "status " + std::to_string(p.status)) +
+                             "; its stdout follows, its stderr is above):\n" + p.out);
+  json r;
+  try {
+    std::ifstream in(report);
+    r = json::parse(in);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(cmd + ": cannot read its report " + report + ": " + e.what());
+  }
+  auto need = [&](const json& j, const char* key, const std::string& where) -> const json& {
+    if (!j.contains(key) || !j[key].is_number())
+      throw std::runtime_error(cmd + ": its report has no number " + where + key +
+                               " (an old build?)");
+    return j[key];
+  };
+  const json& base = r.contains("baseline") ? r["baseline"] : json();
+  json j{{"rays", need(r, "rays", "")},
+         {"cycles", need(r, "cycles", "")},
+         {"baseline_cycles", need(r, "baseline_cycles", "")},
+         {"speedup", need(r, "speedup", "")},
+         {"rays_per_second", need(r, "rays_per_second", "")},
+         {"run_seconds", need(r, "run_seconds", "")},
+         {"baseline_rays_per_second", need(base, "rays_per_second", "baseline.")},
+         {"baseline_run_seconds", need(base, "run_seconds", "baseline.")},
+         {"seconds", need(r, "seconds", "")},
+         {"cpu_seconds", p.cpu_seconds},
+         {"process_seconds", p.seconds},
+         {"wrong_results", need(r, "wrong_results", "")}};
+  if (rtl) {
+    j["rtl_mismatches"] = need(r, "rtl_mismatches", "");
+    if (j["rtl_mismatches"].get<uint64_t>() != 0)
+      throw std::runtime_error(cmd + ": the RTL differed from the cycle model in " +
+                               std::to_string(j["rtl_mismatches"].get<uint64_t>()) + " cycles:\n" +
+                               p.out);
+  }
+  *rss = p.max_rss_mb;
+  return j;
+}
+
 // The scenes: --scenes (names of SHARED/scenes or paths), else every scene of SHARED/scenes,
 // else the project's own. False (after a message) when one does not exist.
 bool list_scenes(const DriverArgs& a, std::vector<std::string>* out) {
@@ -172,10 +242,12 @@ json describe_machine(unsigned threads) {
 }
 
 // One repetition: ours and Embree (which goes first alternates), Embree without FTZ/DAZ, the
-// predictor, and the co-simulation with random handshakes and at full rate, each in its own
-// process. Each measurement's peak RSS goes to (*rss)[its name] (the most over the repetitions).
+// predictor, the co-simulation with random handshakes and at full rate, and (with --hrpp)
+// hrpp simulate's AO frame with the cycle model and with --rtl, each in its own process. Each
+// measurement's peak RSS goes to (*rss)[its name] (the most over the repetitions).
 Repetition run_repetition(const DriverArgs& a, const std::vector<std::string>& cargs,
-                          const std::string& stream, int rep, std::map<std::string, double>* rss) {
+                          const std::string& scene, const std::string& stream, int rep,
+                          std::map<std::string, double>* rss) {
   double rs = 0;
   Repetition m;
   json &ours = m.ours, &emb = m.embree;
@@ -198,6 +270,13 @@ Repetition run_repetition(const DriverArgs& a, const std::vector<std::string>& c
   (*rss)["cosim"] = std::max((*rss)["cosim"], rs);
   m.cosim_full_rate = run_cosim(a, stream, true, &rs);
   (*rss)["cosim"] = std::max((*rss)["cosim"], rs);
+  if (!a.hrpp.empty()) {
+    const std::string dir = fs::path(stream).parent_path().string();
+    m.simulate = run_simulate(a, scene, dir, false, &rs);
+    (*rss)["simulate"] = std::max((*rss)["simulate"], rs);
+    m.simulate_rtl = run_simulate(a, scene, dir, true, &rs);
+    (*rss)["simulate_rtl"] = std::max((*rss)["simulate_rtl"], rs);
+  }
   return m;
 }
 
@@ -223,7 +302,7 @@ json bench_scene(const DriverArgs& a, const std::string& scene, const std::strin
   const std::vector<std::string> cargs{"--stream", stream, "--threads", std::to_string(threads)};
   for (int rep = 0; rep < a.reps; ++rep) {
     std::fprintf(stderr, "bench: %s: repetition %d of %d\n", name.c_str(), rep + 1, a.reps);
-    const Repetition m = run_repetition(a, cargs, stream, rep, &rss);
+    const Repetition m = run_repetition(a, cargs, scene, stream, rep, &rss);
     add_figures(m, threads, &r);
     if (rep == 0) check_answers(name, m);
     last = m;
@@ -290,6 +369,10 @@ int driver_main(const DriverArgs& a) {
     std::fprintf(stderr, "hrpp_bench: --tb: %s does not exist (make build)\n", a.tb.c_str());
     return 2;
   }
+  if (!a.hrpp.empty() && !fs::exists(a.hrpp)) {
+    std::fprintf(stderr, "hrpp_bench: --hrpp: %s does not exist (make build)\n", a.hrpp.c_str());
+    return 2;
+  }
   const std::string dir = (fs::path(a.out).parent_path() / "bench").string();
   fs::create_directories(dir);
 
@@ -299,7 +382,9 @@ int driver_main(const DriverArgs& a) {
              {"reps", a.reps},
              {"cosim_rays", a.cosim_rays},
              {"predictor", rtl_config("default").describe() + ", closest-exact"},
-             {"predictor_cores", kBenchCores}}},
+             {"predictor_cores", kBenchCores},
+             {"simulate", a.hrpp.empty() ? json() : json(simulate_args(false))},
+             {"simulate_rtl", a.hrpp.empty() ? json() : json(simulate_args(true))}}},
            {"scenes", json::object()}};
   Figures for_geomean, rss_geomean;
   for (const std::string& scene : scenes)

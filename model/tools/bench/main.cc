@@ -14,7 +14,13 @@
 //            thread, and 8 cores (8 tables) on one thread and on all threads;
 //   cosim    tb_hrpp --stream (the RTL and the cycle model in lockstep, parity checked on every
 //            cycle) on the first --cosim-rays rays, with the testbench's default random
-//            handshakes and again at full rate.
+//            handshakes and again at full rate;
+//   simulate `hrpp simulate` (with --hrpp) on a 256x256 AO frame as MICRO 2021 (unbounded AO
+//            rays, --gpu mobile, --preset rtl-default, no oracle, no per-kind runs), with the
+//            predictor's cycle model and again with --rtl on the same frame: the simulated rays
+//            per second of the preset's run and of the baseline's (each run's wall clock, from
+//            the command's report), the whole command's seconds (and CPU seconds); the
+//            benchmark fails when the command fails or --rtl reports a mismatch.
 // One-thread figures are process CPU time (the machine may be shared); all-thread figures are wall
 // time. Ratios are taken within a repetition (ours / Embree, above 1: ours faster) and reported as
 // the median with the min and max over the repetitions. A big procedural scene (10 million
@@ -52,7 +58,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", d.threads, "threads of the all-core runs (default: all)");
   app.add_option("--out", d.out, "JSON report");
   app.add_option("--tb", d.tb, "the Verilator testbench binary");
-  app.add_option("--hrpp", d.hrpp, "the hrpp tool (memory check; empty: skip it)");
+  app.add_option("--hrpp", d.hrpp,
+                 "the hrpp tool (memory check and simulator speed; empty: skip them)");
   app.add_option("--cosim-rays", d.cosim_rays, "rays of each co-simulation run")
       ->check(CLI::Range(uint64_t{1000}, uint64_t{1} << 32));
   app.add_option("--big-tris", d.big_tris, "triangles of the procedural scene (0: skip it)");

@@ -44,6 +44,8 @@ Proc run_process(const std::vector<std::string>& argv) {
   wait4(pid, &p.status, 0, &ru);
   p.seconds = since(t0);
   p.max_rss_mb = ru.ru_maxrss / 1024.0;  // Linux: kilobytes
+  p.cpu_seconds = double(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+                  1e-6 * double(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
   return p;
 }
 

@@ -11,7 +11,8 @@ struct Proc {
   std::string out;
   int status = -1;
   double max_rss_mb = 0;
-  double seconds = 0;
+  double seconds = 0;      // wall clock
+  double cpu_seconds = 0;  // user + system CPU time (wait4's ru_utime + ru_stime)
 };
 
 // Runs argv in a child process; its stdout is captured, its stderr passes through.

@@ -21,11 +21,13 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string fmt_ratio(const json& s) {
+std::string fmt_ratio(const json& s, const char* f = "%.2f") {
   if (s.is_null()) return "-";
-  char b[64];
-  std::snprintf(b, sizeof b, "%.2f (%.2f-%.2f)", s["median"].get<double>(), s["min"].get<double>(),
-                s["max"].get<double>());
+  char med[32], lo[32], hi[32], b[112];
+  std::snprintf(med, sizeof med, f, s["median"].get<double>());
+  std::snprintf(lo, sizeof lo, f, s["min"].get<double>());
+  std::snprintf(hi, sizeof hi, f, s["max"].get<double>());
+  std::snprintf(b, sizeof b, "%s (%s-%s)", med, lo, hi);
   return b;
 }
 
@@ -44,7 +46,15 @@ const std::vector<std::string> kHeadlineKeys{"build_vs_embree",
                                              "cosim_full_rate_rays_per_s",
                                              "traversal_vs_embree_mxcsr_default",
                                              "anyhit_vs_embree_mxcsr_default",
-                                             "predict_vs_embree_mxcsr_default"};
+                                             "predict_vs_embree_mxcsr_default",
+                                             "sim_rays_per_s",
+                                             "sim_baseline_rays_per_s",
+                                             "sim_frame_s",
+                                             "sim_frame_cpu_s",
+                                             "sim_rtl_rays_per_s",
+                                             "sim_rtl_baseline_rays_per_s",
+                                             "sim_rtl_frame_s",
+                                             "sim_rtl_frame_cpu_s"};
 
 }  // namespace
 
@@ -112,6 +122,17 @@ void add_figures(const Repetition& m, unsigned threads, Figures* figures) {
   r["cosim_cycles_per_s"].push_back(cos["cycles"].get<double>() / cos["seconds"].get<double>());
   r["cosim_full_rate_rays_per_s"].push_back(cos_full["rays"].get<double>() /
                                             cos_full["seconds"].get<double>());
+  // hrpp simulate's AO frame (absent without --hrpp): simulated rays per second of the preset's
+  // run and of the baseline's (each run's wall clock), the whole command's seconds (its wall
+  // clock) and CPU seconds (wait4).
+  for (const auto& [sim, pre] : {std::pair{&m.simulate, "sim_"}, {&m.simulate_rtl, "sim_rtl_"}}) {
+    if (sim->is_null()) continue;
+    const std::string p = pre;
+    r[p + "rays_per_s"].push_back((*sim)["rays_per_second"].get<double>());
+    r[p + "baseline_rays_per_s"].push_back((*sim)["baseline_rays_per_second"].get<double>());
+    r[p + "frame_s"].push_back((*sim)["seconds"].get<double>());
+    r[p + "frame_cpu_s"].push_back((*sim)["cpu_seconds"].get<double>());
+  }
   // Absolute rates, for the table.
   r["ours_primary_rays_per_s"].push_back(rate(to["primary"]));
   r["embree_primary_rays_per_s"].push_back(rate(te["primary"]));
@@ -150,6 +171,8 @@ json scene_report(const Figures& r, const std::map<std::string, double>& rss,
   flat["triangles"] = last_ours["triangles"];
   flat["embree"] = last_embree["description"];
   flat["cosim"] = last_cosim;
+  if (!last.simulate.is_null()) flat["simulate"] = last.simulate;
+  if (!last.simulate_rtl.is_null()) flat["simulate_rtl"] = last.simulate_rtl;
   flat["predict_skipped_interior_fraction"] = last_pred["one_core"]["skipped_interior_fraction"];
   return flat;
 }
@@ -170,6 +193,16 @@ void print_scene_line(const std::string& name, const json& flat,
       fmt_ratio(js.value("predict_scaling", json())).c_str(),
       js["cosim_rays_per_s"]["median"].get<double>(), rss.at("ours"), rss.at("embree"),
       rss.at("predict"), rss.at("cosim"));
+  if (js.contains("sim_rays_per_s") && js.contains("sim_rtl_rays_per_s"))
+    std::printf(
+        "%-13s simulate AO 256x256 on mobile: %s rays/s (no predictor %s), frame %s s (CPU %s s) "
+        "| --rtl: %s rays/s, frame %s s (CPU %s s), %llu mismatches\n",
+        "", fmt_ratio(js["sim_rays_per_s"], "%.0f").c_str(),
+        fmt_ratio(js["sim_baseline_rays_per_s"], "%.0f").c_str(),
+        fmt_ratio(js["sim_frame_s"]).c_str(), fmt_ratio(js["sim_frame_cpu_s"]).c_str(),
+        fmt_ratio(js["sim_rtl_rays_per_s"], "%.0f").c_str(),
+        fmt_ratio(js["sim_rtl_frame_s"]).c_str(), fmt_ratio(js["sim_rtl_frame_cpu_s"]).c_str(),
+        (unsigned long long)flat["simulate_rtl"]["rtl_mismatches"].get<uint64_t>());
   std::fflush(stdout);
 }
 
@@ -208,10 +241,11 @@ std::string markdown(const json& out) {
       b, sizeof b,
       "| scene | triangles | rays | build | primary | any-hit | predictor | primary, %u thr. "
       "| any-hit, %u thr. | predictor scaling, %u thr. | co-sim rays/s | co-sim cycles/s "
+      "| simulated rays/s | simulated rays/s, `--rtl` | AO frame s | AO frame s, `--rtl` "
       "| peak RSS MB ours / Embree / predictor / co-sim |\n",
       th, th, th);
   md += b;
-  md += "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  md += "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
   for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it) {
     const json& sc = *it;
     const json& sm = sc["summary"];
@@ -219,15 +253,18 @@ std::string markdown(const json& out) {
     const uint64_t rays = sc["rays"]["primary"].get<uint64_t>() +
                           sc["rays"]["shadow"].get<uint64_t>() + sc["rays"]["ao"].get<uint64_t>();
     std::snprintf(b, sizeof b,
-                  "| %s | %llu | %llu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / "
-                  "%.0f / %.0f |\n",
+                  "| %s | %llu | %llu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s "
+                  "| %s | %.0f / %.0f / %.0f / %.0f |\n",
                   it.key().c_str(), (unsigned long long)sc["triangles"].get<uint64_t>(),
                   (unsigned long long)rays, cell(sm, "build_vs_embree").c_str(),
                   cell(sm, "traversal_vs_embree").c_str(), cell(sm, "anyhit_vs_embree").c_str(),
                   cell(sm, "predict_vs_embree").c_str(), cell(sm, "traversal_vs_embree_mt").c_str(),
                   cell(sm, "anyhit_vs_embree_mt").c_str(), cell(sm, "predict_scaling").c_str(),
                   cell(sm, "cosim_rays_per_s", "%.0f").c_str(),
-                  cell(sm, "cosim_cycles_per_s", "%.0f").c_str(), rss.value("ours", 0.0),
+                  cell(sm, "cosim_cycles_per_s", "%.0f").c_str(),
+                  cell(sm, "sim_rays_per_s", "%.0f").c_str(),
+                  cell(sm, "sim_rtl_rays_per_s", "%.0f").c_str(), cell(sm, "sim_frame_s").c_str(),
+                  cell(sm, "sim_rtl_frame_s").c_str(), rss.value("ours", 0.0),
                   rss.value("embree", 0.0), rss.value("predict", 0.0), rss.value("cosim", 0.0));
     md += b;
   }
@@ -238,13 +275,17 @@ std::string markdown(const json& out) {
     std::snprintf(c, sizeof c, f, g[k].get<double>());
     return c;
   };
-  std::snprintf(b, sizeof b,
-                "| **geometric mean** | | | %s | %s | %s | %s | %s | %s | %s | %s | %s | |\n",
-                gv("build_vs_embree").c_str(), gv("traversal_vs_embree").c_str(),
-                gv("anyhit_vs_embree").c_str(), gv("predict_vs_embree").c_str(),
-                gv("traversal_vs_embree_mt").c_str(), gv("anyhit_vs_embree_mt").c_str(),
-                gv("predict_scaling").c_str(), gv("cosim_rays_per_s", "%.0f").c_str(),
-                gv("cosim_cycles_per_s", "%.0f").c_str());
+  std::snprintf(
+      b, sizeof b,
+      "| **geometric mean** | | | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s "
+      "| %s | |\n",
+      gv("build_vs_embree").c_str(), gv("traversal_vs_embree").c_str(),
+      gv("anyhit_vs_embree").c_str(), gv("predict_vs_embree").c_str(),
+      gv("traversal_vs_embree_mt").c_str(), gv("anyhit_vs_embree_mt").c_str(),
+      gv("predict_scaling").c_str(), gv("cosim_rays_per_s", "%.0f").c_str(),
+      gv("cosim_cycles_per_s", "%.0f").c_str(), gv("sim_rays_per_s", "%.0f").c_str(),
+      gv("sim_rtl_rays_per_s", "%.0f").c_str(), gv("sim_frame_s").c_str(),
+      gv("sim_rtl_frame_s").c_str());
   md += b;
   std::snprintf(
       b, sizeof b,
@@ -255,6 +296,25 @@ std::string markdown(const json& out) {
       gv("predict_vs_embree_mxcsr_default").c_str(), th, gv("predict_mt_cpu_efficiency").c_str(),
       gv("cosim_full_rate_rays_per_s", "%.0f").c_str());
   md += b;
+  if (g.contains("sim_rays_per_s") && g.contains("sim_rtl_rays_per_s")) {
+    std::string args;  // hrpp simulate's options after the scene
+    if (out["settings"].contains("simulate"))
+      for (const json& x : out["settings"]["simulate"])
+        args.append(args.empty() ? "" : " ").append(x.get<std::string>());
+    std::snprintf(
+        b, sizeof b,
+        "\n`hrpp simulate` (one core), a 256x256 AO frame as MICRO 2021 on `mobile` with the "
+        "RTL's default predictor (`%s`; geometric means): the predictor's run simulates %s rays/s "
+        "(the run with no predictor %s), the whole command takes %s s (%s s of CPU); with "
+        "`--rtl` (the Verilated RTL in every unit, compared with the cycle model on every cycle: "
+        "0 mismatches on every scene) %s rays/s (no predictor %s), %s s (%s s of CPU).\n",
+        args.c_str(), gv("sim_rays_per_s", "%.0f").c_str(),
+        gv("sim_baseline_rays_per_s", "%.0f").c_str(), gv("sim_frame_s").c_str(),
+        gv("sim_frame_cpu_s").c_str(), gv("sim_rtl_rays_per_s", "%.0f").c_str(),
+        gv("sim_rtl_baseline_rays_per_s", "%.0f").c_str(), gv("sim_rtl_frame_s").c_str(),
+        gv("sim_rtl_frame_cpu_s").c_str());
+    md += b;
+  }
   if (out.contains("memory_vs_rays")) {
     md += "\nMemory against workload size (`hrpp predict`, the RTL's default table on 8 cores): ";
     for (const json& m : out["memory_vs_rays"]) {

@@ -14,9 +14,11 @@
 namespace hrpp::bench {
 
 // The measurements of one repetition on one scene, each the JSON of its process (children.h;
-// cosim: tb_hrpp's parity and timing lines).
+// cosim: tb_hrpp's parity and timing lines; simulate, simulate_rtl: hrpp simulate's AO frame with
+// the cycle model and with --rtl, null without --hrpp).
 struct Repetition {
-  nlohmann::json ours, embree, embree_mxcsr_default, predict, cosim, cosim_full_rate;
+  nlohmann::json ours, embree, embree_mxcsr_default, predict, cosim, cosim_full_rate, simulate,
+      simulate_rtl;
 };
 
 // A figure's value in each repetition (or each scene), by name.
