@@ -196,7 +196,8 @@ def disagree_block(res, scenes):
             f"| {label(where, scene)} | {pct(p['cost']['saved_cycle_fraction'])} | {pct(saved)} | "
             f"{pct(p['skipped_interior_fraction'])} | "
             f"{pct(s['predictor']['skipped_interior_fraction'])} | "
-            f"{pct(b['top_node_l1_hit_rate'])} | {pct(b['deep_node_l1_hit_rate'])} | "
+            f"{pct(b['top_node_l1_hit_rate'])} | "
+            f"{pct(b['deep_node_l1_hit_rate']) if b['deep_node_fetches'] else '-'} | "
             f"{b['l1_port_wait_cycles'] / reqs:.0f} | {b['mean_in_flight']:.0f} | "
             f"{pct(s['predictor']['stall_cycles'] / max(1, s['cycles'] * s['units']))} |")
     return "\n".join(rows)

@@ -77,6 +77,7 @@ class Simulator {
     warps_in_unit_.assign(g_.units, 0);
     repack_.resize(g_.units);
     buffered_.assign(g_.units, 0);
+    repack_since_.assign(g_.units, 0);
     if (opt.kind == PredictorKind::kPort) {
       for (uint32_t u = 0; u < g_.units; ++u) {
         std::unique_ptr<PortModel> m =
@@ -130,6 +131,7 @@ class Simulator {
   // Repacking: per unit, the buffers by category (slot, cycle it arrived), and their ray count.
   std::vector<std::map<uint64_t, std::deque<std::pair<uint32_t, uint64_t>>>> repack_;
   std::vector<uint32_t> buffered_;
+  std::vector<uint64_t> repack_since_;  // the timer's start: first ray buffered, or last warp formed
   std::vector<uint32_t> valid_;  // stream indices of the valid rays, in issue order
   std::vector<Warp> warps_;
   std::vector<Slot> slots_;
@@ -256,31 +258,52 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
                        : opt_.repack == SimOptions::Repack::kPredicted ? 1
                                                                        : uint64_t(p.nodes[0]) + 1;
   leave_warp(s, now);
+  if (buffered_[s.unit] == 0) repack_since_[s.unit] = now;  // the timer starts
   repack_[s.unit][key].emplace_back(si, now);
   buffered_[s.unit]++;
 }
 
 void Simulator::form_warps(uint32_t unit, uint64_t now) {
-  for (auto it = repack_[unit].begin(); it != repack_[unit].end();) {
-    auto& q = it->second;
-    while (!q.empty() &&
-           (q.size() >= g_.warp_size || now - q.front().second >= opt_.repack_timer)) {
-      const uint32_t n = uint32_t(std::min<size_t>(q.size(), g_.warp_size));
-      const uint32_t w = uint32_t(warps_.size());
-      warps_.push_back({now, n, now});
-      warps_in_unit_[unit]++;
-      st_.warps++;
-      st_.repacked_warps++;
-      for (uint32_t i = 0; i < n; ++i) {
+  auto& cats = repack_[unit];
+  // A new warp of up to warp_size rays taken from the categories in key order (0, not
+  // predicted, first, as their `retrieve` takes unpredicted rays before predicted ones).
+  auto form = [&](std::deque<std::pair<uint32_t, uint64_t>>* only) {
+    const uint32_t w = uint32_t(warps_.size());
+    uint32_t n = 0;
+    for (auto it = cats.begin(); it != cats.end() && n < g_.warp_size;) {
+      auto& q = it->second;
+      if (only && &q != only) {
+        ++it;
+        continue;
+      }
+      while (!q.empty() && n < g_.warp_size) {
         const uint32_t si = q.front().first;
         q.pop_front();
         slots_[si].warp = w;
         schedule(si, now + 1);
+        ++n;
       }
-      buffered_[unit] -= n;
+      it = q.empty() ? cats.erase(it) : std::next(it);
     }
-    it = q.empty() ? repack_[unit].erase(it) : std::next(it);
+    warps_.push_back({now, n, now});
+    warps_in_unit_[unit]++;
+    st_.warps++;
+    st_.repacked_warps++;
+    buffered_[unit] -= n;
+    repack_since_[unit] = now;  // the timer restarts after every warp formed
+  };
+  // A category with a warp's worth of rays forms a full warp at once.
+  for (bool again = true; again;) {
+    again = false;
+    for (auto& [key, q] : cats)
+      if (q.size() >= g_.warp_size) {
+        form(&q);
+        again = true;
+        break;
+      }
   }
+  // When the timer expires, one warp of the oldest categories' rays.
+  if (buffered_[unit] > 0 && now - repack_since_[unit] >= opt_.repack_timer) form(nullptr);
 }
 
 void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {

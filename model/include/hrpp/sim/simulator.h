@@ -50,8 +50,9 @@ struct SimOptions {
   TimedConfig timed;          // kTimed
   bool any_hit_only = false;  // only rays answered as any-hit queries use the predictor
   /// Warp repacking (docs/timing_model.md, "Repacking"): after its prediction a ray waits in its
-  /// unit's buffer of its category until warp_size rays of that category are there or the oldest
-  /// has waited repack_timer cycles; they then walk as a new warp.
+  /// unit's buffer of its category; warp_size rays of one category walk on as a new warp at once,
+  /// and when the unit's timer (started by the first ray buffered, restarted by every warp
+  /// formed) reaches repack_timer cycles, one warp is formed from the categories in order.
   enum class Repack : uint8_t {
     kNone = 0,
     kPredicted = 1,  // MICRO 2021: two categories, predicted and not predicted
