@@ -131,7 +131,8 @@ class Simulator {
   // Repacking: per unit, the buffers by category (slot, cycle it arrived), and their ray count.
   std::vector<std::map<uint64_t, std::deque<std::pair<uint32_t, uint64_t>>>> repack_;
   std::vector<uint32_t> buffered_;
-  std::vector<uint64_t> repack_since_;  // the timer's start: first ray buffered, or last warp formed
+  std::vector<uint64_t>
+      repack_since_;             // the timer's start: first ray buffered, or last warp formed
   std::vector<uint32_t> valid_;  // stream indices of the valid rays, in issue order
   std::vector<Warp> warps_;
   std::vector<Slot> slots_;
