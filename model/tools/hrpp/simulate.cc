@@ -113,6 +113,35 @@ sim::TimedConfig timed_for(const SimulateArgs& a, sim::TimedConfig t) {
   return t;
 }
 
+/// The oracle: every ray told its baseline walk's hit leaf as it enters (a whole warp per cycle,
+/// no table, no credit limit), in the preset's mode.
+RunSpec oracle_run(const sim::SimOptions& base) {
+  RunSpec o{"oracle", base,
+            "told the baseline walk's hit leaf at no cost (no table, no port limit)"};
+  o.opt.kind = sim::PredictorKind::kTimed;
+  o.opt.pred.go_up = 0;
+  o.opt.any_hit_only = false;  // every ray is told
+  o.opt.timed.oracle = true;
+  o.opt.timed.lookup_latency = 0;
+  o.opt.timed.decision_latency = 0;
+  o.opt.timed.lookups_per_cycle = base.gpu.warp_size;
+  o.opt.timed.updates_per_cycle = base.gpu.warp_size;
+  o.opt.timed.credits = 0;
+  return o;
+}
+
+/// The preset's run (the last one) is the main run; --repack adds it again with repacking.
+void add_repacked(const SimulateArgs& a, const RunSpec& r, SimulateSetup* s) {
+  s->main = s->runs.size() - 1;
+  if (!a.repack) return;
+  RunSpec rr = r;
+  rr.name = r.name + "+repack";
+  rr.opt.repack =
+      a.repack_by == "node" ? sim::SimOptions::Repack::kNode : sim::SimOptions::Repack::kPredicted;
+  s->runs.push_back(rr);
+  s->repacked = int(s->runs.size() - 1);
+}
+
 int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   const char* cmd = "simulate";
   std::array<bool, kNumRayKinds> kinds;
@@ -179,18 +208,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   s->runs.push_back({"none", base, "no predictor"});
   s->preset = a.p.preset.empty() ? "custom" : a.p.preset;
   if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
-    RunSpec o{"oracle", base, ""};
-    o.opt.kind = sim::PredictorKind::kTimed;
-    o.opt.pred.go_up = 0;
-    o.opt.any_hit_only = false;  // every ray is told
-    o.opt.timed.oracle = true;
-    o.opt.timed.lookup_latency = 0;
-    o.opt.timed.decision_latency = 0;
-    o.opt.timed.lookups_per_cycle = s->gpu.warp_size;
-    o.opt.timed.updates_per_cycle = s->gpu.warp_size;
-    o.opt.timed.credits = 0;
-    o.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
-    s->runs.push_back(o);
+    s->runs.push_back(oracle_run(base));
   }
   if (s->preset == "none") {
     if (a.repack) {
@@ -201,18 +219,9 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   }
   RunSpec r{s->preset, base, ""};
   if (s->preset == "oracle") {
-    r = s->runs.size() > 1 ? s->runs[1] : RunSpec{"oracle", base, ""};
-    r.opt.kind = sim::PredictorKind::kTimed;
-    r.opt.pred.go_up = 0;
-    r.opt.any_hit_only = false;
-    r.opt.timed.oracle = true;
-    r.opt.timed.lookup_latency = 0;
-    r.opt.timed.decision_latency = 0;
-    r.opt.timed.lookups_per_cycle = s->gpu.warp_size;
-    r.opt.timed.updates_per_cycle = s->gpu.warp_size;
-    r.timing = "told the baseline walk's hit leaf at no cost (no table, no port limit)";
+    r = oracle_run(base);
     s->runs.push_back(r);
-    s->main = s->runs.size() - 1;
+    add_repacked(a, r, s);
     return 0;
   }
   // An RTL preset whose table and hash options were not overridden runs the RTL's cycle model.
@@ -277,15 +286,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
   }
   s->runs.push_back(r);
-  s->main = s->runs.size() - 1;
-  if (a.repack) {
-    RunSpec rr = r;
-    rr.name = s->preset + "+repack";
-    rr.opt.repack = a.repack_by == "node" ? sim::SimOptions::Repack::kNode
-                                          : sim::SimOptions::Repack::kPredicted;
-    s->runs.push_back(rr);
-    s->repacked = int(s->runs.size() - 1);
-  }
+  add_repacked(a, r, s);
   return 0;
 }
 
@@ -388,16 +389,16 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     std::printf("  predictor %s: %s\n    timing: %s\n", s.preset.c_str(), s.predictor_line.c_str(),
                 s.runs[s.main].timing.c_str());
   std::printf("  %-20s %11s %8s %9s %9s %9s %7s %7s %9s %6s %11s %11s\n", "run", "cycles",
-              "speed-up", "rays/kcyc", "latency", "in flight", "L1 hit", "L2 hit", "DRAM MB",
+              "speed-up", "rays/kcyc", "latency", "in flight", "L1 hit", "L2 hit", "DRAM KB",
               "SIMD", "node fetch", "tri fetch");
   const uint64_t base = st.front().cycles;
   for (size_t i = 0; i < st.size(); ++i) {
     const sim::SimStats& x = st[i];
     std::printf(
-        "  %-20s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.2f %5.1f%% %11llu %11llu\n",
+        "  %-20s %11llu %7.3fx %9.2f %9.1f %9.1f %6.1f%% %6.1f%% %9.1f %5.1f%% %11llu %11llu\n",
         s.runs[i].name.c_str(), (unsigned long long)x.cycles, speedup(base, x.cycles),
         1000.0 * x.rays / std::max<uint64_t>(1, x.cycles), x.mean_latency(), x.mean_in_flight(),
-        100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(), x.memory.dram_bytes / 1e6,
+        100 * x.memory.l1.hit_rate(), 100 * x.memory.l2.hit_rate(), x.memory.dram_bytes / 1e3,
         100 * x.simd_efficiency(), (unsigned long long)x.node_fetches,
         (unsigned long long)x.triangle_fetches);
   }
