@@ -125,7 +125,8 @@ def pct(x):
 def kind_table(res, gpu, scenes, kind):
     """One ray kind on one GPU: per scene the speed-up of each preset and the oracle."""
     rows = ["| scene | rays | cycles, none | study2019 | micro21 | rtl-default | oracle | "
-            "rtl-default: % of oracle's gain | rtl-default: stall cycles |",
+            "gain as % of the oracle's: study2019 / micro21 / rtl-default | "
+            "rtl-default: stall cycles |",
             "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     cols = {p: [] for p in PRESETS + ["oracle"]}
     notes = set()
@@ -142,15 +143,16 @@ def kind_table(res, gpu, scenes, kind):
         if rd and "unsupported" in rd:
             notes.add(f"{label(where, scene)}: {rd['unsupported'].replace('hrpp simulate: ', '')}")
             rd = None
-        frac = None
-        if rd and sp["oracle"] and sp["oracle"] > 1:
-            frac = (rd["speedup"] - 1) / (sp["oracle"] - 1)
+        # Each preset's gain (speed-up - 1) as a fraction of the oracle's, when the oracle gains.
+        fracs = " / ".join(
+            pct((sp[p] - 1) / (sp["oracle"] - 1)) if sp[p] and sp["oracle"] and sp["oracle"] > 1
+            else "-" for p in PRESETS)
         stall = ""
         if rd:
             stall = pct(rd["predictor"]["stall_cycles"] / max(1, rd["cycles"] * rd["units"]))
         rows.append(f"| {label(where, scene)} | {first['rays']:,} | {first['baseline_cycles']:,} | "
                     + " | ".join(fx(sp[p]) for p in PRESETS + ["oracle"])
-                    + f" | {pct(frac)} | {stall} |")
+                    + f" | {fracs} | {stall} |")
     g = {p: geomean(v) for p, v in cols.items()}
     rows.append("| **geometric mean** | | | " + " | ".join(f"**{fx(g[p])}**" for p in PRESETS
                                                          + ["oracle"]) + " | | |")
