@@ -56,9 +56,11 @@ std::string embree_isa_report() {
 }
 
 // Writes the scene's bench stream (primary, shadow, AO; Morton order) unless it exists.
-std::string make_stream(const std::string& scene_path, uint64_t samples, const std::string& dir) {
+std::string make_stream(const std::string& scene_path, uint64_t samples, const std::string& dir,
+                        size_t* bvh_nodes) {
   const Scene scene = load_scene(scene_path);
   const Bvh bvh = build_bvh(scene.triangles);
+  *bvh_nodes = bvh.nodes.size();
   WorkloadOptions wo;
   resolution_for(scene.camera, samples, 1, &wo.width, &wo.height);
   wo.shadow = wo.ao = true;
@@ -247,7 +249,7 @@ json describe_machine(unsigned threads) {
 // measurement's peak RSS goes to (*rss)[its name] (the most over the repetitions).
 Repetition run_repetition(const DriverArgs& a, const std::vector<std::string>& cargs,
                           const std::string& scene, const std::string& stream, int rep,
-                          std::map<std::string, double>* rss) {
+                          bool rtl_fits, std::map<std::string, double>* rss) {
   double rs = 0;
   Repetition m;
   json &ours = m.ours, &emb = m.embree;
@@ -266,6 +268,7 @@ Repetition run_repetition(const DriverArgs& a, const std::vector<std::string>& c
   (*rss)["embree_mxcsr_default"] = std::max((*rss)["embree_mxcsr_default"], rs);
   m.predict = run_child("predict", cargs, &rs);
   (*rss)["predict"] = std::max((*rss)["predict"], rs);
+  if (!rtl_fits) return m;  // the RTL's default configuration cannot name the BVH's nodes
   m.cosim = run_cosim(a, stream, false, &rs);
   (*rss)["cosim"] = std::max((*rss)["cosim"], rs);
   m.cosim_full_rate = run_cosim(a, stream, true, &rs);
@@ -295,19 +298,32 @@ json bench_scene(const DriverArgs& a, const std::string& scene, const std::strin
                  unsigned threads, Figures* for_geomean, Figures* rss_geomean) {
   const std::string name = fs::path(scene).stem().string();
   std::fprintf(stderr, "bench: %s: writing the ray stream\n", name.c_str());
-  const std::string stream = make_stream(scene, a.samples, dir);
+  size_t nodes = 0;
+  const std::string stream = make_stream(scene, a.samples, dir, &nodes);
+  // The co-simulation and the simulator run the RTL's default configuration: its node ids must
+  // name every node of the BVH.
+  const int id_bits = rtl::kDefaultConfig.node_id_width;
+  const bool rtl_fits = nodes <= (size_t{1} << id_bits);
+  std::string rtl_skipped;
+  if (!rtl_fits) {
+    rtl_skipped = "the BVH has " + std::to_string(nodes) + " nodes; the RTL's default " +
+                  std::to_string(id_bits) + "-bit node ids name at most " +
+                  std::to_string(size_t{1} << id_bits) + ": no co-simulation, no simulate";
+    std::fprintf(stderr, "bench: %s: %s\n", name.c_str(), rtl_skipped.c_str());
+  }
   Figures r;
   std::map<std::string, double> rss;
   Repetition last;
   const std::vector<std::string> cargs{"--stream", stream, "--threads", std::to_string(threads)};
   for (int rep = 0; rep < a.reps; ++rep) {
     std::fprintf(stderr, "bench: %s: repetition %d of %d\n", name.c_str(), rep + 1, a.reps);
-    const Repetition m = run_repetition(a, cargs, scene, stream, rep, &rss);
+    const Repetition m = run_repetition(a, cargs, scene, stream, rep, rtl_fits, &rss);
     add_figures(m, threads, &r);
     if (rep == 0) check_answers(name, m);
     last = m;
   }
-  const json flat = scene_report(r, rss, last, for_geomean, rss_geomean);
+  json flat = scene_report(r, rss, last, for_geomean, rss_geomean);
+  if (!rtl_fits) flat["rtl_skipped"] = rtl_skipped;
   print_scene_line(name, flat, rss, threads);
   return flat;
 }

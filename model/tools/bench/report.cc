@@ -118,10 +118,12 @@ void add_figures(const Repetition& m, unsigned threads, Figures* figures) {
     r["predict_mt_cpu_efficiency"].push_back(pred["cores_1_thread"]["cpu_seconds"].get<double>() /
                                              pred["cores_mt"]["cpu_seconds"].get<double>());
   }
-  r["cosim_rays_per_s"].push_back(cos["rays"].get<double>() / cos["seconds"].get<double>());
-  r["cosim_cycles_per_s"].push_back(cos["cycles"].get<double>() / cos["seconds"].get<double>());
-  r["cosim_full_rate_rays_per_s"].push_back(cos_full["rays"].get<double>() /
-                                            cos_full["seconds"].get<double>());
+  if (!cos.is_null()) {  // null: the RTL cannot represent the scene's BVH (bench_scene says why)
+    r["cosim_rays_per_s"].push_back(cos["rays"].get<double>() / cos["seconds"].get<double>());
+    r["cosim_cycles_per_s"].push_back(cos["cycles"].get<double>() / cos["seconds"].get<double>());
+    r["cosim_full_rate_rays_per_s"].push_back(cos_full["rays"].get<double>() /
+                                              cos_full["seconds"].get<double>());
+  }
   // hrpp simulate's AO frame (absent without --hrpp): simulated rays per second of the preset's
   // run and of the baseline's (each run's wall clock), the whole command's seconds (its wall
   // clock) and CPU seconds (wait4).
@@ -191,8 +193,11 @@ void print_scene_line(const std::string& name, const json& flat,
       fmt_ratio(js.value("traversal_vs_embree_mt", json())).c_str(),
       fmt_ratio(js.value("anyhit_vs_embree_mt", json())).c_str(),
       fmt_ratio(js.value("predict_scaling", json())).c_str(),
-      js["cosim_rays_per_s"]["median"].get<double>(), rss.at("ours"), rss.at("embree"),
-      rss.at("predict"), rss.at("cosim"));
+      js.contains("cosim_rays_per_s") ? js["cosim_rays_per_s"]["median"].get<double>() : 0.0,
+      rss.at("ours"), rss.at("embree"), rss.at("predict"),
+      rss.count("cosim") ? rss.at("cosim") : 0.0);
+  if (flat.contains("rtl_skipped"))
+    std::printf("%-13s %s\n", "", flat["rtl_skipped"].get<std::string>().c_str());
   if (js.contains("sim_rays_per_s") && js.contains("sim_rtl_rays_per_s"))
     std::printf(
         "%-13s simulate AO 256x256 on mobile: %s rays/s (no predictor %s), frame %s s (CPU %s s) "
@@ -268,6 +273,10 @@ std::string markdown(const json& out) {
                   rss.value("embree", 0.0), rss.value("predict", 0.0), rss.value("cosim", 0.0));
     md += b;
   }
+  // Scenes without the co-simulation and the simulator's runs, and why.
+  for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it)
+    if (it->contains("rtl_skipped"))
+      md += "\n" + it.key() + ": " + (*it)["rtl_skipped"].get<std::string>() + ".\n";
   const json& g = out["geomean"];
   auto gv = [&](const char* k, const char* f = "%.2f") -> std::string {
     if (!g.contains(k)) return "-";
