@@ -273,10 +273,6 @@ std::string markdown(const json& out) {
                   rss.value("embree", 0.0), rss.value("predict", 0.0), rss.value("cosim", 0.0));
     md += b;
   }
-  // Scenes without the co-simulation and the simulator's runs, and why.
-  for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it)
-    if (it->contains("rtl_skipped"))
-      md += "\n" + it.key() + ": " + (*it)["rtl_skipped"].get<std::string>() + ".\n";
   const json& g = out["geomean"];
   auto gv = [&](const char* k, const char* f = "%.2f") -> std::string {
     if (!g.contains(k)) return "-";
@@ -296,6 +292,10 @@ std::string markdown(const json& out) {
       gv("sim_rtl_rays_per_s", "%.0f").c_str(), gv("sim_frame_s").c_str(),
       gv("sim_rtl_frame_s").c_str());
   md += b;
+  // Scenes without the co-simulation and the simulator's runs, and why.
+  for (auto it = out["scenes"].begin(); it != out["scenes"].end(); ++it)
+    if (it->contains("rtl_skipped"))
+      md += "\n" + it.key() + ": " + (*it)["rtl_skipped"].get<std::string>() + ".\n";
   std::snprintf(
       b, sizeof b,
       "\nAgainst Embree without FTZ/DAZ (geometric means): primary %s, any-hit %s, "
