@@ -221,7 +221,6 @@ def simulated_rows_of(scene, cfg, res, data):
     for kind in sorted(kinds, key=KIND_ORDER.index):
         k = kinds[kind]
         rays = k["rays"]
-        wrong = k["wrong_results"]
         osp = k.get("oracle_speedup", "")
         r = {"scene": stem, "kind": kind, "res": res}
         r.update(cfg)
@@ -231,15 +230,7 @@ def simulated_rows_of(scene, cfg, res, data):
             "table_bytes": data["preset"]["table_bytes"] if cfg["table"] != "unbounded" else "",
             "table_entries": "",  # one table per RT unit: no single count of entries used
             "update_delay_rays": "",  # follows from the simulated occupancy
-            "pred_precision": k["precision"], "pred_recall": k["recall"],
-            "true_positive": k["true_positive"], "false_positive": k["false_positive"],
-            "false_negative": k["false_negative"],
-            "skipped_interior": k["skipped_interior_fraction"],
-            "skipped_tri": k["skipped_tri_fraction"],
-            "skipped_walks": k["skipped_walks"],
-            "wrong_results": wrong,
-            "wrong_fraction": wrong / rays if rays else 0.0,
-            "accuracy": 1.0 - (wrong / rays if rays else 0.0),
+            **predictor_columns(k),
             "baseline_cycles_per_ray": k["baseline_cycles"] / rays if rays else 0.0,
             "hrpp_cycles_per_ray": k["cycles"] / rays if rays else 0.0,
             "saved_cycles": 1.0 - k["cycles"] / k["baseline_cycles"] if k["baseline_cycles"]
@@ -259,6 +250,22 @@ def simulated_rows_of(scene, cfg, res, data):
     return rows
 
 
+def predictor_columns(k):
+    """The predictor's statistics columns of one kind's report (hrpp predict's or simulate's)."""
+    rays, wrong = k["rays"], k["wrong_results"]
+    return {
+        "pred_precision": k["precision"], "pred_recall": k["recall"],
+        "true_positive": k["true_positive"], "false_positive": k["false_positive"],
+        "false_negative": k["false_negative"],
+        "skipped_interior": k["skipped_interior_fraction"],
+        "skipped_tri": k["skipped_tri_fraction"],
+        "skipped_walks": k["skipped_walks"],
+        "wrong_results": wrong,
+        "wrong_fraction": wrong / rays if rays else 0.0,
+        "accuracy": 1.0 - (wrong / rays if rays else 0.0),
+    }
+
+
 def rows_of(scene, cfg, res, data, timing):
     stem = pathlib.Path(scene).stem
     kinds = dict(data.get("by_kind", {}))
@@ -269,7 +276,6 @@ def rows_of(scene, cfg, res, data, timing):
         k = kinds[kind]
         rays = k["rays"]
         cost = k["cost"]
-        wrong = k["wrong_results"]
         r = {"scene": stem, "kind": kind, "res": res}
         r.update(cfg)
         r.update({
@@ -277,15 +283,7 @@ def rows_of(scene, cfg, res, data, timing):
             "table_bytes": data["table_bytes"],
             "table_entries": data["table_entries"],
             "update_delay_rays": data["config"]["update_delay"],
-            "pred_precision": k["precision"], "pred_recall": k["recall"],
-            "true_positive": k["true_positive"], "false_positive": k["false_positive"],
-            "false_negative": k["false_negative"],
-            "skipped_interior": k["skipped_interior_fraction"],
-            "skipped_tri": k["skipped_tri_fraction"],
-            "skipped_walks": k["skipped_walks"],
-            "wrong_results": wrong,
-            "wrong_fraction": wrong / rays if rays else 0.0,
-            "accuracy": 1.0 - (wrong / rays if rays else 0.0),
+            **predictor_columns(k),
             "baseline_cycles_per_ray": cost["baseline_cycles_per_ray"],
             "hrpp_cycles_per_ray": cost["hrpp_cycles_per_ray"],
             "saved_cycles": cost["saved_cycle_fraction"],
