@@ -154,7 +154,16 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   try {
     s->gpu = sim::load_gpu_config(gpu_path(a.gpu));
   } catch (const sim::GpuConfigError& e) {
-    std::fprintf(stderr, "hrpp simulate: --gpu %s: %s\n", a.gpu.c_str(), e.what());
+    std::vector<std::string> names;  // the configurations model/gpu/ holds
+    std::error_code ec;
+    for (const auto& f :
+         std::filesystem::directory_iterator(std::string(HRPP_SOURCE_DIR) + "/model/gpu", ec))
+      if (f.path().extension() == ".json") names.push_back(f.path().stem().string());
+    std::sort(names.begin(), names.end());
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    std::fprintf(stderr, "hrpp simulate: --gpu %s: %s (known: %s; or a JSON file)\n", a.gpu.c_str(),
+                 e.what(), known.c_str());
     return 2;
   }
   const bool rtl_preset = a.p.preset.starts_with("rtl-");
