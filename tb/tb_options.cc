@@ -40,7 +40,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   app.add_option("--stall-every", eo.stall_every, "stall every output this often (cycles)");
   app.add_option("--stall-length", eo.stall_length, "... for this many cycles");
   app.add_option("--trace", o->trace,
-                 "write a VCD waveform to this file (its folder must exist and be writable)");
+                 "write a waveform to this file: FST if its name ends in .fst, VCD otherwise (its "
+                 "folder must exist and be writable)");
   app.add_option("--min-throughput", o->min_throughput,
                  "fail unless at least this many rays finish per cycle")
       ->check(CLI::Range(0.0, 1.0));

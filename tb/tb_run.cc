@@ -1,8 +1,10 @@
 #include "tb_run.h"
 
-#include <verilated_vcd_c.h>
+#include <gtkwave/fstapi.h>
+#include <verilated_fst_c.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -15,6 +17,61 @@ namespace hrpp::tb {
 namespace {
 
 constexpr uint64_t kMaxCyclesPerRay = 200;
+
+// The waveform of --trace: FST when the file name ends in .fst, VCD otherwise. Verilator 5.006
+// builds a model for one trace format (verilate() takes TRACE or TRACE_FST, not both; the model's
+// trace code writes that format's buffer), and the models are Verilated with --trace-fst. A VCD is
+// written as an FST beside it (FILE.tmp.fst) and converted when the run ends by the FST library's
+// reader (gtkwave/fstapi.c, compiled into Verilator's FST writer), as GTKWave's fst2vcd does.
+class Waveform {
+ public:
+  explicit Waveform(const std::string& path) : path_(path), vcd_(!ends_with_fst(path)) {
+    fst_path_ = vcd_ ? path + ".tmp.fst" : path;
+  }
+  ~Waveform() {
+    if (fst_.isOpen()) fst_.close();  // a run that threw: the FST as far as it got
+  }
+  template <typename M>
+  void open(M* dut) {
+    dut->trace(&fst_, 99);
+    fst_.open(fst_path_.c_str());
+    // Checked before the run too (tb_options.cc); a waveform that cannot be written fails the run.
+    if (!fst_.isOpen())
+      throw std::runtime_error("--trace " + path_ + ": cannot open the waveform for writing");
+  }
+  void dump(uint64_t time) { fst_.dump(time); }
+  void close() {
+    fst_.close();
+    if (vcd_) fst_to_vcd();
+  }
+
+ private:
+  static bool ends_with_fst(const std::string& path) {
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    return ext == ".fst";
+  }
+  void fst_to_vcd() const {
+    const std::string what = "--trace " + path_ + ": converting " + fst_path_ + " to VCD: ";
+    void* reader = fstReaderOpen(fst_path_.c_str());
+    if (!reader) throw std::runtime_error(what + "cannot read the FST");
+    FILE* out = std::fopen(path_.c_str(), "w");
+    if (!out) {
+      fstReaderClose(reader);
+      throw std::runtime_error(what + "cannot open the VCD for writing");
+    }
+    const bool hier = fstReaderProcessHier(reader, out) != 0;
+    fstReaderSetFacProcessMaskAll(reader);
+    const bool values = hier && fstReaderIterBlocks(reader, nullptr, nullptr, out) != 0;
+    fstReaderClose(reader);
+    if (std::fclose(out) != 0 || !values) throw std::runtime_error(what + "failed");
+    std::remove(fst_path_.c_str());
+  }
+
+  std::string path_, fst_path_;
+  bool vcd_;
+  VerilatedFstC fst_;
+};
 
 // A reset begins: the engine drops the rays in flight (it offers them again); counted in `run`.
 void begin_reset(Engine& eng, Run& run) {
@@ -79,14 +136,10 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
                 ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
   ctx->traceEverOn(!trace_path.empty());
   auto dut = std::make_unique<M>(ctx.get());
-  std::unique_ptr<VerilatedVcdC> vcd;
+  std::unique_ptr<Waveform> wave;
   if (!trace_path.empty()) {
-    vcd = std::make_unique<VerilatedVcdC>();
-    dut->trace(vcd.get(), 99);
-    vcd->open(trace_path.c_str());
-    // Checked before the run too (tb_options.cc); a waveform that cannot be written fails the run.
-    if (!vcd->isOpen())
-      throw std::runtime_error("--trace " + trace_path + ": cannot open the waveform for writing");
+    wave = std::make_unique<Waveform>(trace_path);
+    wave->open(dut.get());
   }
   CycleModel model(cc);
   Engine eng(bvh, rays, eo);
@@ -94,7 +147,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   Run run;
   uint64_t time = 0;
   reset_dut(dut.get(), cc, [&] {
-    if (vcd) vcd->dump(time++);
+    if (wave) wave->dump(time++);
   });
   for (uint64_t cycle = 0; !eng.done(); ++cycle) {
     if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
@@ -119,7 +172,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     apply(dut.get(), in);
     dut->clk_i = 0;
     dut->eval();
-    if (vcd) vcd->dump(time++);
+    if (wave) wave->dump(time++);
     const DutOut act = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
     const DutOut exp = model.outputs();
     const std::string d = compare_outputs(exp, act, cc.table.nodes_per_entry);
@@ -137,7 +190,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     }
     dut->clk_i = 1;
     dut->eval();
-    if (vcd) vcd->dump(time++);
+    if (wave) wave->dump(time++);
     if (!in_reset) model.tick(in);
     if (!model.error().empty()) {
       std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
@@ -153,7 +206,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
     }
   }
   dut->final();
-  if (vcd) vcd->close();
+  if (wave) wave->close();
   run.stats = eng.stats();
   run.exactly_once = eng.check_exactly_once();
   for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = eng.stall_stats(p);

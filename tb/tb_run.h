@@ -35,8 +35,8 @@ struct RunOptions {
 };
 
 /// DUT and cycle model in lockstep; the DUT is the Verilated model of configuration `config`.
-/// A mismatch, a protocol error or an early finish is printed and stops the run; `trace`: a VCD
-/// file to write, or "".
+/// A mismatch, a protocol error or an early finish is printed and stops the run; `trace`: the
+/// waveform to write (FST if the name ends in .fst, VCD otherwise), or "".
 Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
                  const std::vector<RayRecord>& rays, const EngineOptions& eo, const RunOptions& ro,
                  const std::string& trace);
