@@ -32,7 +32,8 @@ OUT = Path("out/formal")
 @dataclass(frozen=True)
 class Planted:
     """A planted bug: in `file` (a copy of it), `original` becomes `bug` (one line); running
-    `sby`'s quick task must fail one of the assertions `expect` (names, as in the harness)."""
+    `sby`'s `task` (a short bounded one) must fail one of the assertions `expect` (names, as in
+    the harness)."""
     name: str
     sby: str
     file: str
@@ -40,6 +41,7 @@ class Planted:
     bug: str
     expect: tuple[str, ...]
     what: str
+    task: str = "quick"
 
 
 PLANTED = [
@@ -54,6 +56,22 @@ PLANTED = [
             "assign full_o  = count_q == CountWidth'(Depth);",
             "assign full_o  = count_q == CountWidth'(Depth + 1);",
             ("Full_A", "Count_A"), "full is never raised: a fifth push is accepted"),
+    Planted("skip_rule", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "if (p0_any_hit_q || cfg_mode_i == ModeClosestSpec) action = ActSkip;",
+            "if (p0_any_hit_q || cfg_mode_i != ModeAnyHit) action = ActSkip;",
+            ("DecisionAction_A", "SkipOnlyHit_A", "WriteOnlySkip_A"),
+            "a closest-hit query's hit is skipped in closest-exact mode"),
+    Planted("skip_once", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign pw_ready_o      = enable_i && (!p0_valid_q || p_advance);",
+            "assign pw_ready_o      = enable_i;",
+            ("Conserve_A", "InP0_A"), "P0 is overwritten while it waits: a decision is lost"),
+    Planted("skip_write", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign p_req          = p0_valid_q && p_needs && !fifo_full;",
+            "assign p_req          = p0_valid_q && !fifo_full;",
+            ("WriteOnlySkip_A",), "every predicted-walk result writes the table"),
+    Planted("skip_deadlock", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign skip_valid_o  = !fifo_empty;", "assign skip_valid_o  = fifo_full;",
+            ("Bounded_A",), "decisions leave only when the skip FIFO is full", "quick_live"),
 ]
 
 
@@ -151,7 +169,7 @@ def run_tasks(quick: bool, only: str | None) -> tuple[list[dict], bool]:
         if only and not re.search(only, sby.stem):
             continue
         for task in sby_tasks(rel):
-            if (task == "quick") != quick:
+            if task.startswith("quick") != quick:
                 continue
             r = run_sby(rel, task, OUT / f"{sby.stem}_{task}")
             results.append(r)
@@ -182,7 +200,7 @@ def run_planted(only: str | None) -> tuple[list[dict], bool]:
             copied.append(str(case / Path(src).name))
         sby_text = sby_text[:files.start(1)] + "\n".join(copied) + "\n" + sby_text[files.end(1):]
         (ROOT / case / f"{p.sby}.sby").write_text(sby_text)
-        r = run_sby(case / f"{p.sby}.sby", "quick", case / "work")
+        r = run_sby(case / f"{p.sby}.sby", p.task, case / "work")
         r["planted"] = {"name": p.name, "file": p.file, "original": p.original, "bug": p.bug,
                         "what": p.what, "expect": list(p.expect)}
         names = {f["assertion"] for f in r["failed"]}
@@ -198,6 +216,7 @@ def run_planted(only: str | None) -> tuple[list[dict], bool]:
 
 
 def main() -> int:
+    global OUT
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--quick", action="store_true", help="the short `quick` task of every file")
@@ -207,7 +226,6 @@ def main() -> int:
                     help="output folder inside the repository (default out/formal)")
     args = ap.parse_args()
     os.chdir(ROOT)
-    global OUT
     OUT = Path(os.path.relpath(Path(args.out).resolve(), ROOT))
     if OUT.parts[:1] == ("..",):
         sys.exit(f"formal: --out {args.out} is outside {ROOT} (the yowasp tools need a path "
