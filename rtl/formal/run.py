@@ -72,6 +72,17 @@ PLANTED = [
     Planted("skip_deadlock", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
             "assign skip_valid_o  = !fifo_empty;", "assign skip_valid_o  = fifo_full;",
             ("Bounded_A",), "decisions leave only when the skip FIFO is full", "quick_live"),
+    Planted("top_credits", "top", "rtl/hrpp_top.sv",
+            "for (int i = 0; i < LookupLatency; i++) in_flight",
+            "for (int i = 1; i < LookupLatency; i++) in_flight",
+            ("InFlight_A", "Credits_A", "PredNoOverflow_A"),
+            "the rays in the first lookup stage hold no credit"),
+    Planted("top_comb", "top", "rtl/hrpp_top.sv",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count) - "
+            "(PredCountWidth + 1)'(pred_valid_o && pred_ready_i)) <",
+            ("RayReadyComb_A",), "the credit of a prediction taken in this cycle is reused at "
+            "once: ray_ready_o depends on pred_ready_i", "quick_comb"),
 ]
 
 
