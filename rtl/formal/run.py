@@ -84,7 +84,8 @@ PLANTED = [
     Planted("table_age", "pred_table", "rtl/hrpp_pred_table.sv",
             "if (!c3_q.sel[w] && c3_q.row[w].age < c3_q.way.age)",
             "if (!c3_q.sel[w] && c3_q.row[w].age > c3_q.way.age)",
-            ("Invariants_A", "Model_A"), "the ways older than the updated one age, not the younger"),
+            ("Invariants_A", "Model_A"),
+            "the ways older than the updated one age, not the younger"),
     Planted("table_victim", "pred_table", "rtl/hrpp_pred_table.sv",
             "c1_oldest[w]  = c1_row[w].age == AgeWidth'(NumWays - 1);",
             "c1_oldest[w]  = c1_row[w].age == AgeWidth'(0);",
@@ -198,7 +199,8 @@ def line(r: dict, label: str) -> str:
     text = f"{r['status']:5} {label:34} {what:34} {r['seconds']:7.1f} s"
     if r["failed"]:
         f = r["failed"][0]
-        text += f"  {f['assertion']} fails at step {f['step']} ({f['step'] + 1} cycles): {r['trace']}"
+        text += (f"  {f['assertion']} fails at step {f['step']} ({f['step'] + 1} cycles): "
+                 f"{r['trace']}")
     for e in r.get("errors", []):
         text += f"\n      {e}"
     return text

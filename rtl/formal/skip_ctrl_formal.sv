@@ -147,8 +147,8 @@ module skip_ctrl_formal
   always_comb begin
     if (rst_ni) begin
       // Exactly one decision per accepted result.
-      Conserve_A: assert (outstanding_q ==
-                          (CountWidth + 1)'(dut.p0_valid_q) + (CountWidth + 1)'(dut.u_fifo.count_q));
+      Conserve_A: assert (outstanding_q == (CountWidth + 1)'(dut.p0_valid_q) +
+                                           (CountWidth + 1)'(dut.u_fifo.count_q));
       // The tracked result's decision: its id, the rule's action, at its turn.
       if (phase_q == 2'd2 && ahead_q == '0 && skip_acc) begin
         DecisionId_A: assert (skip_id_o == t_id_q);
