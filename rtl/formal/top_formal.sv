@@ -52,14 +52,19 @@ module top_formal
   logic rst_ni;
   assign rst_ni = !init_q;
 
-  // The configuration is static (a register that keeps the value the solver chose).
+  // The configuration is static: free inputs held at their first cycle's values (inputs, not
+  // registers that keep their initial value, because the miter's zero initialization would fix
+  // those).
   logic [1:0]        mode_q;
   logic signed [8:0] cell_exp_q;
   always_ff @(posedge clk_i) begin
-    mode_q     <= mode_q;
-    cell_exp_q <= cell_exp_q;
+    mode_q     <= mode_i;
+    cell_exp_q <= cell_exp_i;
   end
-  always_comb assume (mode_q <= 2'd2);
+  always_comb begin
+    assume (mode_i <= 2'd2);
+    if (rst_ni) assume (mode_i == mode_q && cell_exp_i == cell_exp_q);
+  end
 
   logic                                ray_ready_o, pred_valid_o, pred_invalid_o, pw_ready_o;
   logic                                outcome_ready_o, skip_valid_o;
@@ -73,7 +78,7 @@ module top_formal
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
     .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2)
   ) dut (
-    .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_q)), .cfg_cell_exp_i(cell_exp_q),
+    .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
     .pred_valid_o, .pred_ready_i, .pred_id_o, .pred_invalid_o, .pred_count_o, .pred_nodes_o,
     .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
@@ -127,7 +132,7 @@ module top_formal
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
     .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2)
   ) dut_b (
-    .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_q)), .cfg_cell_exp_i(cell_exp_q),
+    .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i(d ? b_ray_valid_i : ray_valid_i), .ray_ready_o(b_ray_ready_o),
     .ray_id_i(d ? b_id_i : ray_id_i), .ray_kind_i, .ray_org_i, .ray_dir_i,
     .pred_valid_o(b_pred_valid_o), .pred_ready_i(d ? b_pred_ready_i : pred_ready_i),
