@@ -4,7 +4,7 @@
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
 # Other targets: setup, build, lint, format, check-embree, results, sim-long, stress, synth, synth-sweep,
-# synth-check, sweep, report, bench, test-sanitize, fuzz, clean.
+# synth-check, formal, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -24,7 +24,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint format sim-long stress check-embree results clean \
-  synth synth-sweep synth-check sweep report bench test-sanitize fuzz
+  synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal
 
 all: build
 
@@ -140,6 +140,13 @@ sim-results: build
 # ---------------------------------------------------------------------------------------------
 synth: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2
+
+# Formal verification (rtl/formal/run.py, docs/verification.md): every property of rtl/formal/
+# at its full depth (k-induction where it closes), then every planted bug must be caught; one
+# solver job at a time. Results in out/formal/summary.json and summary_planted.json, traces as VCD.
+formal: setup-venv
+	$(VENV)/bin/python rtl/formal/run.py
+	$(VENV)/bin/python rtl/formal/run.py --planted
 
 # How Fmax and resources scale with sets, ways, nodes per entry and hash precision (about 25
 # minutes; speed grade 6 only); added to out/synth/report.{json,md}.

@@ -1,0 +1,229 @@
+`default_nettype none
+// Formal harness of hrpp_pred_table (docs/verification.md) on a small configuration: 2 sets x
+// 2 ways x K = 2 node ids of 2 bits, 2-bit tags. The RAM model returns inverted data on a read of
+// the word being written (HRPP_SIM_RW_GARBAGE), so a design relying on read-during-write fails.
+//
+// The harness keeps an abstract table, updated by the golden model's rule (docs/hash.md,
+// "Predictor table"; model/src/predictor/pred_table.cc) in the cycle the RTL writes the update
+// (W, UpdateStages cycles after the request is accepted). Checked on every cycle after the reset
+// clear, on both RAM copies: the ages of a set are a permutation of 0..W-1, no two valid ways of
+// a set hold the same tag (at most one matches a tag), no count exceeds K, and every set equals
+// the abstract one (valid bits and ages; tag, count and the first `count` node ids of valid
+// ways). A lookup returns what the abstract table holds after the writes of its read's cycle
+// (the same-cycle write is forwarded): its count and first `count` node ids, four cycles later.
+module pred_table_formal
+  import hrpp_pkg::*;
+#(
+  parameter int unsigned NumSets = 2,
+  parameter int unsigned NumWays = 2,
+  parameter int unsigned NodesPerEntry = 2,
+  parameter int unsigned NodeIdWidth = 2,
+  parameter int unsigned TagWidth = 2,
+  localparam int unsigned IdxWidth = $clog2(NumSets),
+  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
+  localparam int unsigned AgeWidth = $clog2(NumWays)
+) (
+  input logic                   clk_i,
+  input logic                   lk_valid_i,
+  input logic [IdxWidth-1:0]    lk_idx_i,
+  input logic [TagWidth-1:0]    lk_tag_i,
+  input logic                   tbl_wr_valid_i,
+  input logic [IdxWidth-1:0]    tbl_wr_idx_i,
+  input logic [TagWidth-1:0]    tbl_wr_tag_i,
+  input logic [NodeIdWidth-1:0] tbl_wr_node_i
+);
+  logic init_q = 1'b1;
+  always_ff @(posedge clk_i) init_q <= 1'b0;
+  logic rst_ni;
+  assign rst_ni = !init_q;
+
+  logic                                      init_done_o, lk_valid_o, tbl_wr_ready_o;
+  logic [CountWidth-1:0]                     lk_count_o;
+  logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes_o;
+
+  hrpp_pred_table #(
+    .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth)
+  ) dut (.*);
+
+  // Lookups start once the reset clear is over (hrpp_top accepts rays only then).
+  always_comb if (rst_ni && !init_done_o) assume (!lk_valid_i);
+
+  // The table's row layout (as in hrpp_pred_table).
+  typedef struct packed {
+    logic                                      valid;
+    logic [TagWidth-1:0]                       tag;
+    logic [CountWidth-1:0]                     count;
+    logic [NodesPerEntry-1:0][NodeIdWidth-1:0] nodes;
+    logic [AgeWidth-1:0]                       age;
+  } way_t;
+  typedef way_t [NumWays-1:0] row_t;
+  typedef row_t [NumSets-1:0] table_t;
+
+  // ---------------------------------------------------------------------------------------------
+  // The golden update rule, written out plainly
+  // ---------------------------------------------------------------------------------------------
+  function automatic row_t golden_update(row_t r, logic [TagWidth-1:0] tag,
+                                         logic [NodeIdWidth-1:0] node);
+    int   sel, pos, found;
+    way_t w;
+    logic [AgeWidth-1:0] old_age;
+    sel = -1;
+    for (int i = 0; i < NumWays; i++)  // the way holding the tag
+      if (sel < 0 && r[i].valid && r[i].tag == tag) sel = i;
+    if (sel < 0) begin  // a victim: the lowest-numbered invalid way, else the oldest
+      for (int i = 0; i < NumWays; i++)
+        if (sel < 0 && !r[i].valid) sel = i;
+      for (int i = 0; i < NumWays; i++)
+        if (sel < 0 && r[i].age == AgeWidth'(NumWays - 1)) sel = i;
+      r[sel].valid = 1'b1;
+      r[sel].tag = tag;
+      r[sel].count = '0;
+      r[sel].nodes = '0;
+    end
+    w = r[sel];
+    // the node to the front: from its position if present, else inserted (the last one drops)
+    found = -1;
+    for (int i = 0; i < NodesPerEntry; i++)
+      if (found < 0 && i < int'(w.count) && w.nodes[i] == node) found = i;
+    pos = found >= 0 ? found : (int'(w.count) < NodesPerEntry ? int'(w.count) : NodesPerEntry - 1);
+    for (int i = NodesPerEntry - 1; i >= 1; i--)
+      if (i <= pos) w.nodes[i] = w.nodes[i-1];
+    w.nodes[0] = node;
+    if (found < 0 && int'(w.count) < NodesPerEntry) w.count = w.count + 1'b1;
+    // ages: the younger ways get one older, the updated way is the youngest
+    old_age = r[sel].age;
+    for (int i = 0; i < NumWays; i++)
+      if (r[i].age < old_age) r[i].age = r[i].age + 1'b1;
+    w.age = '0;
+    r[sel] = w;
+    return r;
+  endfunction
+
+  // Equal as the golden model sees it: valid bits and ages; tags, counts and the first `count`
+  // node ids of valid ways.
+  function automatic logic same_row(row_t a, row_t b);
+    logic ok;
+    ok = 1'b1;
+    for (int w = 0; w < NumWays; w++) begin
+      ok &= a[w].valid == b[w].valid && a[w].age == b[w].age;
+      if (a[w].valid) begin
+        ok &= a[w].tag == b[w].tag && a[w].count == b[w].count;
+        for (int i = 0; i < NodesPerEntry; i++)
+          if (i < int'(a[w].count)) ok &= a[w].nodes[i] == b[w].nodes[i];
+      end
+    end
+    return ok;
+  endfunction
+
+  function automatic logic row_invariants(row_t r);
+    logic ok;
+    ok = 1'b1;
+    for (int w = 0; w < NumWays; w++) begin
+      ok &= int'(r[w].count) <= NodesPerEntry;                        // count <= K
+      for (int v = w + 1; v < NumWays; v++) begin
+        ok &= r[w].age != r[v].age;                                   // ages: a permutation
+        ok &= !(r[w].valid && r[v].valid && r[w].tag == r[v].tag);    // one way per tag
+      end
+      ok &= int'(r[w].age) < NumWays;
+    end
+    return ok;
+  endfunction
+
+  // ---------------------------------------------------------------------------------------------
+  // The abstract table, updated in W's cycle
+  // ---------------------------------------------------------------------------------------------
+  typedef struct packed {
+    logic                   valid;
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+  } req_t;
+  req_t [UpdateStages-1:0] req_q;  // [UpdateStages-1]: the request in W
+  table_t model_q, model_next;
+  row_t   init;
+
+  always_comb begin
+    init = '0;
+    for (int w = 0; w < NumWays; w++) init[w].age = AgeWidth'(w);
+    model_next = model_q;
+    if (req_q[UpdateStages-1].valid)
+      model_next[req_q[UpdateStages-1].idx] =
+          golden_update(model_q[req_q[UpdateStages-1].idx], req_q[UpdateStages-1].tag,
+                        req_q[UpdateStages-1].node);
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      req_q <= '0;
+      for (int s = 0; s < NumSets; s++) model_q[s] <= init;
+    end else begin
+      req_q <= {req_q[UpdateStages-2:0],
+                req_t'{tbl_wr_valid_i && tbl_wr_ready_o, tbl_wr_idx_i, tbl_wr_tag_i,
+                       tbl_wr_node_i}};
+      model_q <= model_next;
+    end
+  end
+
+  // Lookups: the abstract table's answer (after the writes of the read's cycle), four cycles on.
+  logic [LookupLatency-1:0]                                     lk_q;
+  logic [LookupLatency-1:0][CountWidth-1:0]                     exp_count_q;
+  logic [LookupLatency-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] exp_nodes_q;
+  logic [CountWidth-1:0]                     exp_count;
+  logic [NodesPerEntry-1:0][NodeIdWidth-1:0] exp_nodes;
+  always_comb begin
+    exp_count = '0;
+    exp_nodes = '0;
+    for (int w = 0; w < NumWays; w++)
+      if (model_next[lk_idx_i][w].valid && model_next[lk_idx_i][w].tag == lk_tag_i) begin
+        exp_count = model_next[lk_idx_i][w].count;
+        exp_nodes = model_next[lk_idx_i][w].nodes;
+      end
+  end
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      lk_q        <= '0;
+      exp_count_q <= '0;
+      exp_nodes_q <= '0;
+    end else begin
+      lk_q        <= {lk_q[LookupLatency-2:0], lk_valid_i};
+      exp_count_q <= {exp_count_q[LookupLatency-2:0], exp_count};
+      exp_nodes_q <= {exp_nodes_q[LookupLatency-2:0], exp_nodes};
+    end
+  end
+
+  // ---------------------------------------------------------------------------------------------
+  // Checks
+  // ---------------------------------------------------------------------------------------------
+  localparam int unsigned L = LookupLatency - 1;
+  logic inv_ok, model_ok, nodes_ok;
+  always_comb begin
+    inv_ok = 1'b1;
+    model_ok = 1'b1;
+    for (int s = 0; s < NumSets; s++) begin
+      inv_ok &= row_invariants(row_t'(dut.u_lookup_ram.mem_q[s])) &&
+                row_invariants(row_t'(dut.u_update_ram.mem_q[s]));
+      model_ok &= same_row(model_q[s], row_t'(dut.u_lookup_ram.mem_q[s])) &&
+                  same_row(model_q[s], row_t'(dut.u_update_ram.mem_q[s]));
+    end
+    nodes_ok = 1'b1;
+    for (int i = 0; i < NodesPerEntry; i++)
+      if (i < int'(exp_count_q[L])) nodes_ok &= lk_nodes_o[i] == exp_nodes_q[L][i];
+  end
+
+  always_comb begin
+    if (rst_ni && init_done_o) begin
+      Invariants_A: assert (inv_ok);
+      Model_A: assert (model_ok);
+    end
+    if (rst_ni) begin
+      LookupValid_A: assert (lk_valid_o == lk_q[L]);
+      if (lk_q[L]) begin
+        LookupCount_A: assert (lk_count_o == exp_count_q[L]);
+        LookupNodes_A: assert (nodes_ok);
+      end
+    end
+  end
+endmodule
+
+`default_nettype wire

