@@ -42,12 +42,13 @@ def main():
     failures = 0
     tmp = tempfile.mkdtemp(prefix="hrpp_cli_")
 
-    def run(argv, code, stderr_re=None, stdout_re=None, limit=10.0, name=None, check=None):
+    def run(argv, code, stderr_re=None, stdout_re=None, limit=10.0, name=None, check=None,
+            cwd=None):
         nonlocal failures
         name = name or " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(argv))
         t0 = time.monotonic()
         try:
-            p = subprocess.run(argv, capture_output=True, text=True, timeout=limit * 3)
+            p = subprocess.run(argv, capture_output=True, text=True, timeout=limit * 3, cwd=cwd)
         except subprocess.TimeoutExpired:
             print("FAIL %s: no exit within %.0f s" % (name, limit * 3))
             failures += 1
@@ -155,6 +156,31 @@ def main():
     if len(ao_hits) == 2 and not ao_hits["inf"] > ao_hits["0"]:
         print("FAIL unbounded AO rays hit %d times, bounded ones %d" % (ao_hits["inf"], ao_hits["0"]))
         failures += 1
+
+    # --json -: the JSON alone on standard output, the text report on standard error (before: a
+    # file named '-').
+    def json_on_stdout(text_re):
+        def check(p):
+            problems = []
+            try:
+                j = json.loads(p.stdout)
+                if not isinstance(j, dict) or "scene" not in j:
+                    problems.append("stdout is JSON but not the report: %r" % p.stdout[:200])
+            except ValueError as e:
+                problems.append("stdout is not the JSON alone (%s): %r" % (e, p.stdout[:200]))
+            if not re.search(text_re, p.stderr):
+                problems.append("the text report is not on stderr (%r)" % text_re)
+            if os.path.exists(os.path.join(tmp, "-")):
+                problems.append("wrote a file named '-'")
+                os.remove(os.path.join(tmp, "-"))
+            return problems
+        return check
+    run([hrpp, "predict", scene, "--res", "8x8", "--json", "-"], 0, limit=20, cwd=tmp,
+        check=json_on_stdout(r"cost model: .* cycles per ray"))
+    run([hrpp, "info", scene, "--json", "-"], 0, limit=20, cwd=tmp,
+        check=json_on_stdout(r"triangles +\d+"))
+    run([hrpp, "simulate", scene, "--res", "8x8", "--no-per-kind", "--json", "-"], 0, limit=30,
+        cwd=tmp, check=json_on_stdout(r"speed-up"))
 
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):

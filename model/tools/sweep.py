@@ -1060,6 +1060,40 @@ def write_doc(path, rows):
     return list(blocks)
 
 
+def output_problem(path, folder):
+    """Why PATH cannot be written (a file) or made (a folder), or None. Missing folders above it
+    are created, so the nearest existing one must be a writable folder."""
+    if path == "-":
+        return "standard output is not supported for this option"
+    p = pathlib.Path(path)
+    if p.exists():
+        if folder and not p.is_dir():
+            return f"'{path}' is a file, not a folder"
+        if not folder and p.is_dir():
+            return f"'{path}' is a folder, not a file"
+        if not os.access(p, os.W_OK | (os.X_OK if folder else 0)):
+            return f"'{path}' is not writable"
+        return None
+    up = p.absolute().parent
+    while not up.exists():
+        up = up.parent
+    if not up.is_dir():
+        return f"'{up}' is not a folder"
+    if not os.access(up, os.W_OK | os.X_OK):
+        return f"the folder '{up}' is not writable"
+    return None
+
+
+def check_outputs(args):
+    """Every output option, checked before any work (BadInput names the option, path and why)."""
+    for opt, folder in (("csv", False), ("report", False), ("plots", True), ("images", True)):
+        path = getattr(args, opt)
+        if path is not None:
+            why = output_problem(path, folder)
+            if why:
+                raise BadInput(f"--{opt} {path}: {why}")
+
+
 def main():
     ap = argparse.ArgumentParser(prog="hrpp sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -1097,6 +1131,7 @@ def main():
     args = ap.parse_args()
     command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
     try:
+        check_outputs(args)
         if args.from_csv:
             rows = read_csv(args.from_csv)
         else:

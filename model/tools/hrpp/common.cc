@@ -1,21 +1,102 @@
 // hrpp CLI: the shared options and helpers (common.h).
 #include "common.h"
 
+#include <unistd.h>
+
 #include <bit>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 
 #include "hrpp/predictor/presets.h"
 #include "hrpp/util/atomic_file.h"
+#include "hrpp/util/cli.h"
 
 namespace hrpp::cli {
+namespace {
+
+int json_stdout_fd = -1;  // --json -: the process's standard output, kept for the JSON
+
+}  // namespace
 
 bool write_json_file(const std::string& path, const nlohmann::json& j) {
+  const std::string text = j.dump(2) + "\n";
+  if (path == "-") {
+    std::fflush(stdout);
+    const int fd = json_stdout_fd >= 0 ? json_stdout_fd : STDOUT_FILENO;
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        std::fprintf(stderr, "hrpp: --json -: cannot write to standard output: %s\n",
+                     std::strerror(errno));
+        return false;
+      }
+      done += size_t(n);
+    }
+    return true;
+  }
   try {
-    write_file_atomic(path, j.dump(2) + "\n");
+    write_file_atomic(path, text);
   } catch (const AtomicFileError& e) {
     std::fprintf(stderr, "hrpp: %s\n", e.what());
     return false;
+  }
+  return true;
+}
+
+namespace {
+
+/// Why PATH cannot be made a folder (created with its missing parents), or "" when it can.
+std::string output_folder_problem(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return "the folder name is empty";
+  std::error_code ec;
+  if (fs::exists(path, ec)) {
+    if (!fs::is_directory(path, ec)) return "'" + path + "' is a file, not a folder";
+    if (::access(path.c_str(), W_OK | X_OK) != 0)
+      return "the folder '" + path + "' is not writable: " + std::strerror(errno);
+    return "";
+  }
+  // The nearest existing folder above it must take the missing ones.
+  fs::path p = fs::path(path).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();
+  for (fs::path up = p.parent_path();; up = up.parent_path()) {
+    const fs::path dir = up.empty() ? fs::path(".") : up;
+    if (fs::exists(dir, ec)) {
+      if (!fs::is_directory(dir, ec)) return "'" + dir.string() + "' is not a folder";
+      if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        return "the folder '" + dir.string() + "' is not writable: " + std::strerror(errno);
+      return "";
+    }
+    if (up.empty() || up == up.parent_path()) return "no existing folder above it";
+  }
+}
+
+}  // namespace
+
+bool check_output_path(const char* cmd, const char* option, const std::string& path,
+                       OutputKind kind) {
+  std::string why;
+  if (path == "-")
+    why = kind == OutputKind::kJson ? "" : "standard output is not supported for this option";
+  else
+    why = kind == OutputKind::kFolder ? output_folder_problem(path) : output_file_problem(path);
+  if (!why.empty()) {
+    std::fprintf(stderr, "hrpp %s: %s %s: %s\n", cmd, option, path.c_str(), why.c_str());
+    return false;
+  }
+  if (path == "-" && json_stdout_fd < 0) {
+    // The JSON alone on standard output; the text report goes to standard error.
+    std::fflush(stdout);
+    json_stdout_fd = ::dup(STDOUT_FILENO);
+    if (json_stdout_fd < 0 || ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0) {
+      std::fprintf(stderr, "hrpp %s: %s -: cannot redirect standard output: %s\n", cmd, option,
+                   std::strerror(errno));
+      return false;
+    }
   }
   return true;
 }

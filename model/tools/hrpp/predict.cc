@@ -53,6 +53,11 @@ struct PredictSetup {
 int configure_predict(const PredictArgs& a, PredictSetup* s) {
   PredictorConfig& cfg = s->cfg;
   if (!parse_predictor_args("predict", a.p, &cfg) || !check_workload_args("predict", a.w)) return 2;
+  if ((!a.json_path.empty() &&
+       !check_output_path("predict", "--json", a.json_path, OutputKind::kJson)) ||
+      (!a.spec_images.empty() &&
+       !check_output_path("predict", "--spec-images", a.spec_images, OutputKind::kFolder)))
+    return 2;
   std::unique_ptr<RayStreamReader>& stream = s->stream;
   if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
 
@@ -273,7 +278,9 @@ Subcommand add_predict(CLI::App& app) {
                                     "read the rays from this ray-stream file (hrpp trace) instead "
                                     "of generating them");
   for (CLI::Option* o : wopts) stream_opt->excludes(o);
-  pr->add_option("--json", pa->json_path, "write the report as JSON to this file");
+  pr->add_option("--json", pa->json_path,
+                 "write the report as JSON to this file ('-': to standard output, the text report "
+                 "then to standard error)");
   auto* delay_opt = pr->add_option("--update-delay", pa->update_delay,
                                    "rays looked up between a ray's lookup and its table write "
                                    "(0: the untimed model; docs/cost_model.md)");

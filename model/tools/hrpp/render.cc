@@ -25,10 +25,11 @@ struct RenderArgs {
 int cmd_render(const RenderArgs& a) {
   PredictorConfig cfg;
   if (!parse_predictor_args("render", a.p, &cfg) || !check_workload_args("render", a.w)) return 2;
+  if (!check_output_path("render", "--out", a.out, OutputKind::kFolder)) return 2;
   std::error_code ec;
   std::filesystem::create_directories(a.out, ec);
   if (ec || !std::filesystem::is_directory(a.out)) {
-    std::fprintf(stderr, "hrpp render: cannot create the output directory %s: %s\n", a.out.c_str(),
+    std::fprintf(stderr, "hrpp render: --out %s: cannot create the folder: %s\n", a.out.c_str(),
                  ec ? ec.message().c_str() : "a file of that name exists");
     return 2;
   }
