@@ -373,6 +373,34 @@ OUTPUT_CASES = [
 ]
 
 
+# Options that the configuration does not use are refused, naming what they go with (issue 20);
+# only options given count, never a preset's values.
+APPLIES = r"applies only to "
+INAPPLICABLE_CASES = [
+    ("inapplicable: --precision with --hash improved", {}, P + "--hash improved --precision 5",
+     r"hrpp predict: --precision " + APPLIES + r"the faithful hash \(--hash faithful\); this run "
+     r"uses --hash improved"),
+    ("inapplicable: --exp-bits with --hash micro21", {}, P + "--hash micro21 --exp-bits 2",
+     r"--exp-bits " + APPLIES + r"the faithful hash.*this run uses --hash micro21"),
+    ("inapplicable: --precision with --preset micro21", {}, P + "--preset micro21 --precision 6",
+     r"--precision " + APPLIES + r"the faithful hash.*this run uses --preset micro21 \(hash micro21\)"),
+    ("inapplicable: --origin-bits with the default (faithful) hash", {}, P + "--origin-bits 4",
+     r"--origin-bits " + APPLIES + r"the improved and micro21 hashes \(--hash improved\|micro21\); "
+     r"this run uses the default hash faithful"),
+    ("inapplicable: --dir-bits with --hash faithful", {}, P + "--hash faithful --dir-bits 2",
+     r"--dir-bits " + APPLIES + r"the improved and micro21 hashes.*this run uses --hash faithful"),
+    ("inapplicable: --tag-bits with --table unbounded", {}, P + "--table unbounded --tag-bits 8",
+     r"--tag-bits " + APPLIES + r"a set-associative table \(--table SETSxWAYS\); this run uses "
+     r"--table unbounded"),
+    ("inapplicable: --tag-bits with --preset study2019", {}, P + "--preset study2019 --tag-bits 8",
+     r"--tag-bits " + APPLIES + r"a set-associative table.*--preset study2019 \(table unbounded\)"),
+    ("inapplicable: render --precision with --hash improved", {},
+     "render {scene} --res 4x4 --out {dir}/r --hash improved --precision 5", r"hrpp render: --precision " + APPLIES),
+    ("inapplicable: simulate --origin-bits with --hash faithful", {},
+     "simulate {scene} --res 4x4 --hash faithful --origin-bits 5", r"hrpp simulate: --origin-bits " + APPLIES),
+]
+
+
 def square(h, z):
     """The minimal scene's quad scaled to half-size h in the plane z."""
     return json.dumps(gltf(positions=[-h, -h, z, h, -h, z, h, h, z, -h, h, z]))
@@ -393,6 +421,10 @@ RANGE = r"outside the traceable range \|x\| <= "
 # for 1e19, check-embree aborted inside Embree (exit 134) for 1e18, and printed PASS with nothing
 # compared.
 RANGE_CASES = [
+    ("inapplicable: a preset's own values never count (rtl-default: improved hash, tag bits)", {},
+     P + "--preset rtl-default", 0, r"^$"),
+    ("inapplicable: --origin-bits with --preset rtl-default (improved hash) applies", {},
+     P + "--preset rtl-default --origin-bits 4", 0, r"^$"),
     ("range: coordinates of 1e19 (info printed SAH cost -nan)", {"s.gltf": square(1e19, 0)},
      "info {dir}/s.gltf", 2, r"node 0 \(quad\) mesh 0 primitive 0: vertex 0 has the world coordinate "
                              r"-9\.99999998e\+18, " + RANGE + r"1\.37438953e\+11"),
@@ -421,7 +453,8 @@ RANGE_CASES = [
 ]
 
 CASES = [(n, f, a, 2, r) for n, f, a, r in
-         SCENE_CASES + SIDECAR_CASES + STREAM_CASES + OPTION_CASES + OUTPUT_CASES]
+         SCENE_CASES + SIDECAR_CASES + STREAM_CASES + OPTION_CASES + OUTPUT_CASES +
+         INAPPLICABLE_CASES]
 CASES += RANGE_CASES
 MALFORMED_FILES = len(SCENE_CASES) + len(SIDECAR_CASES) + len(STREAM_CASES)
 
@@ -491,11 +524,11 @@ def main():
                 failed += 1
                 print("FAIL %s: %s" % (case[0], err))
         print("tool.errors: %d cases (%d malformed files: %d scenes, %d camera sidecars, "
-              "%d ray streams; %d bad options; %d outputs; %d valid-range and check verdicts), "
-              "%d failed"
+              "%d ray streams; %d bad options; %d outputs; %d inapplicable options; %d valid-range "
+              "and check verdicts), %d failed"
               % (len(CASES), MALFORMED_FILES, len(SCENE_CASES), len(SIDECAR_CASES),
-                 len(STREAM_CASES), len(OPTION_CASES), len(OUTPUT_CASES), len(RANGE_CASES),
-                 failed))
+                 len(STREAM_CASES), len(OPTION_CASES), len(OUTPUT_CASES),
+                 len(INAPPLICABLE_CASES), len(RANGE_CASES), failed))
         return 1 if failed else 0
 
 

@@ -125,11 +125,23 @@ def expand(grid):
     return configs
 
 
+def applies(name, cfg):
+    """Whether a parameter means anything for the configuration: hrpp refuses an option given
+    for the other hash variant, and stored tag bits for an unbounded table."""
+    if name in ("precision", "exp_bits"):
+        return cfg["hash"] == "faithful"
+    if name in ("origin_bits", "dir_bits"):
+        return cfg["hash"] != "faithful"
+    if name == "tag_bits":
+        return cfg["table"] != "unbounded"
+    return True
+
+
 def predict_args(cfg):
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
-        if name in ("tag_bits", "latency") and v in ("full", "none"):
+        if name in ("tag_bits", "latency") and v in ("full", "none") or not applies(name, cfg):
             continue
         if name == "update_delay" and cfg["latency"] != "none":
             continue  # the latency sets the update delay (from the RTL's cycle model)
@@ -143,7 +155,7 @@ def simulate_args(cfg):
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
-        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full"):
+        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full") or not applies(name, cfg):
             continue
         args += [opt, v]
     return args
@@ -438,7 +450,8 @@ def run_sweep(args, configs, scenes):
 # ---- plots and report ----------------------------------------------------------------------------
 
 # Parameters that mean nothing for the other hash variant.
-UNUSED = {"faithful": ("origin_bits", "dir_bits"), "improved": ("precision", "exp_bits")}
+UNUSED = {"faithful": ("origin_bits", "dir_bits"), "improved": ("precision", "exp_bits"),
+          "micro21": ("precision", "exp_bits")}
 
 
 def with_baselines(pts):

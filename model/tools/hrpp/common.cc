@@ -287,8 +287,58 @@ void apply_preset(PredictorArgs& a) {
     set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
 }
 
+namespace {
+
+bool given(const PredictorArgs& a, const char* opt) {
+  const auto it = a.given.find(opt);
+  return it != a.given.end() && it->second && it->second->count() > 0;
+}
+
+/// Where a value came from: "--hash improved", "--preset micro21 (hash micro21)" or "the default
+/// hash faithful".
+std::string origin_of(const PredictorArgs& a, const char* opt, const char* what,
+                      const std::string& value) {
+  if (given(a, opt)) return std::string(opt) + " " + value;
+  if (!a.preset.empty()) return "--preset " + a.preset + " (" + what + " " + value + ")";
+  return std::string("the default ") + what + " " + value;
+}
+
+/// An option the user gave that the configuration does not use: prints which option goes with
+/// which and returns false (issue 20). A preset's values never count: only what was given.
+bool check_applicable(const char* cmd, const PredictorArgs& a) {
+  struct Rule {
+    const char* opt;
+    bool applies;
+    const char* needs;  // what the option goes with
+    const char* what;   // the setting that rules it out
+    const char* setting_opt;
+    std::string value;
+  };
+  const bool faithful = a.hash == "faithful";
+  const Rule rules[] = {
+      {"--precision", faithful, "the faithful hash (--hash faithful)", "hash", "--hash", a.hash},
+      {"--exp-bits", faithful, "the faithful hash (--hash faithful)", "hash", "--hash", a.hash},
+      {"--origin-bits", !faithful, "the improved and micro21 hashes (--hash improved|micro21)",
+       "hash", "--hash", a.hash},
+      {"--dir-bits", !faithful, "the improved and micro21 hashes (--hash improved|micro21)", "hash",
+       "--hash", a.hash},
+      {"--tag-bits", a.table != "unbounded", "a set-associative table (--table SETSxWAYS)", "table",
+       "--table", a.table},
+  };
+  for (const Rule& r : rules)
+    if (!r.applies && given(a, r.opt)) {
+      std::fprintf(stderr, "hrpp %s: %s applies only to %s; this run uses %s\n", cmd, r.opt,
+                   r.needs, origin_of(a, r.setting_opt, r.what, r.value).c_str());
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
 /// The parts of the predictor configuration that need no scene; prints the error.
 bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg) {
+  if (!check_applicable(cmd, a)) return false;
   HashConfig& h = cfg->hash;
   h.variant = a.hash == "faithful"  ? HashVariant::kFaithful
               : a.hash == "micro21" ? HashVariant::kMicro21
