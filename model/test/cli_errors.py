@@ -182,6 +182,90 @@ def main():
     run([hrpp, "simulate", scene, "--res", "8x8", "--no-per-kind", "--json", "-"], 0, limit=30,
         cwd=tmp, check=json_on_stdout(r"speed-up"))
 
+    # Self-describing JSON (issue 20): every report names the tool, its version and commit, the
+    # command line (shell-quoted: it runs again as it is) and when it ran; what was not measured
+    # is null; the hash's P is config.precision_bits beside the prediction precision.
+    import datetime
+    import shlex
+    odd = os.path.join(tmp, "it's a folder")
+    os.makedirs(odd, exist_ok=True)
+
+    def tool_problems(j, argv):
+        t = j.get("tool")
+        if not isinstance(t, dict):
+            return ["no tool object"]
+        problems = []
+        if t.get("name") != "hrpp":
+            problems.append("tool.name %r" % t.get("name"))
+        if not re.fullmatch(r"\d+\.\d+\.\d+", str(t.get("version"))):
+            problems.append("tool.version %r" % t.get("version"))
+        c = str(t.get("git_commit"))
+        if head and not head.startswith(re.sub(r"-dirty$", "", c).split("-g")[-1]):
+            problems.append("tool.git_commit %r is not HEAD %s" % (c, head))
+        if shlex.split(t.get("command_line") or "") != argv:
+            problems.append("tool.command_line %r, expected %r" % (t.get("command_line"),
+                                                                   shlex.join(argv)))
+        try:
+            ts = datetime.datetime.strptime(t.get("timestamp", ""), "%Y-%m-%dT%H:%M:%SZ")
+            age = datetime.datetime.utcnow() - ts
+            if not datetime.timedelta(seconds=-5) <= age <= datetime.timedelta(minutes=5):
+                problems.append("tool.timestamp %s is not now (UTC)" % t["timestamp"])
+        except ValueError:
+            problems.append("tool.timestamp %r is not UTC ISO 8601" % t.get("timestamp"))
+        return problems
+
+    def json_report(path, more=None):
+        def check(p, path=path):
+            try:
+                j = json.load(open(path))
+            except (OSError, ValueError) as e:
+                return ["no JSON: %s" % e]
+            return tool_problems(j, p.args) + (more(j) if more else [])
+        return check
+
+    def predict_keys(table, measured):
+        def more(j):
+            problems = []
+            cfg = j["config"]
+            if "precision" in cfg or cfg.get("precision_bits") != 6:
+                problems.append("config: precision %r, precision_bits %r" % (
+                    cfg.get("precision"), cfg.get("precision_bits")))
+            if not isinstance(j.get("precision"), float):
+                problems.append("top-level precision (TP / (TP + FP)) %r" % j.get("precision"))
+            if cfg.get("pipeline_latency", 0) is not None:
+                problems.append("pipeline_latency %r for none given" % cfg.get("pipeline_latency"))
+            for where, x in [("", j)] + [("by_kind." + k, v) for k, v in j["by_kind"].items()]:
+                for key in ("baseline_ns", "hrpp_ns"):
+                    if measured != isinstance(x.get(key, 0), int) or \
+                            (not measured and x.get(key, 0) is not None):
+                        problems.append("%s%s %r (measured: %s)" % (where, key, x.get(key),
+                                                                   measured))
+            if j.get("table_unbounded") is not (table == "unbounded") or \
+                    not isinstance(j.get("table_bytes"), int):
+                problems.append("table %s: table_unbounded %r, table_bytes %r" % (
+                    table, j.get("table_unbounded"), j.get("table_bytes")))
+            return problems
+        return more
+
+    pj = os.path.join(odd, "p.json")
+    run([hrpp, "predict", scene, "--res", "8x8", "--json", pj], 0, limit=20,
+        name="predict --json: tool, precision_bits, null times, table_unbounded",
+        check=json_report(pj, predict_keys("unbounded", False)))
+    run([hrpp, "predict", scene, "--res", "8x8", "--table", "64x4", "--measure-time", "--json",
+         pj], 0, limit=20, name="predict --json --measure-time --table 64x4",
+        check=json_report(pj, predict_keys("64x4", True)))
+    for argv, path in (
+            (["info", scene], "i.json"), (["check-embree", scene, "--rays", "100"], "c.json"),
+            (["simulate", scene, "--res", "8x8", "--no-per-kind"], "s.json"),
+            (["trace", scene, "--res", "8x8", "--out", os.path.join(tmp, "t.rays")], "t.json")):
+        path = os.path.join(odd, path)
+        run([hrpp] + argv + ["--json", path], 0, limit=30, check=json_report(path),
+            name="%s --json: tool object" % argv[0])
+    rdir = os.path.join(odd, "render")
+    run([hrpp, "render", scene, "--res", "8x8", "--out", rdir], 0, limit=30,
+        check=json_report(os.path.join(rdir, "render.json")),
+        name="render: render.json's tool object")
+
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):
         return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []

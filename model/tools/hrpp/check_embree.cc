@@ -56,7 +56,11 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
     std::printf("  FAIL: %s\n", r.failure().c_str());
     std::fprintf(stderr, "hrpp check-embree: FAIL: %s\n", r.failure().c_str());
   }
-  if (!json_path.empty() && !write_json_file(json_path, r.to_json())) return 2;
+  if (!json_path.empty()) {
+    nlohmann::json j = {{"tool", tool_json()}};
+    j.update(r.to_json());
+    if (!write_json_file(json_path, j)) return 2;
+  }
   return r.passed() ? 0 : 1;
 }
 

@@ -8,11 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 
 #include "hrpp/predictor/presets.h"
 #include "hrpp/util/atomic_file.h"
 #include "hrpp/util/cli.h"
+#include "hrpp/util/version.h"
 
 namespace hrpp::cli {
 namespace {
@@ -99,6 +101,56 @@ bool check_output_path(const char* cmd, const char* option, const std::string& p
     }
   }
   return true;
+}
+
+namespace {
+
+std::string command_line_text, start_timestamp;
+
+/// ARG as a POSIX shell reads it back: as is when it holds only safe characters, else in single
+/// quotes (a quote inside as '\'').
+std::string shell_quote(const std::string& arg) {
+  const bool safe = !arg.empty() && arg.find_first_not_of(
+                                        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                        "0123456789_-+=.,/:@%") == std::string::npos;
+  if (safe) return arg;
+  std::string q = "'";
+  for (char c : arg) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+void set_command_line(int argc, char** argv) {
+  command_line_text.clear();
+  for (int i = 0; i < argc; ++i) command_line_text += (i ? " " : "") + shell_quote(argv[i]);
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char b[32];
+  std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  start_timestamp = b;
+}
+
+nlohmann::json tool_json() {
+  return {{"name", "hrpp"},
+          {"version", project_version()},
+          {"git_commit", git_commit()},
+          {"command_line", command_line_text},
+          {"timestamp", start_timestamp}};
+}
+
+void null_unmeasured_times(nlohmann::json* j) {
+  if (j->is_object()) {
+    for (auto& [k, v] : j->items()) {
+      if (k == "baseline_ns" || k == "hrpp_ns")
+        v = nullptr;
+      else
+        null_unmeasured_times(&v);
+    }
+  } else if (j->is_array()) {
+    for (nlohmann::json& v : *j) null_unmeasured_times(&v);
+  }
 }
 
 /// Parses "WxH" into two positive integers.

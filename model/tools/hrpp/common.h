@@ -33,6 +33,16 @@ enum class OutputKind { kFile, kJson, kFolder };
 bool check_output_path(const char* cmd, const char* option, const std::string& path,
                        OutputKind kind);
 
+/// Records the command line and the start time for tool_json (main() calls it first).
+void set_command_line(int argc, char** argv);
+
+/// Where a JSON report came from: {"name", "version", "git_commit", "command_line" (the arguments
+/// joined with shell quoting), "timestamp" (the start, UTC ISO 8601)}.
+nlohmann::json tool_json();
+
+/// Replaces what was not measured by null: every "baseline_ns" and "hrpp_ns" in j (recursively).
+void null_unmeasured_times(nlohmann::json* j);
+
 /// Parses "WxH" into two positive integers.
 bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b);
 

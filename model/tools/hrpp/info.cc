@@ -94,6 +94,7 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
                         {"emissive_triangles", s.emissive_triangles().size()},
                         {"materials", s.materials.size()},
                         {"bvh", bvh_json(bvh)}};
+    j["tool"] = tool_json();
     if (!write_json_file(json_path, j)) return 2;
   }
   return 0;

@@ -9,6 +9,7 @@
 #include <exception>
 #include <vector>
 
+#include "common.h"
 #include "hrpp/report/render.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/util/cli.h"
@@ -18,6 +19,7 @@
 int main(int argc, char** argv) {
   using namespace hrpp;
   using namespace hrpp::cli;
+  set_command_line(argc, argv);  // for the JSON reports' "tool" object
   CLI::App app{"HRPP: hash-based ray path prediction - golden model tool"};
   app.require_subcommand(1);
   add_version_flag(app, "hrpp");

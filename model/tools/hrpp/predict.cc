@@ -152,7 +152,9 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
 nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const TiledPredictor& pred,
                             const PredictRun& run, const CostModel& cost) {
   const nlohmann::json& workload = s.workload;
-  nlohmann::json j = pred.to_json();
+  nlohmann::json j = {{"tool", tool_json()}};
+  j.update(pred.to_json());
+  if (!s.cfg.measure_time) null_unmeasured_times(&j);  // not measured: null, not 0
   j["scene"] = s.scene.path;
   j["workload"] = workload;
   if (workload.contains("resolution")) j["resolution"] = workload["resolution"];
@@ -162,7 +164,8 @@ nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const T
   j["threads"] = a.threads;
   // Cost of accuracy (docs/cost_model.md): cost-model cycles, CPU time, speculative image error.
   j["config"]["update_delay"] = s.cfg.update_delay;
-  j["config"]["pipeline_latency"] = a.pipeline_latency;
+  j["config"]["pipeline_latency"] =  // null: none given (the update delay is --update-delay's)
+      a.pipeline_latency >= 0 ? nlohmann::json(a.pipeline_latency) : nlohmann::json(nullptr);
   j["cost_model"] = cost.to_json();
   j["cost"] = cycle_cost_json(pred.total(), cost);
   for (int k = 0; k < kNumRayKinds; ++k)

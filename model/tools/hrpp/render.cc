@@ -42,7 +42,7 @@ int cmd_render(const RenderArgs& a) {
   std::printf("render %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
   auto t0 = std::chrono::steady_clock::now();
-  const RenderOutput out = render_all(scene, bvh, wo, cfg, a.out);
+  const RenderOutput out = render_all(scene, bvh, wo, cfg, a.out, tool_json());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",

@@ -531,7 +531,8 @@ int cmd_simulate(const SimulateArgs& a) {
   print_simulate(s, st, a, secs);
   auto write_json = [&] {
     if (a.json_path.empty()) return true;
-    nlohmann::json j = simulate_json(s, st, a);
+    nlohmann::json j = {{"tool", tool_json()}};
+    j.update(simulate_json(s, st, a));
     j["seconds"] = secs;
     return write_json_file(a.json_path, j);
   };

@@ -68,6 +68,7 @@ int cmd_trace(const TraceArgs& a) {
                         {"rays", writer.count()},
                         {"by_kind", jk},
                         {"seconds", secs}};
+    j["tool"] = tool_json();
     if (!write_json_file(a.json_path, j)) return 2;
   }
   return 0;
