@@ -266,6 +266,49 @@ def main():
         check=json_report(os.path.join(rdir, "render.json")),
         name="render: render.json's tool object")
 
+    # SIGINT / SIGTERM during a long run: the unfinished output's temporary file is removed, one
+    # line says so, exit 130 / 143 (before: killed by the signal, a PATH.tmp of hundreds of MB
+    # left behind).
+    import shutil
+    import signal
+    for cmd, sig, code, word in (("trace", signal.SIGINT, 130, "interrupted"),
+                                 ("trace", signal.SIGTERM, 143, "terminated"),
+                                 ("predict", signal.SIGINT, 130, "interrupted")):
+        name = "%s interrupted by %s" % (cmd, sig.name)
+        sub = os.path.join(tmp, "sig_%s_%s" % (cmd, sig.name))
+        os.makedirs(sub)
+        out = os.path.join(sub, "big.rays" if cmd == "trace" else "p.json")
+        p = subprocess.Popen([hrpp, cmd, scene, "--res", "2048x2048", "--spp", "4",
+                              "--out" if cmd == "trace" else "--json", out],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        if cmd == "trace":  # until the stream is being written
+            while not os.path.exists(out + ".tmp") and p.poll() is None and \
+                    time.monotonic() - t0 < 60:
+                time.sleep(0.05)
+        time.sleep(0.3 if cmd == "trace" else 2.0)  # well into the run
+        started = p.poll() is None and (cmd != "trace" or os.path.exists(out + ".tmp"))
+        p.send_signal(sig)
+        try:
+            stdout, stderr = p.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            stdout, stderr = p.communicate()
+        problems = [] if started else ["the run ended (or wrote no %s.tmp) before the signal" % out]
+        if p.returncode != code:
+            problems.append("exit %d, expected %d" % (p.returncode, code))
+        want = "hrpp: %s (%s): unfinished outputs removed\n" % (word, sig.name)
+        if not stderr.endswith(want) or stderr.count("hrpp: ") != 1:  # after progress lines
+            problems.append("stderr %r, expected the one line %r" % (stderr[-300:], want))
+        if os.listdir(sub):
+            problems.append("left %s" % os.listdir(sub))
+        shutil.rmtree(sub, ignore_errors=True)  # hundreds of MB when the .tmp is left
+        if problems:
+            failures += 1
+            print("FAIL %s: %s" % (name, "; ".join(problems)))
+        else:
+            print("ok   %s" % name)
+
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):
         return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []
