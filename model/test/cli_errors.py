@@ -42,12 +42,13 @@ def main():
     failures = 0
     tmp = tempfile.mkdtemp(prefix="hrpp_cli_")
 
-    def run(argv, code, stderr_re=None, stdout_re=None, limit=10.0, name=None, check=None):
+    def run(argv, code, stderr_re=None, stdout_re=None, limit=10.0, name=None, check=None,
+            cwd=None):
         nonlocal failures
         name = name or " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(argv))
         t0 = time.monotonic()
         try:
-            p = subprocess.run(argv, capture_output=True, text=True, timeout=limit * 3)
+            p = subprocess.run(argv, capture_output=True, text=True, timeout=limit * 3, cwd=cwd)
         except subprocess.TimeoutExpired:
             print("FAIL %s: no exit within %.0f s" % (name, limit * 3))
             failures += 1
@@ -155,6 +156,158 @@ def main():
     if len(ao_hits) == 2 and not ao_hits["inf"] > ao_hits["0"]:
         print("FAIL unbounded AO rays hit %d times, bounded ones %d" % (ao_hits["inf"], ao_hits["0"]))
         failures += 1
+
+    # --json -: the JSON alone on standard output, the text report on standard error (before: a
+    # file named '-').
+    def json_on_stdout(text_re):
+        def check(p):
+            problems = []
+            try:
+                j = json.loads(p.stdout)
+                if not isinstance(j, dict) or "scene" not in j:
+                    problems.append("stdout is JSON but not the report: %r" % p.stdout[:200])
+            except ValueError as e:
+                problems.append("stdout is not the JSON alone (%s): %r" % (e, p.stdout[:200]))
+            if not re.search(text_re, p.stderr):
+                problems.append("the text report is not on stderr (%r)" % text_re)
+            if os.path.exists(os.path.join(tmp, "-")):
+                problems.append("wrote a file named '-'")
+                os.remove(os.path.join(tmp, "-"))
+            return problems
+        return check
+    run([hrpp, "predict", scene, "--res", "8x8", "--json", "-"], 0, limit=20, cwd=tmp,
+        check=json_on_stdout(r"cost model: .* cycles per ray"))
+    run([hrpp, "info", scene, "--json", "-"], 0, limit=20, cwd=tmp,
+        check=json_on_stdout(r"triangles +\d+"))
+    run([hrpp, "simulate", scene, "--res", "8x8", "--no-per-kind", "--json", "-"], 0, limit=30,
+        cwd=tmp, check=json_on_stdout(r"speed-up"))
+
+    # Self-describing JSON (issue 20): every report names the tool, its version and commit, the
+    # command line (shell-quoted: it runs again as it is) and when it ran; what was not measured
+    # is null; the hash's P is config.precision_bits beside the prediction precision.
+    import datetime
+    import shlex
+    odd = os.path.join(tmp, "it's a folder")
+    os.makedirs(odd, exist_ok=True)
+
+    def tool_problems(j, argv):
+        t = j.get("tool")
+        if not isinstance(t, dict):
+            return ["no tool object"]
+        problems = []
+        if t.get("name") != "hrpp":
+            problems.append("tool.name %r" % t.get("name"))
+        if not re.fullmatch(r"\d+\.\d+\.\d+", str(t.get("version"))):
+            problems.append("tool.version %r" % t.get("version"))
+        c = str(t.get("git_commit"))
+        if head and not head.startswith(re.sub(r"-dirty$", "", c).split("-g")[-1]):
+            problems.append("tool.git_commit %r is not HEAD %s" % (c, head))
+        if shlex.split(t.get("command_line") or "") != argv:
+            problems.append("tool.command_line %r, expected %r" % (t.get("command_line"),
+                                                                   shlex.join(argv)))
+        try:
+            ts = datetime.datetime.strptime(t.get("timestamp", ""), "%Y-%m-%dT%H:%M:%SZ")
+            age = datetime.datetime.utcnow() - ts
+            if not datetime.timedelta(seconds=-5) <= age <= datetime.timedelta(minutes=5):
+                problems.append("tool.timestamp %s is not now (UTC)" % t["timestamp"])
+        except ValueError:
+            problems.append("tool.timestamp %r is not UTC ISO 8601" % t.get("timestamp"))
+        return problems
+
+    def json_report(path, more=None):
+        def check(p, path=path):
+            try:
+                j = json.load(open(path))
+            except (OSError, ValueError) as e:
+                return ["no JSON: %s" % e]
+            return tool_problems(j, p.args) + (more(j) if more else [])
+        return check
+
+    def predict_keys(table, measured):
+        def more(j):
+            problems = []
+            cfg = j["config"]
+            if "precision" in cfg or cfg.get("precision_bits") != 6:
+                problems.append("config: precision %r, precision_bits %r" % (
+                    cfg.get("precision"), cfg.get("precision_bits")))
+            if not isinstance(j.get("precision"), float):
+                problems.append("top-level precision (TP / (TP + FP)) %r" % j.get("precision"))
+            if cfg.get("pipeline_latency", 0) is not None:
+                problems.append("pipeline_latency %r for none given" % cfg.get("pipeline_latency"))
+            for where, x in [("", j)] + [("by_kind." + k, v) for k, v in j["by_kind"].items()]:
+                for key in ("baseline_ns", "hrpp_ns"):
+                    if measured != isinstance(x.get(key, 0), int) or \
+                            (not measured and x.get(key, 0) is not None):
+                        problems.append("%s%s %r (measured: %s)" % (where, key, x.get(key),
+                                                                   measured))
+            if j.get("table_unbounded") is not (table == "unbounded") or \
+                    not isinstance(j.get("table_bytes"), int):
+                problems.append("table %s: table_unbounded %r, table_bytes %r" % (
+                    table, j.get("table_unbounded"), j.get("table_bytes")))
+            return problems
+        return more
+
+    pj = os.path.join(odd, "p.json")
+    run([hrpp, "predict", scene, "--res", "8x8", "--json", pj], 0, limit=20,
+        name="predict --json: tool, precision_bits, null times, table_unbounded",
+        check=json_report(pj, predict_keys("unbounded", False)))
+    run([hrpp, "predict", scene, "--res", "8x8", "--table", "64x4", "--measure-time", "--json",
+         pj], 0, limit=20, name="predict --json --measure-time --table 64x4",
+        check=json_report(pj, predict_keys("64x4", True)))
+    for argv, path in (
+            (["info", scene], "i.json"), (["check-embree", scene, "--rays", "100"], "c.json"),
+            (["simulate", scene, "--res", "8x8", "--no-per-kind"], "s.json"),
+            (["trace", scene, "--res", "8x8", "--out", os.path.join(tmp, "t.rays")], "t.json")):
+        path = os.path.join(odd, path)
+        run([hrpp] + argv + ["--json", path], 0, limit=30, check=json_report(path),
+            name="%s --json: tool object" % argv[0])
+    rdir = os.path.join(odd, "render")
+    run([hrpp, "render", scene, "--res", "8x8", "--out", rdir], 0, limit=30,
+        check=json_report(os.path.join(rdir, "render.json")),
+        name="render: render.json's tool object")
+
+    # SIGINT / SIGTERM during a long run: the unfinished output's temporary file is removed, one
+    # line says so, exit 130 / 143 (before: killed by the signal, a PATH.tmp of hundreds of MB
+    # left behind).
+    import shutil
+    import signal
+    for cmd, sig, code, word in (("trace", signal.SIGINT, 130, "interrupted"),
+                                 ("trace", signal.SIGTERM, 143, "terminated"),
+                                 ("predict", signal.SIGINT, 130, "interrupted")):
+        name = "%s interrupted by %s" % (cmd, sig.name)
+        sub = os.path.join(tmp, "sig_%s_%s" % (cmd, sig.name))
+        os.makedirs(sub)
+        out = os.path.join(sub, "big.rays" if cmd == "trace" else "p.json")
+        p = subprocess.Popen([hrpp, cmd, scene, "--res", "2048x2048", "--spp", "4",
+                              "--out" if cmd == "trace" else "--json", out],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        if cmd == "trace":  # until the stream is being written
+            while not os.path.exists(out + ".tmp") and p.poll() is None and \
+                    time.monotonic() - t0 < 60:
+                time.sleep(0.05)
+        time.sleep(0.3 if cmd == "trace" else 2.0)  # well into the run
+        started = p.poll() is None and (cmd != "trace" or os.path.exists(out + ".tmp"))
+        p.send_signal(sig)
+        try:
+            stdout, stderr = p.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            stdout, stderr = p.communicate()
+        problems = [] if started else ["the run ended (or wrote no %s.tmp) before the signal" % out]
+        if p.returncode != code:
+            problems.append("exit %d, expected %d" % (p.returncode, code))
+        want = "hrpp: %s (%s): unfinished outputs removed\n" % (word, sig.name)
+        if not stderr.endswith(want) or stderr.count("hrpp: ") != 1:  # after progress lines
+            problems.append("stderr %r, expected the one line %r" % (stderr[-300:], want))
+        if os.listdir(sub):
+            problems.append("left %s" % os.listdir(sub))
+        shutil.rmtree(sub, ignore_errors=True)  # hundreds of MB when the .tmp is left
+        if problems:
+            failures += 1
+            print("FAIL %s: %s" % (name, "; ".join(problems)))
+        else:
+            print("ok   %s" % name)
 
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):

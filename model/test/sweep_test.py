@@ -239,7 +239,7 @@ class Simulate(unittest.TestCase):
         out = os.path.join(d, "direct.json")
         p = subprocess.run([HRPP, "simulate", CORNELL, "--res", "16x16", "--no-oracle",
                             "--hash", "faithful", "--precision", "6", "--exp-bits", "3",
-                            "--origin-bits", "5", "--dir-bits", "3", "--combine", "xor",
+                            "--combine", "xor",
                             "--nodes-per-entry", "1", "--go-up", "0", "--spp", "1",
                             "--order", "scanline", "--json", out] + list(opts),
                            capture_output=True, text=True)

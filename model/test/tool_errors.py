@@ -322,16 +322,83 @@ OPTION_CASES = [
     ("option: unknown predict kinds", {}, P + "--predict-kinds shadow", r"--predict-kinds"),
     ("option: unknown effect", {}, P + "--effects shadow,glitter", r"unknown effect 'glitter'"),
     ("option: stream with workload options", {}, "predict {scene} --stream {stream} --spp 2", r"excludes"),
-    ("option: unwritable --json", {}, P + "--json {dir}/no/such/dir/p.json", r"p\.json\.tmp: cannot open for writing: No such file"),
     ("option: check-embree 0 rays", {}, "check-embree {scene} --rays 0", r"--rays"),
     ("option: check-embree unknown kind", {}, "check-embree {scene} --kind laser", r"--kind"),
     ("option: leaf size 0", {}, "info {scene} --leaf-size 0", r"--leaf-size"),
     ("option: leaf size 65", {}, "info {scene} --leaf-size 65", r"--leaf-size"),
     ("option: trace without --out", {}, "trace {scene} --res 4x4", r"--out is required"),
-    ("option: trace into a missing directory", {}, "trace {scene} --res 4x4 --out {dir}/no/x.rays", r"cannot open for writing"),
-    ("option: render --out is a file", {}, "render {scene} --res 4x4 --out {scene}", r"cannot create the output directory"),
+    ("option: trace into a missing directory", {}, "trace {scene} --res 4x4 --out {dir}/no/x.rays",
+     r"hrpp trace: --out \S*/no/x\.rays: the folder '\S*/no' does not exist"),
+    ("option: render --out is a file", {}, "render {scene} --res 4x4 --out {scene}",
+     r"hrpp render: --out \S*ok\.gltf: '\S*ok\.gltf' is a file, not a folder"),
 ]
 
+# Outputs checked before the work starts (issue 20): the scene is missing, so an output checked
+# only after loading it (or, before, only when written at the end) shows "no such file" instead.
+M = "{dir}/missing.glb"
+OUTPUT_CASES = [
+    ("output: predict --json in a missing folder", {}, "predict " + M + " --json {dir}/no/r.json",
+     r"^hrpp predict: --json \S*/no/r\.json: the folder '\S*/no' does not exist\n$"),
+    ("output: predict --json names a folder", {}, "predict " + M + " --json {dir}",
+     r"hrpp predict: --json \S+: '\S+' is a folder, not a file"),
+    ("output: predict --json under a file", {"f": "x"}, "predict " + M + " --json {dir}/f/r.json",
+     r"hrpp predict: --json \S*/f/r\.json: '\S*/f' is not a folder"),
+    ("output: predict --spec-images is a file", {"f": "x"}, "predict " + M + " --spec-images {dir}/f",
+     r"hrpp predict: --spec-images \S*/f: '\S*/f' is a file, not a folder"),
+    ("output: predict --spec-images under a file", {"f": "x"},
+     "predict " + M + " --spec-images {dir}/f/a/b", r"hrpp predict: --spec-images \S*/f/a/b: '\S*/f' is not a folder"),
+    ("output: simulate --json in a missing folder", {}, "simulate " + M + " --json {dir}/no/s.json",
+     r"hrpp simulate: --json \S*/no/s\.json: the folder '\S*/no' does not exist"),
+    ("output: check-embree --json names a folder", {}, "check-embree " + M + " --json {dir}",
+     r"hrpp check-embree: --json \S+: '\S+' is a folder, not a file"),
+    ("output: info --json in a missing folder", {}, "info " + M + " --json {dir}/no/i.json",
+     r"hrpp info: --json \S*/no/i\.json: the folder '\S*/no' does not exist"),
+    ("output: trace --out names a folder", {}, "trace " + M + " --out {dir}",
+     r"hrpp trace: --out \S+: '\S+' is a folder, not a file"),
+    ("output: trace --out - (a ray stream is a file)", {}, "trace " + M + " --out -",
+     r"hrpp trace: --out -: standard output is not supported for this option"),
+    ("output: trace --json in a missing folder", {}, "trace " + M + " --out {dir}/t.rays --json {dir}/no/t.json",
+     r"hrpp trace: --json \S*/no/t\.json: the folder '\S*/no' does not exist"),
+    ("output: render --out under a file", {"f": "x"}, "render " + M + " --out {dir}/f/pics",
+     r"hrpp render: --out \S*/f/pics: '\S*/f' is not a folder"),
+    ("output: sweep --csv names a folder", {}, "sweep " + M + " --param precision=5 --csv {dir}",
+     r"hrpp sweep: --csv \S+: '\S+' is a folder, not a file"),
+    ("output: sweep --csv under a file", {"f": "x"}, "sweep " + M + " --param precision=5 --csv {dir}/f/s.csv",
+     r"hrpp sweep: --csv \S*/f/s\.csv: '\S*/f' is not a folder"),
+    ("output: sweep --plots is a file", {"f": "x"},
+     "sweep " + M + " --param precision=5 --csv {dir}/s.csv --plots {dir}/f",
+     r"hrpp sweep: --plots \S*/f: '\S*/f' is a file, not a folder"),
+    ("output: sweep --report names a folder", {}, "sweep --from-csv {dir}/none.csv --report {dir}",
+     r"hrpp sweep: --report \S+: '\S+' is a folder, not a file"),
+]
+
+
+# Options that the configuration does not use are refused, naming what they go with (issue 20);
+# only options given count, never a preset's values.
+APPLIES = r"applies only to "
+INAPPLICABLE_CASES = [
+    ("inapplicable: --precision with --hash improved", {}, P + "--hash improved --precision 5",
+     r"hrpp predict: --precision " + APPLIES + r"the faithful hash \(--hash faithful\); this run "
+     r"uses --hash improved"),
+    ("inapplicable: --exp-bits with --hash micro21", {}, P + "--hash micro21 --exp-bits 2",
+     r"--exp-bits " + APPLIES + r"the faithful hash.*this run uses --hash micro21"),
+    ("inapplicable: --precision with --preset micro21", {}, P + "--preset micro21 --precision 6",
+     r"--precision " + APPLIES + r"the faithful hash.*this run uses --preset micro21 \(hash micro21\)"),
+    ("inapplicable: --origin-bits with the default (faithful) hash", {}, P + "--origin-bits 4",
+     r"--origin-bits " + APPLIES + r"the improved and micro21 hashes \(--hash improved\|micro21\); "
+     r"this run uses the default hash faithful"),
+    ("inapplicable: --dir-bits with --hash faithful", {}, P + "--hash faithful --dir-bits 2",
+     r"--dir-bits " + APPLIES + r"the improved and micro21 hashes.*this run uses --hash faithful"),
+    ("inapplicable: --tag-bits with --table unbounded", {}, P + "--table unbounded --tag-bits 8",
+     r"--tag-bits " + APPLIES + r"a set-associative table \(--table SETSxWAYS\); this run uses "
+     r"--table unbounded"),
+    ("inapplicable: --tag-bits with --preset study2019", {}, P + "--preset study2019 --tag-bits 8",
+     r"--tag-bits " + APPLIES + r"a set-associative table.*--preset study2019 \(table unbounded\)"),
+    ("inapplicable: render --precision with --hash improved", {},
+     "render {scene} --res 4x4 --out {dir}/r --hash improved --precision 5", r"hrpp render: --precision " + APPLIES),
+    ("inapplicable: simulate --origin-bits with --hash faithful", {},
+     "simulate {scene} --res 4x4 --hash faithful --origin-bits 5", r"hrpp simulate: --origin-bits " + APPLIES),
+]
 
 
 def square(h, z):
@@ -354,6 +421,10 @@ RANGE = r"outside the traceable range \|x\| <= "
 # for 1e19, check-embree aborted inside Embree (exit 134) for 1e18, and printed PASS with nothing
 # compared.
 RANGE_CASES = [
+    ("inapplicable: a preset's own values never count (rtl-default: improved hash, tag bits)", {},
+     P + "--preset rtl-default", 0, r"^$"),
+    ("inapplicable: --origin-bits with --preset rtl-default (improved hash) applies", {},
+     P + "--preset rtl-default --origin-bits 4", 0, r"^$"),
     ("range: coordinates of 1e19 (info printed SAH cost -nan)", {"s.gltf": square(1e19, 0)},
      "info {dir}/s.gltf", 2, r"node 0 \(quad\) mesh 0 primitive 0: vertex 0 has the world coordinate "
                              r"-9\.99999998e\+18, " + RANGE + r"1\.37438953e\+11"),
@@ -381,7 +452,9 @@ RANGE_CASES = [
      "check-embree {dir}/s.gltf --rays 400", 0, r"^$"),
 ]
 
-CASES = [(n, f, a, 2, r) for n, f, a, r in SCENE_CASES + SIDECAR_CASES + STREAM_CASES + OPTION_CASES]
+CASES = [(n, f, a, 2, r) for n, f, a, r in
+         SCENE_CASES + SIDECAR_CASES + STREAM_CASES + OPTION_CASES + OUTPUT_CASES +
+         INAPPLICABLE_CASES]
 CASES += RANGE_CASES
 MALFORMED_FILES = len(SCENE_CASES) + len(SIDECAR_CASES) + len(STREAM_CASES)
 
@@ -451,9 +524,11 @@ def main():
                 failed += 1
                 print("FAIL %s: %s" % (case[0], err))
         print("tool.errors: %d cases (%d malformed files: %d scenes, %d camera sidecars, "
-              "%d ray streams; %d bad options; %d valid-range and check verdicts), %d failed"
+              "%d ray streams; %d bad options; %d outputs; %d inapplicable options; %d valid-range "
+              "and check verdicts), %d failed"
               % (len(CASES), MALFORMED_FILES, len(SCENE_CASES), len(SIDECAR_CASES),
-                 len(STREAM_CASES), len(OPTION_CASES), len(RANGE_CASES), failed))
+                 len(STREAM_CASES), len(OPTION_CASES), len(OUTPUT_CASES),
+                 len(INAPPLICABLE_CASES), len(RANGE_CASES), failed))
         return 1 if failed else 0
 
 

@@ -30,11 +30,18 @@ CONFIGS = {
     'unb': '--hash faithful --precision 6 --table unbounded --go-up 1',
 }
 MODES = ['anyhit', 'closest-exact', 'closest-spec']
-DROP = {'baseline_ns', 'hrpp_ns', 'seconds', 'cost', 'cost_model', 'threads', 'scene'}
+DROP = {'baseline_ns', 'hrpp_ns', 'seconds', 'cost', 'cost_model', 'threads', 'scene',
+        'tool', 'table_unbounded'}
+# Keys renamed since the first captures (issue 20), stored under their old names so that captures
+# of binaries from before and after compare.
+RENAMED = {'precision_bits': 'precision'}
 
 def strip(d):
     if isinstance(d, dict):
-        return {k: strip(v) for k, v in d.items() if k not in DROP}
+        out = {RENAMED.get(k, k): strip(v) for k, v in d.items() if k not in DROP}
+        if 'pipeline_latency' in out and out['pipeline_latency'] is None:
+            out['pipeline_latency'] = -1  # none given: null since issue 20, -1 before
+        return out
     if isinstance(d, list):
         return [strip(v) for v in d]
     return d

@@ -125,11 +125,23 @@ def expand(grid):
     return configs
 
 
+def applies(name, cfg):
+    """Whether a parameter means anything for the configuration: hrpp refuses an option given
+    for the other hash variant, and stored tag bits for an unbounded table."""
+    if name in ("precision", "exp_bits"):
+        return cfg["hash"] == "faithful"
+    if name in ("origin_bits", "dir_bits"):
+        return cfg["hash"] != "faithful"
+    if name == "tag_bits":
+        return cfg["table"] != "unbounded"
+    return True
+
+
 def predict_args(cfg):
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
-        if name in ("tag_bits", "latency") and v in ("full", "none"):
+        if name in ("tag_bits", "latency") and v in ("full", "none") or not applies(name, cfg):
             continue
         if name == "update_delay" and cfg["latency"] != "none":
             continue  # the latency sets the update delay (from the RTL's cycle model)
@@ -143,7 +155,7 @@ def simulate_args(cfg):
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
-        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full"):
+        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full") or not applies(name, cfg):
             continue
         args += [opt, v]
     return args
@@ -436,7 +448,8 @@ def run_sweep(args, configs, scenes):
 # ---- plots and report ----------------------------------------------------------------------------
 
 # Parameters that mean nothing for the other hash variant.
-UNUSED = {"faithful": ("origin_bits", "dir_bits"), "improved": ("precision", "exp_bits")}
+UNUSED = {"faithful": ("origin_bits", "dir_bits"), "improved": ("precision", "exp_bits"),
+          "micro21": ("precision", "exp_bits")}
 
 
 def with_baselines(pts):
@@ -1058,6 +1071,40 @@ def write_doc(path, rows):
     return list(blocks)
 
 
+def output_problem(path, folder):
+    """Why PATH cannot be written (a file) or made (a folder), or None. Missing folders above it
+    are created, so the nearest existing one must be a writable folder."""
+    if path == "-":
+        return "standard output is not supported for this option"
+    p = pathlib.Path(path)
+    if p.exists():
+        if folder and not p.is_dir():
+            return f"'{path}' is a file, not a folder"
+        if not folder and p.is_dir():
+            return f"'{path}' is a folder, not a file"
+        if not os.access(p, os.W_OK | (os.X_OK if folder else 0)):
+            return f"'{path}' is not writable"
+        return None
+    up = p.absolute().parent
+    while not up.exists():
+        up = up.parent
+    if not up.is_dir():
+        return f"'{up}' is not a folder"
+    if not os.access(up, os.W_OK | os.X_OK):
+        return f"the folder '{up}' is not writable"
+    return None
+
+
+def check_outputs(args):
+    """Every output option, checked before any work (BadInput names the option, path and why)."""
+    for opt, folder in (("csv", False), ("report", False), ("plots", True), ("images", True)):
+        path = getattr(args, opt)
+        if path is not None:
+            why = output_problem(path, folder)
+            if why:
+                raise BadInput(f"--{opt} {path}: {why}")
+
+
 def main():
     ap = argparse.ArgumentParser(prog="hrpp sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -1095,6 +1142,7 @@ def main():
     args = ap.parse_args()
     command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
     try:
+        check_outputs(args)
         if args.from_csv:
             rows = read_csv(args.from_csv)
         else:

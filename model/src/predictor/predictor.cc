@@ -266,7 +266,7 @@ nlohmann::json Predictor::to_json() const {
   const TableConfig& t = cfg_.table;
   j["config"] = {
       {"hash", hash_variant_name(h.variant)},
-      {"precision", h.precision},
+      {"precision_bits", h.precision},  // the faithful hash's P; "precision" is TP / (TP + FP)
       {"exp_bits", h.exp_bits},
       {"origin_bits", h.origin_bits},
       {"origin_cell_exp", h.origin_cell_exp},
@@ -285,7 +285,8 @@ nlohmann::json Predictor::to_json() const {
       {"mode", predict_mode_name(cfg_.mode)},
       {"predict_kinds", cfg_.any_hit_only ? "any-hit" : "all"}};
   j["table_entries"] = table_.entries_used();
-  j["table_bytes"] = table_.bytes();
+  j["table_bytes"] = table_.bytes();  // an unbounded table: the bytes of the entries used
+  j["table_unbounded"] = t.unbounded;
   nlohmann::json bk = nlohmann::json::object();
   for (int k = 0; k < kNumRayKinds; ++k)
     if (by_kind_[k].rays)

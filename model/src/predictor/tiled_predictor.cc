@@ -159,6 +159,7 @@ nlohmann::json TiledPredictor::to_json() const {
   j["config"] = preds_[0]->to_json()["config"];
   j["table_entries"] = table_entries();
   j["table_bytes"] = table_bytes();
+  j["table_unbounded"] = j["config"]["table"] == "unbounded";
   uint64_t per_core = 0;
   for (const auto& p : preds_) per_core = std::max(per_core, p->table().bytes());
   j["table_bytes_per_core"] = per_core;

@@ -302,7 +302,8 @@ Image heat_map_image(const std::vector<double>& values, int w, int h, HeatMap* m
 // ---- everything -------------------------------------------------------------------------------
 
 RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
-                        const PredictorConfig& cfg, const std::string& dir) {
+                        const PredictorConfig& cfg, const std::string& dir,
+                        const nlohmann::json& tool) {
   namespace fs = std::filesystem;
   RenderOutput out;
   auto save = [&](const std::string& name, const Image& img) {
@@ -343,13 +344,14 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
     maps[name] = map->to_json();
   }
   nlohmann::json pj = pred.to_json();
-  out.summary = {{"scene", scene.path},
-                 {"workload", workload_json(scene, opt)},
-                 {"shaded", si.to_json()},
-                 {"maps", maps},
-                 {"predictor", pj["config"]},
-                 {"skipped_interior_fraction", pred.total().skipped_interior_fraction()},
-                 {"by_kind", pj["by_kind"]}};
+  if (!tool.is_null()) out.summary["tool"] = tool;
+  out.summary.update({{"scene", scene.path},
+                      {"workload", workload_json(scene, opt)},
+                      {"shaded", si.to_json()},
+                      {"maps", maps},
+                      {"predictor", pj["config"]},
+                      {"skipped_interior_fraction", pred.total().skipped_interior_fraction()},
+                      {"by_kind", pj["by_kind"]}});
   const std::string jpath = (fs::path(dir) / "render.json").string();
   write_output(jpath, out.summary.dump(2) + "\n");
   out.files.push_back(jpath);

@@ -1,5 +1,8 @@
 #include "hrpp/util/atomic_file.h"
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -8,11 +11,42 @@ namespace {
 
 std::string errno_text() { return std::strerror(errno); }
 
+// The temporary files of the open AtomicFiles (their tmp_.c_str(), stable while open), for
+// remove_open_temporaries in a signal handler: lock-free atomics only.
+constexpr int kTrackedFiles = 64;
+std::atomic<const char*> open_tmp[kTrackedFiles];
+static_assert(std::atomic<const char*>::is_always_lock_free);
+
+void track(const char* tmp) {
+  for (std::atomic<const char*>& slot : open_tmp) {
+    const char* empty = nullptr;
+    if (slot.compare_exchange_strong(empty, tmp)) return;
+  }
+}
+
+void untrack(const char* tmp) {
+  for (std::atomic<const char*>& slot : open_tmp) {
+    const char* mine = tmp;
+    if (slot.compare_exchange_strong(mine, nullptr)) return;
+  }
+}
+
 }  // namespace
 
+int remove_open_temporaries() noexcept {
+  int removed = 0;
+  for (std::atomic<const char*>& slot : open_tmp)
+    if (const char* tmp = slot.exchange(nullptr); tmp && ::unlink(tmp) == 0) ++removed;
+  return removed;
+}
+
 AtomicFile::AtomicFile(const std::string& path) : path_(path), tmp_(path + ".tmp") {
+  track(tmp_.c_str());  // before the file exists: a signal in between finds nothing to remove
   f_ = std::fopen(tmp_.c_str(), "wb");
-  if (!f_) throw AtomicFileError(tmp_ + ": cannot open for writing: " + errno_text());
+  if (!f_) {
+    untrack(tmp_.c_str());
+    throw AtomicFileError(tmp_ + ": cannot open for writing: " + errno_text());
+  }
 }
 
 AtomicFile::~AtomicFile() { discard(); }
@@ -22,6 +56,7 @@ void AtomicFile::discard() {
   std::fclose(f_);
   f_ = nullptr;
   std::remove(tmp_.c_str());
+  untrack(tmp_.c_str());
 }
 
 void AtomicFile::fail(const std::string& why) {
@@ -44,13 +79,14 @@ void AtomicFile::commit() {
   if (!ok) {
     if (e.empty()) e = errno_text();
     std::remove(tmp_.c_str());
+    untrack(tmp_.c_str());
     throw AtomicFileError(tmp_ + ": write error: " + e);
   }
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    e = errno_text();
-    std::remove(tmp_.c_str());
-    throw AtomicFileError(path_ + ": cannot rename " + tmp_ + " to it: " + e);
-  }
+  const bool renamed = std::rename(tmp_.c_str(), path_.c_str()) == 0;
+  if (!renamed) e = errno_text();
+  if (!renamed) std::remove(tmp_.c_str());
+  untrack(tmp_.c_str());  // after the rename: a signal before it removes the temporary file
+  if (!renamed) throw AtomicFileError(path_ + ": cannot rename " + tmp_ + " to it: " + e);
 }
 
 void write_file_atomic(const std::string& path, std::string_view bytes) {

@@ -15,6 +15,9 @@ namespace {
 
 int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& kind, uint64_t seed,
                      const std::string& config, const std::string& json_path) {
+  if (!json_path.empty() &&
+      !check_output_path("check-embree", "--json", json_path, OutputKind::kJson))
+    return 2;
   Scene s = load_scene(path);
   Bvh bvh = build_bvh(s.triangles);
   CrossCheckOptions opt;
@@ -53,7 +56,11 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
     std::printf("  FAIL: %s\n", r.failure().c_str());
     std::fprintf(stderr, "hrpp check-embree: FAIL: %s\n", r.failure().c_str());
   }
-  if (!json_path.empty() && !write_json_file(json_path, r.to_json())) return 2;
+  if (!json_path.empty()) {
+    nlohmann::json j = {{"tool", tool_json()}};
+    j.update(r.to_json());
+    if (!write_json_file(json_path, j)) return 2;
+  }
   return r.passed() ? 0 : 1;
 }
 
@@ -76,7 +83,9 @@ Subcommand add_check_embree(CLI::App& app) {
       ->check(CLI::IsMember({"primary", "shadow", "ao", "all"}));
   ce->add_option("--seed", a->seed, "random seed of the ray generator");
   ce->add_option("--embree-config", a->config, "Embree device configuration string");
-  ce->add_option("--json", a->json_path, "write the results as JSON to this file");
+  ce->add_option("--json", a->json_path,
+                 "write the results as JSON to this file ('-': to standard output, the text report "
+                 "then to standard error)");
   return {ce, [a] {
             return cmd_check_embree(a->scene, a->rays, a->kind, a->seed, a->config, a->json_path);
           }};

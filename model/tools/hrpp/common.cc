@@ -1,23 +1,156 @@
 // hrpp CLI: the shared options and helpers (common.h).
 #include "common.h"
 
+#include <unistd.h>
+
 #include <bit>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
 
 #include "hrpp/predictor/presets.h"
 #include "hrpp/util/atomic_file.h"
+#include "hrpp/util/cli.h"
+#include "hrpp/util/version.h"
 
 namespace hrpp::cli {
+namespace {
+
+int json_stdout_fd = -1;  // --json -: the process's standard output, kept for the JSON
+
+}  // namespace
 
 bool write_json_file(const std::string& path, const nlohmann::json& j) {
+  const std::string text = j.dump(2) + "\n";
+  if (path == "-") {
+    std::fflush(stdout);
+    const int fd = json_stdout_fd >= 0 ? json_stdout_fd : STDOUT_FILENO;
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        std::fprintf(stderr, "hrpp: --json -: cannot write to standard output: %s\n",
+                     std::strerror(errno));
+        return false;
+      }
+      done += size_t(n);
+    }
+    return true;
+  }
   try {
-    write_file_atomic(path, j.dump(2) + "\n");
+    write_file_atomic(path, text);
   } catch (const AtomicFileError& e) {
     std::fprintf(stderr, "hrpp: %s\n", e.what());
     return false;
   }
   return true;
+}
+
+namespace {
+
+/// Why PATH cannot be made a folder (created with its missing parents), or "" when it can.
+std::string output_folder_problem(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return "the folder name is empty";
+  std::error_code ec;
+  if (fs::exists(path, ec)) {
+    if (!fs::is_directory(path, ec)) return "'" + path + "' is a file, not a folder";
+    if (::access(path.c_str(), W_OK | X_OK) != 0)
+      return "the folder '" + path + "' is not writable: " + std::strerror(errno);
+    return "";
+  }
+  // The nearest existing folder above it must take the missing ones.
+  fs::path p = fs::path(path).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();
+  for (fs::path up = p.parent_path();; up = up.parent_path()) {
+    const fs::path dir = up.empty() ? fs::path(".") : up;
+    if (fs::exists(dir, ec)) {
+      if (!fs::is_directory(dir, ec)) return "'" + dir.string() + "' is not a folder";
+      if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        return "the folder '" + dir.string() + "' is not writable: " + std::strerror(errno);
+      return "";
+    }
+    if (up.empty() || up == up.parent_path()) return "no existing folder above it";
+  }
+}
+
+}  // namespace
+
+bool check_output_path(const char* cmd, const char* option, const std::string& path,
+                       OutputKind kind) {
+  std::string why;
+  if (path == "-")
+    why = kind == OutputKind::kJson ? "" : "standard output is not supported for this option";
+  else
+    why = kind == OutputKind::kFolder ? output_folder_problem(path) : output_file_problem(path);
+  if (!why.empty()) {
+    std::fprintf(stderr, "hrpp %s: %s %s: %s\n", cmd, option, path.c_str(), why.c_str());
+    return false;
+  }
+  if (path == "-" && json_stdout_fd < 0) {
+    // The JSON alone on standard output; the text report goes to standard error.
+    std::fflush(stdout);
+    json_stdout_fd = ::dup(STDOUT_FILENO);
+    if (json_stdout_fd < 0 || ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0) {
+      std::fprintf(stderr, "hrpp %s: %s -: cannot redirect standard output: %s\n", cmd, option,
+                   std::strerror(errno));
+      return false;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+std::string command_line_text, start_timestamp;
+
+/// ARG as a POSIX shell reads it back: as is when it holds only safe characters, else in single
+/// quotes (a quote inside as '\'').
+std::string shell_quote(const std::string& arg) {
+  const bool safe = !arg.empty() && arg.find_first_not_of(
+                                        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                        "0123456789_-+=.,/:@%") == std::string::npos;
+  if (safe) return arg;
+  std::string q = "'";
+  for (char c : arg) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+void set_command_line(int argc, char** argv) {
+  command_line_text.clear();
+  for (int i = 0; i < argc; ++i) command_line_text += (i ? " " : "") + shell_quote(argv[i]);
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char b[32];
+  std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  start_timestamp = b;
+}
+
+nlohmann::json tool_json() {
+  return {{"name", "hrpp"},
+          {"version", project_version()},
+          {"git_commit", git_commit()},
+          {"command_line", command_line_text},
+          {"timestamp", start_timestamp}};
+}
+
+void null_unmeasured_times(nlohmann::json* j) {
+  if (j->is_object()) {
+    for (auto& [k, v] : j->items()) {
+      if (k == "baseline_ns" || k == "hrpp_ns")
+        v = nullptr;
+      else
+        null_unmeasured_times(&v);
+    }
+  } else if (j->is_array()) {
+    for (nlohmann::json& v : *j) null_unmeasured_times(&v);
+  }
 }
 
 /// Parses "WxH" into two positive integers.
@@ -206,8 +339,58 @@ void apply_preset(PredictorArgs& a) {
     set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
 }
 
+namespace {
+
+bool given(const PredictorArgs& a, const char* opt) {
+  const auto it = a.given.find(opt);
+  return it != a.given.end() && it->second && it->second->count() > 0;
+}
+
+/// Where a value came from: "--hash improved", "--preset micro21 (hash micro21)" or "the default
+/// hash faithful".
+std::string origin_of(const PredictorArgs& a, const char* opt, const char* what,
+                      const std::string& value) {
+  if (given(a, opt)) return std::string(opt) + " " + value;
+  if (!a.preset.empty()) return "--preset " + a.preset + " (" + what + " " + value + ")";
+  return std::string("the default ") + what + " " + value;
+}
+
+/// An option the user gave that the configuration does not use: prints which option goes with
+/// which and returns false (issue 20). A preset's values never count: only what was given.
+bool check_applicable(const char* cmd, const PredictorArgs& a) {
+  struct Rule {
+    const char* opt;
+    bool applies;
+    const char* needs;  // what the option goes with
+    const char* what;   // the setting that rules it out
+    const char* setting_opt;
+    std::string value;
+  };
+  const bool faithful = a.hash == "faithful";
+  const Rule rules[] = {
+      {"--precision", faithful, "the faithful hash (--hash faithful)", "hash", "--hash", a.hash},
+      {"--exp-bits", faithful, "the faithful hash (--hash faithful)", "hash", "--hash", a.hash},
+      {"--origin-bits", !faithful, "the improved and micro21 hashes (--hash improved|micro21)",
+       "hash", "--hash", a.hash},
+      {"--dir-bits", !faithful, "the improved and micro21 hashes (--hash improved|micro21)", "hash",
+       "--hash", a.hash},
+      {"--tag-bits", a.table != "unbounded", "a set-associative table (--table SETSxWAYS)", "table",
+       "--table", a.table},
+  };
+  for (const Rule& r : rules)
+    if (!r.applies && given(a, r.opt)) {
+      std::fprintf(stderr, "hrpp %s: %s applies only to %s; this run uses %s\n", cmd, r.opt,
+                   r.needs, origin_of(a, r.setting_opt, r.what, r.value).c_str());
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
 /// The parts of the predictor configuration that need no scene; prints the error.
 bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg) {
+  if (!check_applicable(cmd, a)) return false;
   HashConfig& h = cfg->hash;
   h.variant = a.hash == "faithful"  ? HashVariant::kFaithful
               : a.hash == "micro21" ? HashVariant::kMicro21

@@ -17,8 +17,31 @@
 
 namespace hrpp::cli {
 
-/// Writes j (indented, newline-terminated) to path atomically; prints the error and returns false.
+/// Writes j (indented, newline-terminated) to path atomically, or to standard output when path is
+/// "-" (after check_output_path); prints the error and returns false.
 bool write_json_file(const std::string& path, const nlohmann::json& j);
+
+/// What an output option names: a file; a JSON file or "-" (standard output: the JSON goes there
+/// and the text report to standard error); a folder, created (with its missing parents) if needed.
+enum class OutputKind { kFile, kJson, kFolder };
+
+/// Checks an output option before the work starts (util/cli.h's output_file_problem for files:
+/// the folder exists and is writable, the path is not a folder; for a folder, the path is not a
+/// file and the nearest existing folder above it is writable). Prints "hrpp CMD: OPTION PATH:
+/// REASON" and returns false. For kJson "-", sends what the command prints to standard output
+/// to standard error from here on, keeping standard output for the JSON.
+bool check_output_path(const char* cmd, const char* option, const std::string& path,
+                       OutputKind kind);
+
+/// Records the command line and the start time for tool_json (main() calls it first).
+void set_command_line(int argc, char** argv);
+
+/// Where a JSON report came from: {"name", "version", "git_commit", "command_line" (the arguments
+/// joined with shell quoting), "timestamp" (the start, UTC ISO 8601)}.
+nlohmann::json tool_json();
+
+/// Replaces what was not measured by null: every "baseline_ns" and "hrpp_ns" in j (recursively).
+void null_unmeasured_times(nlohmann::json* j);
 
 /// Parses "WxH" into two positive integers.
 bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b);

@@ -30,6 +30,8 @@ nlohmann::json bvh_json(const Bvh& bvh) {
 }
 
 int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& json_path) {
+  if (!json_path.empty() && !check_output_path("info", "--json", json_path, OutputKind::kJson))
+    return 2;
   Scene s = load_scene(path);
   BvhBuildOptions bo;
   bo.max_leaf_size = leaf_size;
@@ -92,6 +94,7 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
                         {"emissive_triangles", s.emissive_triangles().size()},
                         {"materials", s.materials.size()},
                         {"bvh", bvh_json(bvh)}};
+    j["tool"] = tool_json();
     if (!write_json_file(json_path, j)) return 2;
   }
   return 0;
@@ -112,7 +115,9 @@ Subcommand add_info(CLI::App& app) {
   info->add_option("scene", a->scene, "glTF scene (.glb or .gltf)")->required();
   info->add_option("--leaf-size", a->leaf_size, "maximum triangles per BVH leaf")
       ->check(CLI::Range(1, 64));
-  info->add_option("--json", a->json_path, "also write the summary as JSON to this file");
+  info->add_option("--json", a->json_path,
+                   "also write the summary as JSON to this file ('-': to standard output, the text "
+                   "summary then to standard error)");
   return {info, [a] { return cmd_info(a->scene, a->leaf_size, a->json_path); }};
 }
 

@@ -3,21 +3,53 @@
 // the chosen subcommand and turns errors into exit codes.
 //
 // Exit codes: 0 success; 1 a check failed (e.g. check-embree found mismatches); 2 bad input
-// (bad option, unreadable or malformed scene or ray stream, unwritable output).
+// (bad option, unreadable or malformed scene or ray stream, unwritable output); 130 / 143
+// interrupted by SIGINT / SIGTERM (unfinished outputs removed).
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <vector>
 
+#include "common.h"
 #include "hrpp/report/render.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/util/atomic_file.h"
 #include "hrpp/util/cli.h"
 #include "hrpp/workload/ray_stream.h"
 #include "subcommands.h"
 
+namespace {
+
+/// SIGINT / SIGTERM: removes the temporary files of the outputs being written (nothing that
+/// looks complete is left, and no PATH.tmp either), says so in one line and exits 128 + signal.
+/// Async-signal-safe calls only.
+extern "C" void on_interrupt(int sig) {
+  hrpp::remove_open_temporaries();
+  const char* line = sig == SIGINT ? "hrpp: interrupted (SIGINT): unfinished outputs removed\n"
+                                   : "hrpp: terminated (SIGTERM): unfinished outputs removed\n";
+  ssize_t ignored = ::write(STDERR_FILENO, line, std::strlen(line));
+  (void)ignored;
+  ::_exit(128 + sig);
+}
+
+void handle_interrupts() {
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace hrpp;
   using namespace hrpp::cli;
+  set_command_line(argc, argv);  // for the JSON reports' "tool" object
   CLI::App app{"HRPP: hash-based ray path prediction - golden model tool"};
   app.require_subcommand(1);
   add_version_flag(app, "hrpp");
@@ -32,6 +64,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
+  handle_interrupts();  // `hrpp sweep` execs Python: its handlers are reset to the default
   try {
     for (const Subcommand& s : subcommands)
       if (*s.app) return s.run();

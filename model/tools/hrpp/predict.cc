@@ -53,6 +53,11 @@ struct PredictSetup {
 int configure_predict(const PredictArgs& a, PredictSetup* s) {
   PredictorConfig& cfg = s->cfg;
   if (!parse_predictor_args("predict", a.p, &cfg) || !check_workload_args("predict", a.w)) return 2;
+  if ((!a.json_path.empty() &&
+       !check_output_path("predict", "--json", a.json_path, OutputKind::kJson)) ||
+      (!a.spec_images.empty() &&
+       !check_output_path("predict", "--spec-images", a.spec_images, OutputKind::kFolder)))
+    return 2;
   std::unique_ptr<RayStreamReader>& stream = s->stream;
   if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
 
@@ -147,7 +152,9 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
 nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const TiledPredictor& pred,
                             const PredictRun& run, const CostModel& cost) {
   const nlohmann::json& workload = s.workload;
-  nlohmann::json j = pred.to_json();
+  nlohmann::json j = {{"tool", tool_json()}};
+  j.update(pred.to_json());
+  if (!s.cfg.measure_time) null_unmeasured_times(&j);  // not measured: null, not 0
   j["scene"] = s.scene.path;
   j["workload"] = workload;
   if (workload.contains("resolution")) j["resolution"] = workload["resolution"];
@@ -157,7 +164,8 @@ nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const T
   j["threads"] = a.threads;
   // Cost of accuracy (docs/cost_model.md): cost-model cycles, CPU time, speculative image error.
   j["config"]["update_delay"] = s.cfg.update_delay;
-  j["config"]["pipeline_latency"] = a.pipeline_latency;
+  j["config"]["pipeline_latency"] =  // null: none given (the update delay is --update-delay's)
+      a.pipeline_latency >= 0 ? nlohmann::json(a.pipeline_latency) : nlohmann::json(nullptr);
   j["cost_model"] = cost.to_json();
   j["cost"] = cycle_cost_json(pred.total(), cost);
   for (int k = 0; k < kNumRayKinds; ++k)
@@ -273,7 +281,9 @@ Subcommand add_predict(CLI::App& app) {
                                     "read the rays from this ray-stream file (hrpp trace) instead "
                                     "of generating them");
   for (CLI::Option* o : wopts) stream_opt->excludes(o);
-  pr->add_option("--json", pa->json_path, "write the report as JSON to this file");
+  pr->add_option("--json", pa->json_path,
+                 "write the report as JSON to this file ('-': to standard output, the text report "
+                 "then to standard error)");
   auto* delay_opt = pr->add_option("--update-delay", pa->update_delay,
                                    "rays looked up between a ray's lookup and its table write "
                                    "(0: the untimed model; docs/cost_model.md)");

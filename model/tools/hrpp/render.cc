@@ -25,10 +25,11 @@ struct RenderArgs {
 int cmd_render(const RenderArgs& a) {
   PredictorConfig cfg;
   if (!parse_predictor_args("render", a.p, &cfg) || !check_workload_args("render", a.w)) return 2;
+  if (!check_output_path("render", "--out", a.out, OutputKind::kFolder)) return 2;
   std::error_code ec;
   std::filesystem::create_directories(a.out, ec);
   if (ec || !std::filesystem::is_directory(a.out)) {
-    std::fprintf(stderr, "hrpp render: cannot create the output directory %s: %s\n", a.out.c_str(),
+    std::fprintf(stderr, "hrpp render: --out %s: cannot create the folder: %s\n", a.out.c_str(),
                  ec ? ec.message().c_str() : "a file of that name exists");
     return 2;
   }
@@ -41,7 +42,7 @@ int cmd_render(const RenderArgs& a) {
   std::printf("render %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
   auto t0 = std::chrono::steady_clock::now();
-  const RenderOutput out = render_all(scene, bvh, wo, cfg, a.out);
+  const RenderOutput out = render_all(scene, bvh, wo, cfg, a.out, tool_json());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",

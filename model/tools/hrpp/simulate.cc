@@ -151,6 +151,8 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     return 2;
   }
   if (!check_workload_args(cmd, a.w)) return 2;
+  if (!a.json_path.empty() && !check_output_path(cmd, "--json", a.json_path, OutputKind::kJson))
+    return 2;
   try {
     s->gpu = sim::load_gpu_config(gpu_path(a.gpu));
   } catch (const sim::GpuConfigError& e) {
@@ -538,7 +540,8 @@ int cmd_simulate(const SimulateArgs& a) {
   print_simulate(s, st, a, secs);
   auto write_json = [&] {
     if (a.json_path.empty()) return true;
-    nlohmann::json j = simulate_json(s, st, a);
+    nlohmann::json j = {{"tool", tool_json()}};
+    j.update(simulate_json(s, st, a));
     j["seconds"] = secs;
     return write_json_file(a.json_path, j);
   };
@@ -585,7 +588,9 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_option("--max-rays", sa->max_rays, "simulate only the first N rays (0: all)");
   sc->add_option("--gpu", sa->gpu, "GPU configuration: mobile, desktop (model/gpu/) or a JSON file")
       ->capture_default_str();
-  sc->add_option("--json", sa->json_path, "write the report as JSON to this file");
+  sc->add_option("--json", sa->json_path,
+                 "write the report as JSON to this file ('-': to standard output, the text report "
+                 "then to standard error)");
   sc->add_flag("--no-oracle", sa->no_oracle, "do not run the oracle");
   sc->add_flag("--no-per-kind", sa->no_per_kind,
                "do not run each ray kind alone (by default, when the rays have several kinds, "

@@ -21,7 +21,11 @@ struct TraceArgs {
 };
 
 int cmd_trace(const TraceArgs& a) {
-  if (!check_workload_args("trace", a.w)) return 2;
+  if (!check_workload_args("trace", a.w) ||
+      !check_output_path("trace", "--out", a.out, OutputKind::kFile) ||
+      (!a.json_path.empty() &&
+       !check_output_path("trace", "--json", a.json_path, OutputKind::kJson)))
+    return 2;
   Scene scene = load_scene(a.scene);
   Bvh bvh = build_bvh(scene.triangles);
   WorkloadOptions wo;
@@ -64,6 +68,7 @@ int cmd_trace(const TraceArgs& a) {
                         {"rays", writer.count()},
                         {"by_kind", jk},
                         {"seconds", secs}};
+    j["tool"] = tool_json();
     if (!write_json_file(a.json_path, j)) return 2;
   }
   return 0;
@@ -79,7 +84,9 @@ Subcommand add_trace(CLI::App& app) {
   tr->add_option("scene", ta->scene, "glTF scene (.glb or .gltf)")->required();
   add_workload_options(tr, ta->w, "auto");
   tr->add_option("--out", ta->out, "ray-stream file to write")->required();
-  tr->add_option("--json", ta->json_path, "also write a summary (effects, ray counts) as JSON");
+  tr->add_option("--json", ta->json_path,
+                 "also write a summary (effects, ray counts) as JSON ('-': to standard output, the "
+                 "text report then to standard error)");
   return {tr, [ta] { return cmd_trace(*ta); }};
 }
 

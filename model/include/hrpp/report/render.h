@@ -86,8 +86,10 @@ struct RenderOutput {
   nlohmann::json summary;  // also written to DIR/render.json
 };
 /// Writes DIR/shaded.png, work.png, skipped.png, mispredicted.png and render.json (the figures
-/// behind every legend). DIR must exist. Throws RenderError on a write failure.
+/// behind every legend). DIR must exist. Throws RenderError on a write failure. TOOL, when not
+/// null, leads render.json as its "tool" object (where the run came from: the hrpp tool's).
 RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
-                        const PredictorConfig& cfg, const std::string& dir);
+                        const PredictorConfig& cfg, const std::string& dir,
+                        const nlohmann::json& tool = nullptr);
 
 }  // namespace hrpp

@@ -50,4 +50,9 @@ class AtomicFile {
 /// Writes BYTES to PATH through an AtomicFile.
 void write_file_atomic(const std::string& path, std::string_view bytes);
 
+/// Removes the temporary file of every AtomicFile still open (up to 64 at once are tracked) and
+/// returns how many it removed. Async-signal-safe: for a SIGINT / SIGTERM handler, so that an
+/// interrupted run leaves no PATH.tmp behind.
+int remove_open_temporaries() noexcept;
+
 }  // namespace hrpp
