@@ -18,7 +18,7 @@ import sys
 # Keys that differ between the runs by design: the timings, the --rtl flag and its fields, and
 # the preset's timing line (it names the RTL). WALL_CLOCK: every run's own wall-clock figures, at
 # any depth.
-IGNORED = {"seconds", "rtl", "rtl_mismatches", "rtl_first_mismatch"}
+IGNORED = {"seconds", "rtl", "rtl_mismatches", "rtl_first_mismatch", "tool"}
 WALL_CLOCK = {"run_seconds", "rays_per_second"}
 
 

@@ -267,9 +267,8 @@ TEST_F(Stream, ToolErrors) {
   expect_error("trace " + scene + " --res 64 --out " + out, "--res must be WIDTHxHEIGHT");
   expect_error("trace " + scene, "--out is required");
   expect_error("trace " + scene + " --res 8x8 --out " + dir_ + "/nodir/o.rays",
-               "cannot open for writing");
-  expect_error("render " + scene + " --res 8x8 --out " + path_,
-               "cannot create the output directory");
+               "/nodir' does not exist");
+  expect_error("render " + scene + " --res 8x8 --out " + path_, "is a file, not a folder");
   expect_error("render " + scene + " --res 8x8 --effects ao,bogus --out " + dir_ + "/r",
                "unknown effect 'bogus'");
   expect_error("predict " + scene + " --stream " + dir_ + "/none.rays", "cannot open");

@@ -124,6 +124,7 @@ nlohmann::json read_json(const std::string& path) {
   nlohmann::json j = nlohmann::json::parse(f);
   j.erase("seconds");
   j.erase("threads");
+  j.erase("tool");  // its command line and timestamp
   j["workload"].erase("stream");
   return j;
 }

@@ -143,7 +143,8 @@ def check_preset(hrpp: str, scene: str, data: dict) -> int:
             j = run_json(cmd, path)
         except ToolFailed as e:
             raise ConfigError(str(e))
-        return {k: v for k, v in j.items() if k != "seconds"}  # the run time
+        # The run time and the tool's command line and timestamp.
+        return {k: v for k, v in j.items() if k not in ("seconds", "tool")}
 
     bad = 0
     with tempfile.TemporaryDirectory() as tmp:
