@@ -119,6 +119,18 @@ def main():
         limit=20)
     for tool in ("hrpp", "tb_hrpp", "hrpp_bench"):
         run([tools[tool], "--help"], 0, stdout_re=r"--version", limit=5)
+    # --help shows the predictor options' defaults (the golden model's, before any preset).
+    for sub in ("predict", "render", "simulate"):
+        run([hrpp, sub, "--help"], 0, limit=5, name="hrpp %s --help: defaults" % sub,
+            check=lambda p: [
+                "no default shown for " + opt for opt, rx in (
+                    ("--hash", r"--hash TEXT:\{[^}]*\}=faithful"),
+                    ("--precision", r"--precision INT:[^\n]*=6"),
+                    ("--table", r"--table TEXT=unbounded"),
+                    ("--mode", r"--mode TEXT:\{[^}]*\}=closest-exact"),
+                    ("--go-up", r"--go-up UINT:[^\n]*=0"),
+                    ("--nodes-per-entry", r"--nodes-per-entry UINT:[^\n]*=1"))
+                if not re.search(rx, p.stdout)])
 
     # --ao-distance inf: unbounded AO rays (tfar = +inf) are valid, recorded as "inf" in the JSON,
     # and hit at least as often as the default 5%-of-the-diagonal rays (here strictly more). With

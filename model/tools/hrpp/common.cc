@@ -277,36 +277,47 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                   "P=6 E=3 xor, unbounded table, K=2, go-up 0); the options below override it")
       ->check(CLI::IsMember(presets));
   app->add_option("--hash", a.hash, "hash variant (micro21: MICRO 2021's grid-spherical hash)")
-      ->check(CLI::IsMember({"faithful", "improved", "micro21"}));
+      ->check(CLI::IsMember({"faithful", "improved", "micro21"}))
+      ->capture_default_str();
   app->add_option("--precision", a.precision, "faithful hash: mantissa bits per component (P)")
-      ->check(CLI::Range(1, 23));
+      ->check(CLI::Range(1, 23))
+      ->capture_default_str();
   app->add_option("--exp-bits", a.exp_bits, "faithful hash: top exponent bits per component (E)")
-      ->check(CLI::Range(0, 8));
+      ->check(CLI::Range(0, 8))
+      ->capture_default_str();
   app->add_option("--origin-bits", a.origin_bits,
                   "improved and micro21 hashes: bits per origin axis")
-      ->check(CLI::Range(1, 16));
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
   app->add_option("--dir-bits", a.dir_bits,
                   "improved hash: bits per direction component; micro21: theta bits (1..8, phi "
                   "gets one more)")
-      ->check(CLI::Range(1, 16));
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
   app->add_option("--combine", a.combine, "how origin and direction fields combine")
-      ->check(CLI::IsMember({"xor", "concat"}));
+      ->check(CLI::IsMember({"xor", "concat"}))
+      ->capture_default_str();
   app->add_option("--go-up", a.go_up, "store the hit leaf's ancestor this many levels up")
-      ->check(CLI::Range(0u, 64u));
-  app->add_option("--table", a.table, "'unbounded' or SETSxWAYS, e.g. 256x4");
+      ->check(CLI::Range(0u, 64u))
+      ->capture_default_str();
+  app->add_option("--table", a.table, "'unbounded' or SETSxWAYS, e.g. 256x4")
+      ->capture_default_str();
   app->add_option("--tag-bits", a.tag_bits,
                   "stored tag bits (default: the full tag, so keys never alias; fewer bits save "
                   "storage and let keys of one set alias)")
       ->check(CLI::Range(0, 64));
   app->add_option("--nodes-per-entry", a.nodes_per_entry, "node ids per table entry (K)")
-      ->check(CLI::Range(1, kMaxNodesPerEntry));
+      ->check(CLI::Range(1, kMaxNodesPerEntry))
+      ->capture_default_str();
   app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
-      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
+      ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}))
+      ->capture_default_str();
   app->add_option("--predict-kinds", a.predict_kinds,
                   "which rays use the predictor: 'all', or 'any-hit' (only rays answered as "
                   "any-hit queries; the others walk from the root with no lookup and no table "
                   "update, and count as not predicted)")
-      ->check(CLI::IsMember({"all", "any-hit"}));
+      ->check(CLI::IsMember({"all", "any-hit"}))
+      ->capture_default_str();
   for (const char* o :
        {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits", "--combine",
         "--table", "--tag-bits", "--nodes-per-entry", "--go-up", "--mode", "--predict-kinds"})
