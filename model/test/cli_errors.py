@@ -278,6 +278,23 @@ def main():
         check=json_report(os.path.join(rdir, "render.json")),
         name="render: render.json's tool object")
 
+    # render writes all pictures of one run or none: a second run into the same folder replaces
+    # the earlier render whole (a stale file goes with it), and no staging folder is left.
+    with open(os.path.join(rdir, "stale.png"), "w") as f:
+        f.write("from an earlier run")
+
+    def replaced(p):
+        left = sorted(os.listdir(odd))
+        problems = []
+        if os.path.exists(os.path.join(rdir, "stale.png")):
+            problems.append("the earlier run's stale.png is still there")
+        if not os.path.exists(os.path.join(rdir, "shaded.png")):
+            problems.append("no shaded.png")
+        problems += ["left behind: " + n for n in left if ".rendering" in n or ".old-" in n]
+        return problems
+    run([hrpp, "render", scene, "--res", "8x8", "--out", rdir], 0, limit=30, check=replaced,
+        name="render: a run replaces an earlier render whole")
+
     # SIGINT / SIGTERM during a long run: the unfinished output's temporary file is removed, one
     # line says so, exit 130 / 143 (before: killed by the signal, a PATH.tmp of hundreds of MB
     # left behind).

@@ -2,10 +2,13 @@
 // predictor outcomes.
 #include "hrpp/report/render.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include "common.h"
 #include "hrpp/scene/scene.h"
@@ -26,13 +29,38 @@ int cmd_render(const RenderArgs& a) {
   PredictorConfig cfg;
   if (!parse_predictor_args("render", a.p, &cfg) || !check_workload_args("render", a.w)) return 2;
   if (!check_output_path("render", "--out", a.out, OutputKind::kFolder)) return 2;
+  // The pictures of one run, or none: they are written into a fresh folder beside --out, which
+  // then takes --out's place. An existing --out is replaced only when it is empty or an earlier
+  // render's (it holds render.json); any other folder is left alone.
+  namespace fs = std::filesystem;
   std::error_code ec;
-  std::filesystem::create_directories(a.out, ec);
-  if (ec || !std::filesystem::is_directory(a.out)) {
-    std::fprintf(stderr, "hrpp render: --out %s: cannot create the folder: %s\n", a.out.c_str(),
-                 ec ? ec.message().c_str() : "a file of that name exists");
+  const fs::path given = fs::path(a.out).lexically_normal();
+  const fs::path target = given.has_filename() ? given : given.parent_path();
+  if (fs::exists(target, ec) && !fs::is_empty(target, ec) &&
+      !fs::exists(target / "render.json", ec)) {
+    std::fprintf(stderr,
+                 "hrpp render: --out %s: the folder holds files that are not an earlier render's "
+                 "(no render.json): choose a new or empty folder\n",
+                 a.out.c_str());
     return 2;
   }
+  // One name per --out: an interrupted run's staging folder is removed by the next run.
+  const fs::path staging = target.parent_path() / (target.filename().string() + ".rendering");
+  fs::remove_all(staging, ec);
+  if (!fs::create_directories(staging, ec)) {
+    std::fprintf(stderr, "hrpp render: --out %s: cannot create %s: %s\n", a.out.c_str(),
+                 staging.c_str(), ec.message().c_str());
+    return 2;
+  }
+  // Removes the staging folder unless it became --out.
+  struct Staging {
+    fs::path dir;
+    bool kept = false;
+    ~Staging() {
+      std::error_code e;
+      if (!kept) fs::remove_all(dir, e);
+    }
+  } stage{staging};
   Scene scene = load_scene(a.scene);
   Bvh bvh = build_bvh(scene.triangles);
   WorkloadOptions wo;
@@ -42,7 +70,23 @@ int cmd_render(const RenderArgs& a) {
   std::printf("render %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
   auto t0 = std::chrono::steady_clock::now();
-  const RenderOutput out = render_all(scene, bvh, wo, cfg, a.out, tool_json());
+  RenderOutput out = render_all(scene, bvh, wo, cfg, staging.string(), tool_json());
+  // The run is complete: its folder replaces --out (an earlier render's is removed).
+  const fs::path old =
+      target.parent_path() / (target.filename().string() + ".old-" + std::to_string(::getpid()));
+  const bool had = fs::exists(target, ec);
+  if (had) fs::rename(target, old, ec);
+  if (!ec) fs::rename(staging, target, ec);
+  if (ec) {
+    std::fprintf(stderr, "hrpp render: --out %s: cannot put the pictures in place: %s\n",
+                 a.out.c_str(), ec.message().c_str());
+    if (had && !fs::exists(target)) fs::rename(old, target, ec);  // the earlier render back
+    return 2;
+  }
+  stage.kept = true;
+  if (had) fs::remove_all(old, ec);
+  for (std::string& f : out.files)  // the files' names in --out, not in the staging folder
+    f = (target / fs::path(f).filename()).string();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",
@@ -68,7 +112,10 @@ Subcommand add_render(CLI::App& app) {
                                 "Write PNG pictures: the shaded scene and per-pixel heat "
                                 "maps of traversal work and predictor outcomes");
   rd->add_option("scene", ra->scene, "glTF scene (.glb or .gltf)")->required();
-  rd->add_option("--out", ra->out, "output directory (created if missing)")->required();
+  rd->add_option("--out", ra->out,
+                 "output folder: created, or replaced when it holds an earlier render (all "
+                 "pictures of one run or none)")
+      ->required();
   add_workload_options(rd, ra->w, "shadow,ao");
   add_predictor_options(rd, ra->p);
   return {rd, [ra] {
