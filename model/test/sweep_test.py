@@ -79,6 +79,9 @@ class Tiny(unittest.TestCase):
                           "--report", os.path.join(d, "report.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("sweep: [8/8]", p.stderr)  # progress
+            # Each progress line names the configuration's swept parameters.
+            self.assertRegex(p.stderr, r"config +\d+ \(precision=[46] table=(16x2|unbounded) "
+                                       r"mode=closest-(exact|spec)\)")
             p = run_sweep(*args, "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())

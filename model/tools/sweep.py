@@ -404,6 +404,8 @@ def run_sweep(args, configs, scenes):
     n = len(tasks)
     results = {}
     t0 = time.time()
+    # The swept parameters, named in each progress line.
+    varied = [k for k in PARAMS if len({c[k] for c in configs}) > 1]
 
     def progress(i, index, rows, secs):
         if "error" in rows:  # bad input (hrpp's exit code 2) stays exit code 2
@@ -411,7 +413,8 @@ def run_sweep(args, configs, scenes):
             raise SystemExit(2 if rows["rc"] == 2 else 1)
         results[index] = rows
         a = rows[-1]
-        print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} "
+        params = " ".join(f"{k}={configs[index[1]][k]}" for k in varied)
+        print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
               f"saved {100 * a['saved_cycles']:6.2f}% cycles, skipped "
               f"{100 * a['skipped_interior']:6.2f}% nodes ({secs:.1f} s; total "
               f"{time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
