@@ -164,6 +164,15 @@ TEST(Sim, FewerWarpsPerUnitNeverGiveMoreThroughput) {
   }
 }
 
+SimOptions rtl_default(const World& w, PredictMode mode) {
+  SimOptions o;
+  o.gpu = mobile();
+  o.kind = sim::PredictorKind::kPort;
+  o.pred.mode = mode;
+  EXPECT_EQ(rtl_config("default").cycle_for_scene(mode, w.scene, w.bvh, &o.cycle), "");
+  return o;
+}
+
 // Rays per cycle x mean latency = mean rays in flight: two independent tallies (each ray's
 // latency at its answer; the rays in the units summed cycle by cycle) that must agree exactly.
 TEST(Sim, LittlesLawHolds) {
@@ -171,31 +180,11 @@ TEST(Sim, LittlesLawHolds) {
   for (const bool pred : {false, true}) {
     SimOptions o;
     o.gpu = mobile();
-    if (pred) {
-      const RtlConfig rc = rtl_config("default");
-      o.kind = sim::PredictorKind::kPort;
-      o.cycle = rc.cycle(PredictMode::kClosestExact);
-      ASSERT_EQ(resolve_for_scene(w.scene, w.bvh, &o.cycle.hash, &o.cycle.table,
-                                  {.node_bits = rc.node_id_width, .tag_bits = rc.table.tag_bits}),
-                "");
-    }
+    if (pred) o = rtl_default(w, PredictMode::kClosestExact);
     const SimStats s = run(w, o);
     const double lambda = double(s.rays) / s.cycles;
     EXPECT_NEAR(s.mean_in_flight(), lambda * s.mean_latency(), 1e-9 * s.mean_in_flight());
   }
-}
-
-SimOptions rtl_default(const World& w, PredictMode mode) {
-  SimOptions o;
-  o.gpu = mobile();
-  const RtlConfig rc = rtl_config("default");
-  o.kind = sim::PredictorKind::kPort;
-  o.pred.mode = mode;
-  o.cycle = rc.cycle(mode);
-  EXPECT_EQ(resolve_for_scene(w.scene, w.bvh, &o.cycle.hash, &o.cycle.table,
-                              {.node_bits = rc.node_id_width, .tag_bits = rc.table.tag_bits}),
-            "");
-  return o;
 }
 
 TEST(Sim, SameInputsGiveTheSameCycles) {

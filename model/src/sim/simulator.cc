@@ -30,7 +30,7 @@ struct Step {
   uint32_t node;   // the node whose pair or triangles are fetched
 };
 
-enum class Phase : uint8_t { kEntering, kPredicting, kPredWalk, kDeciding, kRootWalk };
+enum class Phase : uint8_t { kEntering, kPredWalk, kDeciding, kRootWalk };
 
 struct Slot {
   uint32_t ray = 0, unit = 0, warp = 0;
@@ -236,7 +236,7 @@ void Simulator::start_root_walk(Slot& s, Action a) {
 void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
   const uint32_t si = slot_of(ray);
   Slot& s = slots_[si];
-  if (s.phase != Phase::kPredicting && s.phase != Phase::kEntering)
+  if (s.phase != Phase::kEntering)
     throw std::runtime_error("a second prediction for ray " + std::to_string(ray));
   s.phase = Phase::kPredWalk;
   s.steps.clear();
@@ -426,7 +426,6 @@ SimStats Simulator::run() {
       io.predictions.clear();
       io.decisions.clear();
       if (opt_.repack != SimOptions::Repack::kNone) form_warps(u, now);
-      st_.entry_wait += io.entering.size();  // rays that waited to enter in this cycle
     }
     // 4. The next cycle: the next one while a predictor is clocked or a warp left (its slot
     // takes a warp next cycle); otherwise the next step's.
@@ -454,6 +453,7 @@ SimStats Simulator::run() {
     st_.predictor.stall_cycles += ps.stall_cycles;
     st_.predictor.updates += ps.updates;
     st_.predictor.mismatches += ps.mismatches;
+    st_.predictor.entry_wait += ps.entry_wait;
   }
   return st_;
 }
@@ -525,7 +525,7 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
             {"lookups", predictor.lookups},
             {"updates", predictor.updates},
             {"stall_cycles", predictor.stall_cycles},
-            {"entry_wait_cycles", entry_wait},
+            {"entry_wait_cycles", predictor.entry_wait},
             {"true_positive", p.true_positive},
             {"false_positive", p.false_positive},
             {"false_negative", p.false_negative},

@@ -50,20 +50,17 @@ void PortPredictor::cycle(uint64_t now, UnitIo* io) {
   }
   in.pred_ready = true;
   in.skip_ready = true;
-  if (!io->pw.empty()) {
-    const EngineMsg& m = io->pw.front();
-    in.pw_valid = true;
-    in.pw_id = id_of_.at(m.ray);
-    in.pw_hit = m.hit;
-    in.pw_node = m.node;
-  }
-  if (!io->outcomes.empty()) {
-    const EngineMsg& m = io->outcomes.front();
-    in.outcome_valid = true;
-    in.outcome_id = id_of_.at(m.ray);
-    in.outcome_hit = m.hit;
-    in.outcome_node = m.node;
-  }
+  // The head of a message queue, offered on a port (held there until taken).
+  auto offer = [&](const std::deque<EngineMsg>& q, bool* valid, uint32_t* id, bool* hit,
+                   uint32_t* node) {
+    if (q.empty()) return;
+    *valid = true;
+    *id = id_of_.at(q.front().ray);
+    *hit = q.front().hit;
+    *node = q.front().node;
+  };
+  offer(io->pw, &in.pw_valid, &in.pw_id, &in.pw_hit, &in.pw_node);
+  offer(io->outcomes, &in.outcome_valid, &in.outcome_id, &in.outcome_hit, &in.outcome_node);
   const DutOut out = model_->outputs();
   auto release = [&](uint32_t id) {
     id_of_.erase(ray_of_[id]);
@@ -115,6 +112,7 @@ void PortPredictor::cycle(uint64_t now, UnitIo* io) {
     io->outcomes.pop_front();
     release(in.outcome_id);
   }
+  stats_.entry_wait += io->entering.size() + (offered_ ? 1 : 0);  // the ray on offer waits too
   stats_.mismatches = model_->mismatches();
   model_->tick(in);
 }
@@ -201,6 +199,7 @@ void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
     stats_.lookups++;
   }
   if (waiting && took == 0) stats_.stall_cycles++;
+  stats_.entry_wait += io->entering.size();
   while (!preds_.empty() && preds_.front().due <= now) {
     io->predictions.emplace_back(preds_.front().ray, preds_.front().p);
     preds_.pop_front();

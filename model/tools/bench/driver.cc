@@ -57,10 +57,13 @@ std::string embree_isa_report() {
 
 // Writes the scene's bench stream (primary, shadow, AO; Morton order) unless it exists.
 std::string make_stream(const std::string& scene_path, uint64_t samples, const std::string& dir,
-                        size_t* bvh_nodes) {
+                        std::string* rtl_misfit) {
   const Scene scene = load_scene(scene_path);
   const Bvh bvh = build_bvh(scene.triangles);
-  *bvh_nodes = bvh.nodes.size();
+  // The co-simulation and the simulator run the RTL's default configuration: does it fit?
+  CycleConfig cc;
+  *rtl_misfit = rtl_config(rtl::kDefaultConfig.name)
+                    .cycle_for_scene(PredictMode::kClosestExact, scene, bvh, &cc);
   WorkloadOptions wo;
   resolution_for(scene.camera, samples, 1, &wo.width, &wo.height);
   wo.shadow = wo.ao = true;
@@ -298,17 +301,12 @@ json bench_scene(const DriverArgs& a, const std::string& scene, const std::strin
                  unsigned threads, Figures* for_geomean, Figures* rss_geomean) {
   const std::string name = fs::path(scene).stem().string();
   std::fprintf(stderr, "bench: %s: writing the ray stream\n", name.c_str());
-  size_t nodes = 0;
-  const std::string stream = make_stream(scene, a.samples, dir, &nodes);
-  // The co-simulation and the simulator run the RTL's default configuration: its node ids must
-  // name every node of the BVH.
-  const int id_bits = rtl::kDefaultConfig.node_id_width;
-  const bool rtl_fits = nodes <= (size_t{1} << id_bits);
+  std::string misfit;
+  const std::string stream = make_stream(scene, a.samples, dir, &misfit);
+  const bool rtl_fits = misfit.empty();
   std::string rtl_skipped;
   if (!rtl_fits) {
-    rtl_skipped = "the BVH has " + std::to_string(nodes) + " nodes; the RTL's default " +
-                  std::to_string(id_bits) + "-bit node ids name at most " +
-                  std::to_string(size_t{1} << id_bits) + ": no co-simulation, no simulate";
+    rtl_skipped = "the RTL's default configuration: " + misfit + ": no co-simulation, no simulate";
     std::fprintf(stderr, "bench: %s: %s\n", name.c_str(), rtl_skipped.c_str());
   }
   Figures r;

@@ -241,10 +241,8 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     overridden = overridden || (opt->count() > 0 && is_table_option(name));
   if (rtl_preset && !overridden) {
     const RtlConfig rc = rtl_config(a.p.preset.substr(4));
-    CycleConfig cc = rc.cycle(cfg.mode);
-    err = resolve_for_scene(s->scene, s->bvh, &cc.hash, &cc.table,
-                            {.node_bits = rc.node_id_width, .tag_bits = rc.table.tag_bits});
-    if (err.empty()) err = cc.validate();
+    CycleConfig cc;
+    err = rc.cycle_for_scene(cfg.mode, s->scene, s->bvh, &cc);
     if (!err.empty()) {
       std::fprintf(stderr, "hrpp simulate: configuration %s: %s\n", rc.name.c_str(), err.c_str());
       return 2;
@@ -431,7 +429,7 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
         s.preset.c_str(), t.precision(), t.recall(), 100 * t.skipped_interior_fraction(),
         (unsigned long long)p.predictor.lookups, (unsigned long long)p.predictor.stall_cycles,
         100.0 * p.predictor.stall_cycles / std::max<uint64_t>(1, p.cycles * g.units),
-        double(p.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
+        double(p.predictor.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
         (unsigned long long)t.wrong_results);
     for (size_t i = 0; i < st.size(); ++i)
       if (s.runs[i].name == "oracle" && s.main != i) {

@@ -61,6 +61,16 @@ struct RtlConfig {
     c.skip_fifo_depth = skip_fifo_depth;
     return c;
   }
+  /// The cycle model of this configuration in `mode` for a scene: the scene's cell exponent, and
+  /// the RTL's node-id and tag widths checked against the BVH. Returns "" or what does not fit.
+  std::string cycle_for_scene(PredictMode mode, const Scene& scene, const Bvh& bvh,
+                              CycleConfig* cc) const {
+    *cc = cycle(mode);
+    const std::string err =
+        resolve_for_scene(scene, bvh, &cc->hash, &cc->table,
+                          {.node_bits = node_id_width, .tag_bits = table.tag_bits});
+    return err.empty() ? cc->validate() : err;
+  }
 };
 
 inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {

@@ -91,8 +91,7 @@ struct SimStats {
   uint64_t warp_cycles = 0;     // sum over warps of warp_size x cycles in a unit
   uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
   std::array<KindTime, kNumRayKinds> by_kind{};
-  UnitPredictorStats predictor;  // summed over the units
-  uint64_t entry_wait = 0;       // sum over predicted rays of cycles from admission to entry
+  UnitPredictorStats predictor;                      // summed over the units
   std::array<PredictStats, kNumRayKinds> predict{};  // classify(), per kind
   PredictStats predict_total() const;
   double simd_efficiency() const { return warp_cycles ? double(lane_cycles) / warp_cycles : 0; }

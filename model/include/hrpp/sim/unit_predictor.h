@@ -46,6 +46,7 @@ struct UnitIo {
 struct UnitPredictorStats {
   uint64_t lookups = 0;       // rays taken
   uint64_t stall_cycles = 0;  // cycles in which a ray waited to enter and none was taken
+  uint64_t entry_wait = 0;    // sum over the rays of the cycles they waited to enter
   uint64_t updates = 0;       // table writes
   uint64_t mismatches = 0;    // --rtl: cycles in which the RTL's outputs differed from the model's
 };
