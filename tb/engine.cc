@@ -152,7 +152,7 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     offered_ray_.reset();
     InFlight f;
     f.ray = ray;
-    f.er.any = answers_any_hit(rays_[ray].kind, opt_.mode);
+    set_query(rays_[ray].kind, opt_.mode, &f.er);
     by_id_[id] = f;  // the baseline walk is made with the skip decision
   }
 

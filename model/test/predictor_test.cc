@@ -83,6 +83,34 @@ TEST(Predictor, SpeculativeModeCountsItsWrongAnswers) {
   EXPECT_GT(st.skipped_walks, 0u);
 }
 
+TEST(Predictor, AnyHitModeCountsClosestHitRaysAnsweredWrong) {
+  // Any-hit mode answers primary rays as any-hit queries: an answer that is not the ray's closest
+  // hit is wrong (issue 20: these were counted as right). The counts must equal the test's own
+  // comparison with the closest hit, for the answers and for the baseline's any-hit walks.
+  Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/cornell_box.glb");
+  Bvh bvh = build_bvh(s.triangles);
+  Predictor pred(bvh, config(s, bvh, PredictMode::kAnyHit, false, HashVariant::kImproved));
+  WorkloadOptions wo;
+  wo.width = wo.height = 64;
+  uint64_t wrong = 0, baseline_wrong = 0, closest_rays = 0;
+  generate_rays(s, bvh, wo, [&](const RayRecord& r, const Hit*) {
+    const RayResult res = pred.process(r);
+    if (is_any_hit(r.kind)) return;
+    ++closest_rays;
+    Counters c;
+    const Hit closest = closest_hit(bvh, r.ray, &c);
+    wrong += !same_answer(bvh, r.ray, res.answer, closest);
+    baseline_wrong += !same_answer(bvh, r.ray, res.baseline, closest);
+  });
+  const PredictStats& st = pred.total();
+  EXPECT_GT(closest_rays, 0u);
+  EXPECT_GT(wrong, 0u) << "no wrong answer: the test would be vacuous";
+  EXPECT_EQ(st.wrong_results, wrong);
+  EXPECT_EQ(st.baseline_wrong_results, baseline_wrong);
+  EXPECT_EQ(pred.by_kind(RayKind::kShadow).wrong_results, 0u);  // any-hit rays are answered right
+  EXPECT_EQ(st.exact_mismatches, 0u);
+}
+
 TEST(Predictor, InvalidRaysNeverReachTheHash) {
   Scene s = load_scene(test::own_scenes().front());
   Bvh bvh = build_bvh(s.triangles);
@@ -186,7 +214,8 @@ TEST(EngineSide, PiecesMakeThePredictor) {
     generate_rays(s, bvh, wo, [&](const RayRecord& r, const Hit*) {
       const RayResult res = pred.process(r);
       EngineRay one, two;
-      one.any = two.any = answers_any_hit(r.kind, mode);
+      set_query(r.kind, mode, &one);
+      set_query(r.kind, mode, &two);
       const HashKey k = hash_ray(r.ray, c.hash);
       const Prediction p = table.lookup(k.index, k.tag, k.key);
       walk_predicted(bvh, r.ray, p.nodes.data(), p.count, &one);

@@ -75,6 +75,7 @@ PredictStats& PredictStats::operator+=(const PredictStats& o) {
   true_negative += o.true_negative;
   skipped_walks += o.skipped_walks;
   wrong_results += o.wrong_results;
+  baseline_wrong_results += o.baseline_wrong_results;
   exact_mismatches += o.exact_mismatches;
   baseline_hits += o.baseline_hits;
   table_updates += o.table_updates;
@@ -123,6 +124,7 @@ nlohmann::json PredictStats::to_json() const {
           {"false_negative", false_negative},
           {"true_negative", true_negative},
           {"wrong_results", wrong_results},
+          {"baseline_wrong_results", baseline_wrong_results},
           {"exact_mismatches", exact_mismatches},
           {"baseline_hits", baseline_hits},
           {"table_updates", table_updates},
@@ -181,7 +183,7 @@ RayResult Predictor::process(const RayRecord& rec) {
     return res;
   }
   EngineRay er;
-  er.any = answers_any_hit(rec.kind, cfg_.mode);
+  set_query(rec.kind, cfg_.mode, &er);
   if (cfg_.any_hit_only && !er.any) {
     // Not offered to the predictor: the plain walk from the root answers (a full walk), and
     // nothing is looked up or written.

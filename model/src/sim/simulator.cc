@@ -193,7 +193,7 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
     s.unit = unit;
     s.warp = w;
     s.er = EngineRay{};
-    s.er.any = answers_any_hit(r.kind, opt_.pred.mode);
+    set_query(r.kind, opt_.pred.mode, &s.er);
     s.steps.clear();
     s.next = 0;
     s.uses_pred = opt_.kind != PredictorKind::kNone && (!opt_.any_hit_only || s.er.any);

@@ -41,6 +41,11 @@ inline bool answers_any_hit(RayKind kind, PredictMode mode) {
   return is_any_hit(kind) || mode == PredictMode::kAnyHit;
 }
 
+/// Sets the query a ray of `kind` makes in `mode`: er->any (answers_any_hit) and
+/// er->asks_closest (the kind wants the closest hit, whatever the mode answers).
+struct EngineRay;
+inline void set_query(RayKind kind, PredictMode mode, EngineRay* er);
+
 /// The skip rule (rtl/hrpp_skip_ctrl.sv, and the cycle model's twin of it): with a predicted
 /// hit, skip (any-hit queries, closest-spec) or shrink (closest-exact); without one, the full
 /// walk.
@@ -51,8 +56,9 @@ inline Action skip_action(bool predicted_hit, bool any, PredictMode mode) {
 
 /// One ray's state on the engine's side, from its prediction to its statistics.
 struct EngineRay {
-  bool any = false;        // answered as an any-hit query (answers_any_hit)
-  bool predicted = false;  // the table held nodes for the ray's key
+  bool any = false;           // answered as an any-hit query (answers_any_hit)
+  bool asks_closest = false;  // the ray's kind asks for the closest hit (set_query)
+  bool predicted = false;     // the table held nodes for the ray's key
   // Predicted walks (step 1).
   std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // the predicted nodes walked, in order
   uint32_t num_nodes = 0;
@@ -84,6 +90,11 @@ struct EngineRay {
     return true;
   }
 };
+
+inline void set_query(RayKind kind, PredictMode mode, EngineRay* er) {
+  er->any = answers_any_hit(kind, mode);
+  er->asks_closest = !is_any_hit(kind);
+}
 
 // The small pieces are inline: the untimed model runs them for every ray (make bench).
 
@@ -189,8 +200,16 @@ inline void classify(const Bvh& bvh, const Ray& ray, const EngineRay& er, Predic
   if (!er.any) {
     if (!same_answer(bvh, ray, er.answer, er.baseline))
       (mode == PredictMode::kClosestSpec ? s->wrong_results : s->exact_mismatches) += 1;
-  } else if (er.answer.hit() != er.baseline.hit()) {
-    s->exact_mismatches += 1;
+    return;
+  }
+  if (er.answer.hit() != er.baseline.hit()) s->exact_mismatches += 1;
+  if (er.asks_closest) {
+    // A closest-hit ray answered as an any-hit query: its answer is wrong unless it is the
+    // closest hit (a walk for the statistics only; its work is counted nowhere).
+    Counters unused;
+    const Hit closest = engine_walk(bvh, ray, false, 0, &unused);
+    s->wrong_results += !same_answer(bvh, ray, er.answer, closest);
+    s->baseline_wrong_results += !same_answer(bvh, ray, er.baseline, closest);
   }
 }
 

@@ -73,8 +73,14 @@ struct PredictStats {
   Counters predicted;  // the predicted subtree walks alone
   Counters wasted;     // predicted subtree walks of rays whose prediction failed
   uint64_t true_positive = 0, false_positive = 0, false_negative = 0, true_negative = 0;
-  uint64_t skipped_walks = 0;     // rays that needed no walk from the root
-  uint64_t wrong_results = 0;     // speculative mode: answer differs from the baseline
+  uint64_t skipped_walks = 0;  // rays that needed no walk from the root
+  // Answers that are not the closest hit a closest-hit ray asked for: closest-spec answers that
+  // differ from the baseline, and closest-hit rays answered as any-hit queries (any-hit mode)
+  // whose answer is not their closest hit.
+  uint64_t wrong_results = 0;
+  // Any-hit mode: closest-hit rays whose baseline any-hit walk itself did not return their
+  // closest hit (the mode's own error, without prediction; part of wrong_results' reference).
+  uint64_t baseline_wrong_results = 0;
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
   uint64_t table_updates = 0;   // rays whose outcome wrote the table
