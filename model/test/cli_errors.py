@@ -188,7 +188,7 @@ def main():
             return problems
         return check
     run([hrpp, "predict", scene, "--res", "8x8", "--json", "-"], 0, limit=20, cwd=tmp,
-        check=json_on_stdout(r"cost model: .* cycles per ray"))
+        check=json_on_stdout(r"cost model .* cycles per ray"))
     run([hrpp, "info", scene, "--json", "-"], 0, limit=20, cwd=tmp,
         check=json_on_stdout(r"triangles +\d+"))
     run([hrpp, "simulate", scene, "--res", "8x8", "--no-per-kind", "--json", "-"], 0, limit=30,
@@ -260,12 +260,110 @@ def main():
         return more
 
     pj = os.path.join(odd, "p.json")
-    run([hrpp, "predict", scene, "--res", "8x8", "--json", pj], 0, limit=20,
+    run([hrpp, "predict", scene, "--res", "8x8", "--hash", "faithful", "--table", "unbounded",
+         "--json", pj], 0, limit=20,
         name="predict --json: tool, precision_bits, null times, table_unbounded",
         check=json_report(pj, predict_keys("unbounded", False)))
     run([hrpp, "predict", scene, "--res", "8x8", "--table", "64x4", "--measure-time", "--json",
          pj], 0, limit=20, name="predict --json --measure-time --table 64x4",
         check=json_report(pj, predict_keys("64x4", True)))
+
+    # Named configurations (issue 20): the default of predict is rtl-default; --preset FILE.json
+    # (option names as keys, "preset" the named preset it starts from) with the command line over
+    # it; its errors name the file, the key and a suggestion.
+    def preset_check(name, base, table, go_up, mode, file=None):
+        def more(j):
+            want = {"name": name, "base": base, "file": file}
+            got = (j.get("preset"), j["config"].get("table"), j["config"].get("go_up"),
+                   j["config"].get("mode"))
+            tbl = got[1] if isinstance(got[1], str) else "%sx%s" % (
+                got[1].get("sets"), got[1].get("ways")) if isinstance(got[1], dict) else got[1]
+            if got[0] != want or tbl != table or got[2] != go_up or got[3] != mode:
+                return ["preset %r table %r go_up %r mode %r; expected %r %r %r %r" % (
+                    got[0], tbl, got[2], got[3], want, table, go_up, mode)]
+            return []
+        return more
+    T = ["--timing", "cost-model"]
+    run([hrpp, "predict", scene, "--res", "8x8", "--json", pj] + T, 0, limit=20,
+        name="predict: the default is rtl-default",
+        check=json_report(pj, preset_check("rtl-default", "rtl-default", "128x8", 0,
+                                           "closest-exact")))
+    pf = os.path.join(odd, "mine.json")
+    with open(pf, "w") as f:
+        f.write('{"name": "mine", "preset": "micro21", "go_up": 1, "mode": "closest-spec"}')
+    run([hrpp, "predict", scene, "--res", "8x8", "--preset", pf, "--json", pj] + T, 0,
+        limit=20, name="predict --preset FILE.json: its values over its base preset's",
+        check=json_report(pj, preset_check("mine", "micro21", "256x4", 1, "closest-spec", pf)))
+    run([hrpp, "predict", scene, "--res", "8x8", "--preset", pf, "--go-up", "2", "--table",
+         "64x4", "--json", pj] + T, 0, limit=20,
+        name="predict --preset FILE.json: the command line over the file",
+        check=json_report(pj, preset_check("mine", "micro21", "64x4", 2, "closest-spec", pf)))
+    for body, err in (
+            ('{"gp_up": 1}', r'unknown key "gp_up"; did you mean go_up\?'),
+            ('{"preset": "rtl-defualt"}', r"\"preset\": 'rtl-defualt' is not a preset; did you mean rtl-default\?"),
+            ('{"go_up": 99}', r'"go_up": .*99'),
+            ('{"go_up": "one"}', r'"go_up" must be an integer'),
+            ('{"table": 4}', r'"table" must be a string'),
+            ('[1, 2]', r"not a JSON object"),
+            ('{"go_up": 1', r"not valid JSON"),
+            ('{"hash": "improved", "precision": 4}',
+             r"--precision \(--preset .*mine\.json\) applies only to the faithful hash.*uses "
+             r"--hash improved \(--preset ")):
+        with open(pf, "w") as f:
+            f.write(body)
+        run([hrpp, "predict", scene, "--res", "8x8", "--preset", pf], 2,
+            r"hrpp predict: (--preset .*mine\.json: )?" + err,
+            name="predict --preset FILE.json: " + body)
+    run([hrpp, "predict", scene, "--res", "8x8", "--preset", os.path.join(odd, "none.json")], 2,
+        r"--preset .*none\.json: cannot read it: No such file", name="predict --preset missing.json")
+    run([hrpp, "simulate", scene, "--res", "8x8", "--preset", "rtl-defualt"], 2,
+        r"did you mean rtl-default\?", name="simulate --preset misspelt")
+
+    # Time first (issue 20): the report's first result line is the simulated time on RT units,
+    # with its verdict in words, then the cost model's; the JSON's "time" says which and how.
+    def time_first(timing):
+        def check(p):
+            lines = [l for l in p.stdout.splitlines() if l.startswith("  ") and
+                     not l.startswith("    ") and ":" in l]
+            i = next((k for k, l in enumerate(lines) if "cycles" in l), None)
+            problems = []
+            pred = next((k for k, l in enumerate(lines) if l.startswith("  predictor ")), None)
+            if pred is None or i is None or pred > i:
+                problems.append("no configuration line before the time")
+            first = lines[i] if i is not None else ""
+            want = "  time on mobile RT units" if timing == "simulate" else \
+                "  time by the cost model"
+            if not first.startswith(want) or not re.search(
+                    r"speed-up \d+\.\d+x: (saves|COSTS) \d+\.\d% time|no change in time", first):
+                problems.append("the first result line %r" % first)
+            if re.search(r"skipped", "\n".join(lines[:i + 1] if i is not None else lines)):
+                problems.append("skipped work before the time")
+            j = json.load(open(pj))
+            t = j.get("time", {})
+            if t.get("timing") != timing:
+                problems.append("time.timing %r" % t.get("timing"))
+            elif (timing == "simulate" and t.get("gpu") != "mobile") or \
+                    t["baseline_cycles"] <= 0 or \
+                    abs(t["speedup"] - t["baseline_cycles"] / t["cycles"]) > 1e-9 or \
+                    (t["speedup"] < 1) != ("COSTS" in first):
+                problems.append("time %r against %r" % (t, first))
+            return problems
+        return check
+    # At 16x16 the default configuration saves time on spd_balls and costs time on the Cornell box.
+    cornell = os.path.join(source, "scenes", "cornell_box.glb")
+    for sc, verdict in ((scene, "saves"), (cornell, "COSTS")):
+        run([hrpp, "predict", sc, "--res", "16x16", "--json", pj], 0, limit=30,
+            stdout_re=r"\n  time on mobile RT units.*: " + verdict,
+            name="predict: leads with the simulated time (%s: %s)" % (os.path.basename(sc),
+                                                                        verdict),
+            check=time_first("simulate"))
+    run([hrpp, "predict", scene, "--res", "16x16", "--json", pj, "--timing", "cost-model"], 0,
+        limit=20, name="predict --timing cost-model: leads with the cost model's time",
+        check=time_first("cost-model"))
+    run([hrpp, "predict", scene, "--res", "8x8", "--timing", "cost-model", "--gpu", "desktop"],
+        2, r"--gpu applies only to --timing simulate", name="predict --gpu with cost-model")
+    run([hrpp, "predict", scene, "--res", "8x8", "--gpu", "laptop"], 2,
+        r"hrpp predict: --gpu laptop: .*known: desktop, mobile", name="predict --gpu unknown")
     for argv, path in (
             (["info", scene], "i.json"), (["check-embree", scene, "--rays", "100"], "c.json"),
             (["simulate", scene, "--res", "8x8", "--no-per-kind"], "s.json"),
@@ -331,6 +429,8 @@ def main():
             problems.append("stderr %r, expected the one line %r" % (stderr[-300:], want))
         if os.listdir(sub):
             problems.append("left %s" % os.listdir(sub))
+        if cmd == "predict" and "predictor rtl-default:" not in stdout:
+            problems.append("the configuration was not printed before the run")
         shutil.rmtree(sub, ignore_errors=True)  # hundreds of MB when the .tmp is left
         if problems:
             failures += 1

@@ -30,11 +30,20 @@ CONFIGS = {
     'unb': '--hash faithful --precision 6 --table unbounded --go-up 1',
 }
 MODES = ['anyhit', 'closest-exact', 'closest-spec']
-DROP = {'baseline_ns', 'hrpp_ns', 'seconds', 'cost', 'cost_model', 'threads', 'scene',
+DROP = {'time', 'preset', 'baseline_ns', 'hrpp_ns', 'seconds', 'cost', 'cost_model', 'threads', 'scene',
         'tool', 'table_unbounded'}
 # Keys renamed since the first captures (issue 20), stored under their old names so that captures
 # of binaries from before and after compare.
 RENAMED = {'precision_bits': 'precision'}
+
+def untimed_args(hrpp, cache={}):
+    """`--timing cost-model` for binaries that simulate time by default (issue 20): the work
+    counters are the same either way, the simulation is only slower."""
+    if hrpp not in cache:
+        h = subprocess.run([hrpp, 'predict', '--help'], capture_output=True, text=True).stdout
+        cache[hrpp] = ['--timing', 'cost-model'] if '--timing' in h else []
+    return cache[hrpp]
+
 
 def strip(d):
     if isinstance(d, dict):
@@ -51,7 +60,7 @@ def predict_job(hrpp, scene, cname, mode, out):
     name = f"{'own-' if own else ''}{os.path.basename(scene)[:-4]}.{cname}.{mode}"
     j = os.path.join(out, 'predict', name + '.json')
     cmd = [hrpp, 'predict', scene, *CONFIGS[cname].split(), '--mode', mode, '--res', '200x150',
-           '--json', j]
+           '--json', j] + untimed_args(hrpp)
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode:
         return name, f"FAILED rc {r.returncode}: {r.stderr[-300:]}"

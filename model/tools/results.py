@@ -57,7 +57,7 @@ def run_all(scenes, res, spp, jobs, out):
         stem = pathlib.Path(scene).stem
         path = out / f"{stem}-{name}.json"
         cmd = [str(ROOT / "build" / "hrpp"), "predict", scene, "--res", res, "--spp", str(spp),
-               "--json", str(path)] + RUNS[name]
+               "--timing", "cost-model", "--json", str(path)] + RUNS[name]
         start = time.time()
         return task, run_json(cmd, path), time.time() - start
 

@@ -88,7 +88,7 @@ def tasks_for(args, scenes, out):
                 tasks.append(((gpu, where, scene.stem, "mixed", "rtl-default"), cmd, path))
                 path = out / gpu / f"{where}-{scene.stem}-mixed-predict.json"
                 cmd = [args.hrpp, "predict", str(scene), "--res", args.res, "--preset",
-                       "rtl-default", "--json", str(path)]
+                       "rtl-default", "--timing", "cost-model", "--json", str(path)]
                 tasks.append(((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
     return tasks
 

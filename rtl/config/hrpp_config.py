@@ -138,13 +138,14 @@ def cmake_text(data: dict) -> str:
 def check_preset(hrpp: str, scene: str, data: dict) -> int:
     """1 unless `hrpp predict --preset rtl-NAME` runs exactly as with the explicit options."""
     def run(args: list[str], path: Path) -> dict:
-        cmd = [hrpp, "predict", scene, "--res", "64x64", "--json", str(path)] + args
+        cmd = [hrpp, "predict", scene, "--res", "64x64", "--timing", "cost-model", "--json",
+               str(path)] + args
         try:
             j = run_json(cmd, path)
         except ToolFailed as e:
             raise ConfigError(str(e))
-        # The run time and the tool's command line and timestamp.
-        return {k: v for k, v in j.items() if k not in ("seconds", "tool")}
+        # The run time, the tool's command line and timestamp, and the preset's name.
+        return {k: v for k, v in j.items() if k not in ("seconds", "tool", "preset")}
 
     bad = 0
     with tempfile.TemporaryDirectory() as tmp:

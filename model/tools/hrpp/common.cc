@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 
 #include "hrpp/predictor/presets.h"
 #include "hrpp/util/atomic_file.h"
@@ -270,12 +272,29 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                            const std::vector<std::string>& extra_presets) {
   std::vector<std::string> presets = extra_presets;
   for (const std::string& n : preset_names()) presets.push_back(n);
+  const std::string names = [&] {
+    std::string n;
+    for (const std::string& p : presets) n += (n.empty() ? "" : ", ") + p;
+    return n;
+  }();
   app->add_option("--preset", a.preset,
                   "a named predictor: rtl-NAME (an RTL configuration's hash and table, "
                   "rtl/config/hrpp_configs.json), micro21 (MICRO 2021's predictor: grid-spherical "
                   "hash, 256x4 table, K=1, go-up 3, any-hit rays only) or study2019 (faithful "
-                  "P=6 E=3 xor, unbounded table, K=2, go-up 0); the options below override it")
-      ->check(CLI::IsMember(presets));
+                  "P=6 E=3 xor, unbounded table, K=2, go-up 0); or FILE.json, one's own (a JSON "
+                  "object of option names and values, e.g. {\"name\": \"mine\", \"preset\": "
+                  "\"rtl-default\", \"go_up\": 1}); the options below override it. Default: "
+                  "rtl-default unless a hash or table option is given")
+      ->check(CLI::Validator(
+          [presets, names](std::string& v) -> std::string {
+            if (v.ends_with(".json") ||
+                std::find(presets.begin(), presets.end(), v) != presets.end())
+              return "";
+            const std::string c = closest(v, presets);
+            return "'" + v + "' is neither a preset (" + names + ") nor a .json file" +
+                   (c.empty() ? "" : "; did you mean " + c + "?");
+          },
+          "NAME|FILE.json"));
   app->add_option("--hash", a.hash, "hash variant (micro21: MICRO 2021's grid-spherical hash)")
       ->check(CLI::IsMember({"faithful", "improved", "micro21"}))
       ->capture_default_str();
@@ -324,14 +343,46 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
     a.given[o] = app->get_option(o);
 }
 
-/// --preset NAME: the preset's options (predictor_preset), each unless given on the command line.
-void apply_preset(PredictorArgs& a) {
-  if (a.preset.empty()) return;
-  const PredictorPreset p = predictor_preset(a.preset);  // checked by CLI11
+bool option_given(const PredictorArgs& a, const std::string& option) {
+  const auto it = a.given.find(option);
+  return (it != a.given.end() && it->second && it->second->count() > 0) ||
+         a.from_file.contains(option);
+}
+
+bool is_table_option(const std::string& option) {
+  return option != "--go-up" && option != "--mode" && option != "--predict-kinds";
+}
+
+namespace {
+
+/// The predictor option fields by option name (what a preset sets).
+struct OptionField {
+  std::string* text = nullptr;
+  int* number = nullptr;
+  uint32_t* unsigned_number = nullptr;
+};
+std::map<std::string, OptionField> option_fields(PredictorArgs& a) {
+  return {{"--hash", {.text = &a.hash}},
+          {"--precision", {.number = &a.precision}},
+          {"--exp-bits", {.number = &a.exp_bits}},
+          {"--origin-bits", {.number = &a.origin_bits}},
+          {"--dir-bits", {.number = &a.dir_bits}},
+          {"--combine", {.text = &a.combine}},
+          {"--table", {.text = &a.table}},
+          {"--tag-bits", {.number = &a.tag_bits}},
+          {"--nodes-per-entry", {.unsigned_number = &a.nodes_per_entry}},
+          {"--go-up", {.unsigned_number = &a.go_up}},
+          {"--mode", {.text = &a.mode}},
+          {"--predict-kinds", {.text = &a.predict_kinds}}};
+}
+
+/// The named preset's values, each unless the user set the option.
+void apply_named_preset(PredictorArgs& a, const std::string& name) {
+  const PredictorPreset p = predictor_preset(name);
   const HashConfig& h = p.hash;
   const TableConfig& t = p.table;
   auto set = [&](const char* opt, auto* field, auto value) {
-    if (a.given.at(opt)->count() == 0) *field = value;
+    if (!option_given(a, opt)) *field = value;
   };
   set("--hash", &a.hash, std::string(hash_variant_name(h.variant)));
   set("--precision", &a.precision, h.precision);
@@ -350,17 +401,125 @@ void apply_preset(PredictorArgs& a) {
     set("--predict-kinds", &a.predict_kinds, std::string(*p.any_hit_only ? "any-hit" : "all"));
 }
 
+/// A preset file's values (each unless given on the command line); its base preset's name in
+/// *base. Prints the error and returns false.
+bool read_preset_file(const char* cmd, PredictorArgs& a, std::string* base) {
+  const std::string& path = a.preset_file;
+  auto fail = [&](const std::string& why) {
+    std::fprintf(stderr, "hrpp %s: --preset %s: %s\n", cmd, path.c_str(), why.c_str());
+    return false;
+  };
+  std::ifstream in(path);
+  if (!in) return fail(std::string("cannot read it: ") + std::strerror(errno));
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) return fail("not valid JSON");
+  if (!j.is_object()) return fail("not a JSON object of option names and values");
+  std::map<std::string, OptionField> fields = option_fields(a);
+  std::vector<std::string> keys = {"name", "description", "preset"};
+  for (const auto& [opt, f] : fields) {
+    std::string k = opt.substr(2);
+    std::replace(k.begin(), k.end(), '-', '_');
+    keys.push_back(k);
+  }
+  a.label = std::filesystem::path(path).stem().string();
+  for (const auto& [key, value] : j.items()) {
+    if (key == "description") continue;
+    if (key == "name" || key == "preset") {
+      if (!value.is_string() || value.get<std::string>().empty())
+        return fail("\"" + key + "\" must be a non-empty string");
+      if (key == "name") a.label = value.get<std::string>();
+      if (key == "preset") {
+        *base = value.get<std::string>();
+        const std::vector<std::string> names = preset_names();
+        if (std::find(names.begin(), names.end(), *base) == names.end()) {
+          const std::string c = closest(*base, names);
+          return fail("\"preset\": '" + *base + "' is not a preset" +
+                      (c.empty() ? "" : "; did you mean " + c + "?"));
+        }
+      }
+      continue;
+    }
+    std::string opt = "--" + key;
+    std::replace(opt.begin(), opt.end(), '_', '-');
+    const auto f = fields.find(opt);
+    if (f == fields.end()) {
+      std::string k = key;
+      std::replace(k.begin(), k.end(), '-', '_');
+      const std::string c = closest(k, keys);
+      return fail("unknown key \"" + key + "\"" + (c.empty() ? "" : "; did you mean " + c + "?"));
+    }
+    std::string text;
+    if (value.is_string() && f->second.text) {
+      text = value.get<std::string>();
+    } else if (value.is_number_integer() && !f->second.text) {
+      text = std::to_string(value.get<int64_t>());
+    } else {
+      return fail("\"" + key + "\" must be " + (f->second.text ? "a string" : "an integer"));
+    }
+    CLI::Option* o = a.given.at(opt);
+    for (int i = 0;; ++i) {  // the command line's checks
+      CLI::Validator* v = nullptr;
+      try {
+        v = o->get_validator(i);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      std::string t = text;
+      if (const std::string e = (*v)(t); !e.empty()) return fail("\"" + key + "\": " + e);
+    }
+    if (option_given(a, opt)) continue;  // the command line overrides the file
+    const OptionField& field = f->second;
+    if (field.text) *field.text = text;
+    if (field.number) *field.number = int(std::stoll(text));
+    if (field.unsigned_number) *field.unsigned_number = uint32_t(std::stoll(text));
+    a.from_file.insert(opt);
+  }
+  return true;
+}
+
+}  // namespace
+
+nlohmann::json preset_json(const PredictorArgs& a) {
+  auto or_null = [](const std::string& v) {
+    return v.empty() ? nlohmann::json() : nlohmann::json(v);
+  };
+  return {{"name", a.label}, {"base", or_null(a.preset)}, {"file", or_null(a.preset_file)}};
+}
+
+bool resolve_preset(const char* cmd, PredictorArgs& a, const std::string& default_preset) {
+  if (a.preset.empty() && !default_preset.empty()) {
+    bool table_given = false;
+    for (const auto& [name, opt] : a.given)
+      table_given = table_given || (opt->count() > 0 && is_table_option(name));
+    if (!table_given) a.preset = default_preset;
+  }
+  if (a.preset.ends_with(".json")) {
+    a.preset_file = a.preset;
+    a.preset.clear();
+    if (!read_preset_file(cmd, a, &a.preset)) return false;
+    // A file with no "preset" starts from the default preset unless it or the command line
+    // sets a hash or table option, as the command line does.
+    bool table_set = false;
+    for (const auto& [name, opt] : a.given)
+      table_set = table_set || (option_given(a, name) && is_table_option(name));
+    if (a.preset.empty() && !table_set) a.preset = default_preset;
+  }
+  if (!a.preset.empty() && a.preset != "none" && a.preset != "oracle")
+    apply_named_preset(a, a.preset);
+  if (a.label.empty()) a.label = a.preset.empty() ? "custom" : a.preset;
+  return true;
+}
+
 namespace {
 
-bool given(const PredictorArgs& a, const char* opt) {
-  const auto it = a.given.find(opt);
-  return it != a.given.end() && it->second && it->second->count() > 0;
-}
+bool given(const PredictorArgs& a, const char* opt) { return option_given(a, opt); }
 
 /// Where a value came from: "--hash improved", "--preset micro21 (hash micro21)" or "the default
 /// hash faithful".
 std::string origin_of(const PredictorArgs& a, const char* opt, const char* what,
                       const std::string& value) {
+  if (a.from_file.contains(opt))
+    return std::string(opt) + " " + value + " (--preset " + a.preset_file + ")";
   if (given(a, opt)) return std::string(opt) + " " + value;
   if (!a.preset.empty()) return "--preset " + a.preset + " (" + what + " " + value + ")";
   return std::string("the default ") + what + " " + value;
@@ -390,7 +549,10 @@ bool check_applicable(const char* cmd, const PredictorArgs& a) {
   };
   for (const Rule& r : rules)
     if (!r.applies && given(a, r.opt)) {
-      std::fprintf(stderr, "hrpp %s: %s applies only to %s; this run uses %s\n", cmd, r.opt,
+      const std::string opt = a.from_file.contains(r.opt)
+                                  ? std::string(r.opt) + " (--preset " + a.preset_file + ")"
+                                  : std::string(r.opt);
+      std::fprintf(stderr, "hrpp %s: %s applies only to %s; this run uses %s\n", cmd, opt.c_str(),
                    r.needs, origin_of(a, r.setting_opt, r.what, r.value).c_str());
       return false;
     }

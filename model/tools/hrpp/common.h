@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -80,16 +81,37 @@ struct PredictorArgs {
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;
   int tag_bits = -1;
-  std::string preset;  // a predictor preset (preset_names(): rtl-NAME, micro21, study2019)
+  // --preset: a named preset (preset_names(): rtl-NAME, micro21, study2019) or a JSON file; after
+  // resolve_preset, `preset` is the named preset in effect (a file's base "preset", or empty),
+  // `preset_file` the file and `label` what reports call the configuration.
+  std::string preset, preset_file, label;
   std::map<std::string, CLI::Option*> given;  // the options a preset sets, by name
+  std::set<std::string> from_file;            // the options the preset file set
 };
 
-/// Adds the predictor options; --preset takes rtl-NAME and the extra names.
+/// Adds the predictor options; --preset takes rtl-NAME, the extra names and FILE.json.
 void add_predictor_options(CLI::App* app, PredictorArgs& a,
                            const std::vector<std::string>& extra_presets = {});
 
-/// --preset NAME: the preset's options (predictor_preset), each unless given on the command line.
-void apply_preset(PredictorArgs& a);
+/// Applies --preset, in this order of precedence: the options given on the command line, a
+/// preset file's values (a JSON object: option names as keys, e.g. {"name": "mine", "preset":
+/// "rtl-default", "go_up": 1}; "preset" names the named preset it starts from), the named
+/// preset's values (predictor_preset), the defaults. Without --preset and without a hash or table
+/// option, `default_preset` applies (the tools' default: rtl-default). Prints "hrpp CMD: ..." and
+/// returns false for a preset file that cannot be read or holds an unknown key or a bad value.
+bool resolve_preset(const char* cmd, PredictorArgs& a,
+                    const std::string& default_preset = "rtl-default");
+
+/// A report's "preset": {"name" (what reports call it), "base" (the named preset, or null),
+/// "file" (the preset file, or null)}.
+nlohmann::json preset_json(const PredictorArgs& a);
+
+/// Whether OPTION ("--hash") was set by the user: on the command line or in a preset file.
+bool option_given(const PredictorArgs& a, const std::string& option);
+
+/// The options that choose the hash and the table (an RTL configuration fixes them; go-up, mode
+/// and the ray kinds that use the predictor are the traversal engine's choices).
+bool is_table_option(const std::string& option);
 
 /// The parts of the predictor configuration that need no scene; prints the error.
 bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConfig* cfg);

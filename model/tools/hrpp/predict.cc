@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "common.h"
+#include "gpu_time.h"
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/hardware/rtl_update_delay.h"
 #include "hrpp/predictor/predictor.h"
@@ -36,6 +37,7 @@ struct PredictArgs {
   bool measure_time = false;
   std::string spec_images;
   uint32_t cores = 1, threads = 1, tile = 8;  // TiledPredictor (docs/predictor.md)
+  TimingArgs t;  // the time figure: simulated (--gpu) or the cost model's
 };
 
 /// What a run needs, resolved from the options, the scene and the rays' source.
@@ -47,12 +49,15 @@ struct PredictSetup {
   WorkloadOptions wo;       // the generated workload (without --stream)
   nlohmann::json workload;  // the report's description of the workload
   TiledOptions to;
+  sim::GpuConfig gpu;  // --timing simulate
 };
 
 /// Resolves the configuration; prints the error and returns the exit code (0: go on).
 int configure_predict(const PredictArgs& a, PredictSetup* s) {
   PredictorConfig& cfg = s->cfg;
-  if (!parse_predictor_args("predict", a.p, &cfg) || !check_workload_args("predict", a.w)) return 2;
+  if (!parse_predictor_args("predict", a.p, &cfg) || !check_workload_args("predict", a.w) ||
+      !check_timing_args("predict", a.t, &s->gpu))
+    return 2;
   if ((!a.json_path.empty() &&
        !check_output_path("predict", "--json", a.json_path, OutputKind::kJson)) ||
       (!a.spec_images.empty() &&
@@ -109,6 +114,8 @@ int configure_predict(const PredictArgs& a, PredictSetup* s) {
 struct PredictRun {
   double secs = 0;                        // wall-clock time of the run
   std::unique_ptr<SpecImage> spec_image;  // generated workloads with one thread
+  std::vector<RayRecord> rays;            // --timing simulate: the rays, in issue order
+  std::unique_ptr<GpuTime> time;          // --timing simulate
 };
 
 /// Feeds every ray to the predictor, with progress on stderr, and finishes it.
@@ -126,7 +133,9 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
   uint64_t done = 0;
   auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
+  const bool keep = a.t.timing == "simulate";
   auto process = [&](const RayRecord& r) {
+    if (keep) run.rays.push_back(r);
     const std::optional<RayResult> res = pred.push(r);
     if (spec_image && res) spec_image->add(r, *res);
     if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFFF)) return;
@@ -168,6 +177,11 @@ nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const T
       a.pipeline_latency >= 0 ? nlohmann::json(a.pipeline_latency) : nlohmann::json(nullptr);
   j["cost_model"] = cost.to_json();
   j["cost"] = cycle_cost_json(pred.total(), cost);
+  {
+    const CycleCost cc = cycle_cost(pred.total(), cost);
+    j["time"] = time_json(run.time.get(), cc.baseline, cc.hrpp);
+  }
+  j["preset"] = preset_json(a.p);
   for (int k = 0; k < kNumRayKinds; ++k)
     if (pred.by_kind(RayKind(k)).rays)
       j["by_kind"][std::string(ray_kind_name(RayKind(k)))]["cost"] =
@@ -182,7 +196,8 @@ nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const T
   return j;
 }
 
-/// The text report's head: the workload, its effects, the predictor and its cores.
+/// The text report's head, printed before the run: the workload, its effects, the predictor and
+/// its cores, the time figure's source.
 void print_configuration(const PredictSetup& s, const PredictArgs& a, const TiledPredictor& pred) {
   const Scene& scene = s.scene;
   const std::unique_ptr<RayStreamReader>& stream = s.stream;
@@ -194,18 +209,45 @@ void print_configuration(const PredictSetup& s, const PredictArgs& a, const Tile
     std::printf("predict %s: %s\n", scene.path.c_str(), workload_line(s.wo).c_str());
     print_effects(scene, s.wo, a.w.effects);
   }
-  std::printf("  %s\n",
-              predictor_line(a.p, s.cfg, pred.table_bytes(), pred.table_entries()).c_str());
+  std::printf("  predictor %s: %s\n", a.p.label.c_str(),
+              predictor_line(a.p, s.cfg, pred.table_bytes(), kUnknownEntries).c_str());
   if (a.cores > 1)
     std::printf(
         "  %u cores, each with its own table (%ux%u-pixel tiles, tile i on core i mod %u), "
         "%u threads\n",
         a.cores, a.tile, a.tile, a.cores, a.threads);
+  if (a.t.timing == "simulate")
+    std::printf(
+        "  time: the rays on %s RT units with no predictor and with this one (hrpp "
+        "simulate), then the cost model's\n",
+        a.t.gpu.c_str());
+  else
+    std::printf("  time: the cost model's (--timing cost-model: no caches, no competing rays)\n");
+  std::fflush(stdout);
 }
 
-/// The text report's body: one row per ray kind, the cost model's line, the run's speed.
+/// The text report's body: the time first (simulated, then the cost model's), one row per ray
+/// kind, the table's use, the run's speed.
 void print_report(const PredictorConfig& cfg, const TiledPredictor& pred, const nlohmann::json& j,
-                  const CostModel& cost, double secs) {
+                  const CostModel& cost, const PredictRun& run) {
+  const CycleCost cc = cycle_cost(pred.total(), cost);
+  std::printf("%s", time_lines(run.time.get(), cc.baseline, cc.hrpp, pred.total().rays).c_str());
+  if (cfg.update_delay)
+    std::printf(
+        "  (the work below and the cost model's time with an update delay of %u rays; the "
+        "simulated table's staleness is the simulation's own)\n",
+        cfg.update_delay);
+  if (cfg.measure_time)
+    std::printf("  CPU time of the golden model: %.0f -> %.0f ns per ray\n",
+                double(pred.total().baseline_ns) / std::max<uint64_t>(1, pred.total().rays),
+                double(pred.total().hrpp_ns) / std::max<uint64_t>(1, pred.total().rays));
+  if (j.contains("image_error"))
+    std::printf("  image: MAE %.5f, %.3f%% pixels differ from the exact render\n",
+                j["image_error"]["mean_abs_error"].get<double>(),
+                100 * j["image_error"]["differing_pixel_fraction"].get<double>());
+  std::printf(
+      "  work, by ray kind (skipped: interior-node tests saved, wasted predicted tests "
+      "counted against it; work is not time):\n");
   std::printf("  %-10s %10s %8s %9s %9s %10s %10s %10s %10s %8s\n", "kind", "rays", "skipped",
               "precision", "recall", "TP", "FP", "FN", "TN", "wrong");
   auto row = [](const char* name, const PredictStats& s) {
@@ -219,26 +261,16 @@ void print_report(const PredictorConfig& cfg, const TiledPredictor& pred, const 
     if (pred.by_kind(RayKind(k)).rays)
       row(std::string(ray_kind_name(RayKind(k))).c_str(), pred.by_kind(RayKind(k)));
   row("all", pred.total());
-  {
-    const CycleCost cc = cycle_cost(pred.total(), cost);
-    std::printf("  cost model: %.1f -> %.1f cycles per ray (%.2f%% saved), update delay %u rays",
-                cc.baseline / std::max<uint64_t>(1, pred.total().rays),
-                cc.hrpp / std::max<uint64_t>(1, pred.total().rays), 100 * cc.saved_fraction(),
-                cfg.update_delay);
-    if (cfg.measure_time)
-      std::printf(", CPU %.0f -> %.0f ns per ray",
-                  double(pred.total().baseline_ns) / std::max<uint64_t>(1, pred.total().rays),
-                  double(pred.total().hrpp_ns) / std::max<uint64_t>(1, pred.total().rays));
-    if (j.contains("image_error"))
-      std::printf(", image MAE %.5f, %.3f%% pixels differ",
-                  j["image_error"]["mean_abs_error"].get<double>(),
-                  100 * j["image_error"]["differing_pixel_fraction"].get<double>());
-    std::printf("\n");
-  }
-  std::printf(
-      "  skipped = 1 - HRPP interior-node tests (wasted predicted tests included) / baseline; %.1f "
-      "s, %.2f M rays/s\n",
-      secs, pred.total().rays / secs / 1e6);
+  if (cfg.mode == PredictMode::kAnyHit && pred.total().wrong_results)
+    std::printf(
+        "  wrong: closest-hit rays answered as any-hit queries with a hit that is not "
+        "their closest (%llu of them the any-hit walk from the root gives wrong too)\n",
+        (unsigned long long)pred.total().baseline_wrong_results);
+  if (pred.table_entries() != kUnknownEntries)
+    std::printf("  table: %llu entries used, %llu bytes%s\n",
+                (unsigned long long)pred.table_entries(), (unsigned long long)pred.table_bytes(),
+                cfg.table.unbounded ? " (unbounded: the bytes of the entries used)" : "");
+  std::printf("  %.1f s, %.2f M rays/s\n", run.secs, pred.total().rays / run.secs / 1e6);
 }
 
 int cmd_predict(const PredictArgs& a) {
@@ -249,11 +281,16 @@ int cmd_predict(const PredictArgs& a) {
     std::fprintf(stderr, "hrpp predict: --spec-images needs --threads 1\n");
     return 2;
   }
-  const PredictRun run = run_predict(s, a, pred);
+  print_configuration(s, a, pred);
+  PredictRun run = run_predict(s, a, pred);
+  if (a.t.timing == "simulate") {
+    run.time = std::make_unique<GpuTime>();
+    if (!simulate_time("predict", a.t, s.gpu, a.p, s.cfg, s.scene, s.bvh, run.rays, run.time.get()))
+      return 2;
+  }
   const CostModel cost;
   const nlohmann::json j = predict_json(s, a, pred, run, cost);
-  print_configuration(s, a, pred);
-  print_report(s.cfg, pred, j, cost, run.secs);
+  print_report(s.cfg, pred, j, cost, run);
   if (pred.total().exact_mismatches) {
     std::fprintf(
         stderr,
@@ -274,6 +311,7 @@ Subcommand add_predict(CLI::App& app) {
                                 "skipped work, precision and recall per ray kind");
   pr->add_option("scene", pa->scene, "glTF scene (.glb or .gltf)")->required();
   add_predictor_options(pr, pa->p);
+  add_timing_options(pr, pa->t);
   std::vector<CLI::Option*> wopts = add_workload_options(pr, pa->w, "shadow,ao");
   wopts.push_back(pr->add_flag("!--no-shadow", pa->w.shadow, "do not trace shadow rays"));
   wopts.push_back(pr->add_flag("!--no-ao", pa->w.ao, "do not trace ambient-occlusion rays"));
@@ -311,7 +349,7 @@ Subcommand add_predict(CLI::App& app) {
       ->check(CLI::Range(1u, 65536u))
       ->capture_default_str();
   return {pr, [pa] {
-            apply_preset(pa->p);
+            if (!resolve_preset("predict", pa->p)) return 2;
             return cmd_predict(*pa);
           }};
 }

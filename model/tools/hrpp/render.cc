@@ -119,7 +119,7 @@ Subcommand add_render(CLI::App& app) {
   add_workload_options(rd, ra->w, "shadow,ao");
   add_predictor_options(rd, ra->p);
   return {rd, [ra] {
-            apply_preset(ra->p);
+            if (!resolve_preset("render", ra->p)) return 2;
             return cmd_render(*ra);
           }};
 }

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "common.h"
+#include "gpu_time.h"
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/sim/simulator.h"
@@ -67,18 +68,6 @@ struct SimulateSetup {
       std::make_shared<std::vector<std::string>>();
   std::shared_ptr<std::string> rtl_run = std::make_shared<std::string>();
 };
-
-/// The options that choose the hash and the table (an RTL configuration fixes them; go-up, mode
-/// and the ray kinds that use the predictor are the traversal engine's choices).
-bool is_table_option(const std::string& name) {
-  return name != "--go-up" && name != "--mode" && name != "--predict-kinds";
-}
-
-/// --gpu NAME (model/gpu/NAME.json) or a file.
-std::string gpu_path(const std::string& g) {
-  if (g.find('/') != std::string::npos || g.ends_with(".json")) return g;
-  return std::string(HRPP_SOURCE_DIR) + "/model/gpu/" + g + ".json";
-}
 
 /// --kinds: "all" or a comma-separated list of ray kinds.
 bool parse_kinds(const std::string& spec, std::array<bool, kNumRayKinds>* on, std::string* err) {
@@ -153,21 +142,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   if (!check_workload_args(cmd, a.w)) return 2;
   if (!a.json_path.empty() && !check_output_path(cmd, "--json", a.json_path, OutputKind::kJson))
     return 2;
-  try {
-    s->gpu = sim::load_gpu_config(gpu_path(a.gpu));
-  } catch (const sim::GpuConfigError& e) {
-    std::vector<std::string> names;  // the configurations model/gpu/ holds
-    std::error_code ec;
-    for (const auto& f :
-         std::filesystem::directory_iterator(std::string(HRPP_SOURCE_DIR) + "/model/gpu", ec))
-      if (f.path().extension() == ".json") names.push_back(f.path().stem().string());
-    std::sort(names.begin(), names.end());
-    std::string known;
-    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-    std::fprintf(stderr, "hrpp simulate: --gpu %s: %s (known: %s; or a JSON file)\n", a.gpu.c_str(),
-                 e.what(), known.c_str());
-    return 2;
-  }
+  if (!load_gpu(cmd, a.gpu, &s->gpu)) return 2;
   const bool rtl_preset = a.p.preset.starts_with("rtl-");
   if (a.rtl && !rtl_preset) {
     std::fprintf(stderr, "hrpp simulate: --rtl needs an RTL preset (--preset rtl-NAME), got %s\n",
@@ -217,7 +192,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   base.pred = cfg;
   base.any_hit_only = cfg.any_hit_only;
   s->runs.push_back({"none", base, "no predictor"});
-  s->preset = a.p.preset.empty() ? "custom" : a.p.preset;
+  s->preset = a.p.label;
   if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
     s->runs.push_back(oracle_run(base));
   }
@@ -236,26 +211,15 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     return 0;
   }
   // An RTL preset whose table and hash options were not overridden runs the RTL's cycle model.
-  bool overridden = false;
-  for (const auto& [name, opt] : a.p.given)
-    overridden = overridden || (opt->count() > 0 && is_table_option(name));
-  if (rtl_preset && !overridden) {
-    const RtlConfig rc = rtl_config(a.p.preset.substr(4));
-    CycleConfig cc;
-    err = rc.cycle_for_scene(cfg.mode, s->scene, s->bvh, &cc);
-    if (!err.empty()) {
-      std::fprintf(stderr, "hrpp simulate: configuration %s: %s\n", rc.name.c_str(), err.c_str());
-      return 2;
-    }
-    r.opt.kind = sim::PredictorKind::kPort;
-    r.opt.cycle = cc;
-    r.timing = "the RTL's cycle model at its ports (" + std::to_string(1 << cc.id_bits) +
-               " ray ids, prediction " + std::to_string(rtl::kPredictionLatency) +
-               " cycles, decision " + std::to_string(rtl::kDecisionLatency) + ")";
+  std::string rtl_name;
+  if (!predictor_sim_options(cmd, a.p, cfg, s->scene, s->bvh, &r.opt, &r.timing, &rtl_name))
+    return 2;
+  if (r.opt.kind == sim::PredictorKind::kPort) {
     if (a.rtl) {
 #ifdef HRPP_HAVE_RTL
+      const CycleConfig& cc = r.opt.cycle;
       // The Verilated RTL of the configuration in every unit, in lockstep with the cycle model.
-      const std::string config = rc.name;
+      const std::string config = rtl_name;
       try {
         tb::make_rtl_port_model(config, cc);  // a configuration without a Verilated model
       } catch (const std::invalid_argument& e) {
@@ -290,8 +254,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
                    a.p.preset.c_str());
       return 2;
     }
-    r.opt.kind = sim::PredictorKind::kTimed;
-    r.opt.timed = timed_for(a, sim::preset_timing(s->preset));
+    r.opt.timed = timed_for(a, r.opt.timed);
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
   }
   s->runs.push_back(r);
@@ -621,16 +584,9 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_option("--credits", sa->credits, "golden presets: rays held at once (0: unlimited)")
       ->check(CLI::Range(0, 1 << 24));
   return {sc, [sa] {
-            // No preset: the RTL's default configuration, unless predictor options are given
-            // (then the golden model's defaults with those options, as hrpp predict).
-            if (sa->p.preset.empty()) {
-              bool given = false;
-              for (const auto& [name, opt] : sa->p.given)
-                given = given || (opt->count() > 0 && is_table_option(name));
-              if (!given) sa->p.preset = "rtl-default";
-            }
-            if (!sa->p.preset.empty() && sa->p.preset != "none" && sa->p.preset != "oracle")
-              apply_preset(sa->p);
+            // No preset: the RTL's default configuration, unless hash or table options are
+            // given (then the golden model's defaults with those options).
+            if (!resolve_preset("simulate", sa->p)) return 2;
             return cmd_simulate(*sa);
           }};
 }
