@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "hrpp/report/spec_image.h"
 #include "hrpp/timing/cost_model.h"
 #include "test_util.h"
 
@@ -205,6 +206,35 @@ TEST(Render, LegendCompleteAtAnySize) {
   }
   for (const std::string& l : wrap_text(caption[1], 200)) EXPECT_LE(text_width(l), 200) << l;
   EXPECT_EQ(wrap_text("a b", 1000), std::vector<std::string>{"a b"});
+}
+
+}  // namespace
+}  // namespace hrpp
+
+namespace hrpp {
+namespace {
+
+TEST(Render, SpecCompareNamesItsRunAndExplainsItsPanels) {
+  const std::string dir = test::temp_dir("spec_compare");
+  Scene s = load_scene(own("cornell_box.glb"));
+  SpecImage img(s, 4, 2, 1, "preset test-config: hash improved");
+  RayRecord r;
+  RayResult res;
+  for (uint32_t p = 0; p < 8; ++p) {
+    r.pixel = p;
+    img.add(r, res);
+  }
+  const auto j = img.finish(dir);
+  int w, h;
+  ASSERT_TRUE(png_size(dir + "/spec_compare.png", &w, &h));
+  EXPECT_EQ(w, 3 * 4 * 40 + 2 * 6) << "three panels of 4x2 pixels, each enlarged to 160";
+  EXPECT_GT(h, 2 * 40 + 14 + 8 * 12) << "the panels' names, the panels and the legend band";
+  std::string legend;
+  for (const auto& l : j["legend"]) legend += l.get<std::string>() + "\n";
+  for (const char* want : {"1 exact: ", "2 speculative: ", "3 difference x8: ",
+                           "scene cornell_box.glb: 4x2, 1 spp",
+                           "predictor: preset test-config: hash improved"})
+    EXPECT_NE(legend.find(want), std::string::npos) << want << " in\n" << legend;
 }
 
 }  // namespace
