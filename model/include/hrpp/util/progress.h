@@ -81,8 +81,10 @@ class Progress {
       char t[48];
       if (s < 100)
         std::snprintf(t, sizeof t, "%ld s left", s);
-      else
+      else if (s < 3600)
         std::snprintf(t, sizeof t, "%ld min %02ld s left", s / 60, s % 60);
+      else
+        std::snprintf(t, sizeof t, "%ld h %02ld min left", s / 3600, s % 3600 / 60);
       left = t;
     }
     std::snprintf(b, sizeof b, "%5.1f%% of %" PRIu64 " %s, ", total_ ? 100.0 * done / total_ : 0.0,
