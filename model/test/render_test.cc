@@ -231,9 +231,9 @@ TEST(Render, SpecCompareNamesItsRunAndExplainsItsPanels) {
   EXPECT_GT(h, 2 * 40 + 14 + 8 * 12) << "the panels' names, the panels and the legend band";
   std::string legend;
   for (const auto& l : j["legend"]) legend += l.get<std::string>() + "\n";
-  for (const char* want : {"1 exact: ", "2 speculative: ", "3 difference x8: ",
-                           "scene cornell_box.glb: 4x2, 1 spp",
-                           "predictor: preset test-config: hash improved"})
+  for (const char* want :
+       {"1 exact: ", "2 speculative: ", "3 difference x8: ", "scene cornell_box.glb: 4x2, 1 spp",
+        "predictor: preset test-config: hash improved"})
     EXPECT_NE(legend.find(want), std::string::npos) << want << " in\n" << legend;
 }
 

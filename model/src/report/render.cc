@@ -300,9 +300,8 @@ Vec3 colormap(const std::string& name, double t) {
 }
 
 nlohmann::json HeatMap::to_json() const {
-  return {{"title", title},   {"meaning", meaning}, {"units", units},
-          {"colormap", colormap}, {"range", {lo, hi}}, {"min", min},
-          {"mean", mean},     {"max", max}};
+  return {{"title", title},    {"meaning", meaning}, {"units", units}, {"colormap", colormap},
+          {"range", {lo, hi}}, {"min", min},         {"mean", mean},   {"max", max}};
 }
 
 namespace {
@@ -441,13 +440,15 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
   };
   auto phase = [&](const char* name, const char* unit) -> RowProgress {
     if (!ro.progress) return nullptr;
-    return [&ro, name, unit](uint64_t done, uint64_t total) { ro.progress(name, unit, done, total); };
+    return
+        [&ro, name, unit](uint64_t done, uint64_t total) { ro.progress(name, unit, done, total); };
   };
   ShadeInfo si;
   const Image shaded = shade(scene, bvh, opt, &si, phase("shading", "pixels"));
 
   Predictor pred(bvh, cfg);
-  const PixelStats ps = predictor_pixels(scene, bvh, opt, &pred, phase("predictor", "camera samples"));
+  const PixelStats ps =
+      predictor_pixels(scene, bvh, opt, &pred, phase("predictor", "camera samples"));
   const size_t n = ps.rays.size();
 
   // What every picture names: the scene, the workload and its rays, the predictor.
@@ -494,48 +495,56 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
   const double net_range = std::max(1.0, std::ceil(p99(abs_net)));
   char per_ray[200];
   const double nrays = std::max<uint64_t>(1, total.rays);
-  std::snprintf(per_ray, sizeof per_ray,
-                "all rays: %.1f -> %.1f cycles per ray, %+.2f%% saved (%s)", cc.baseline / nrays,
-                cc.hrpp / nrays, 100 * cc.saved_fraction(),
-                cc.hrpp > cc.baseline ? "this configuration costs time"
-                                      : "this configuration saves time");
-  HeatMap mc{.title = "net cycles saved per pixel by the cost model: baseline - HRPP cycles of the "
-                      "pixel's rays (all kinds); red: prediction saves, blue: it costs",
+  std::snprintf(
+      per_ray, sizeof per_ray, "all rays: %.1f -> %.1f cycles per ray, %+.2f%% saved (%s)",
+      cc.baseline / nrays, cc.hrpp / nrays, 100 * cc.saved_fraction(),
+      cc.hrpp > cc.baseline ? "this configuration costs time" : "this configuration saves time");
+  HeatMap mc{.title =
+                 "net cycles saved per pixel by the cost model: baseline - HRPP cycles of the "
+                 "pixel's rays (all kinds); red: prediction saves, blue: it costs",
              .colormap = "coolwarm",
              .lo = -net_range,
              .hi = net_range,
              .units = std::string("cycles per pixel (") + std::to_string(ps.spp) +
                       " camera sample(s) and their rays); the bar ends at the 99th percentile of "
-                      "|value|; " + per_ray,
+                      "|value|; " +
+                      per_ray,
              .lo_note = "costs",
              .hi_note = "saves",
-             .meaning = "per pixel, the cost model's baseline cycles minus HRPP's cycles (lookup, "
-                        "decision, predicted and full walks, mispredict penalties) over every ray "
-                        "of the pixel, all kinds (docs/cost_model.md); positive: prediction saves "
-                        "time, negative: it costs time"};
+             .meaning =
+                 "per pixel, the cost model's baseline cycles minus HRPP's cycles (lookup, "
+                 "decision, predicted and full walks, mispredict penalties) over every ray "
+                 "of the pixel, all kinds (docs/cost_model.md); positive: prediction saves "
+                 "time, negative: it costs time"};
   HeatMap mw{.title = "baseline interior-node tests per camera sample (all its rays)",
              .hi = std::max(1.0, p99(work)),
-             .units = "interior-node tests of the baseline walks per camera sample; the bar ends "
-                      "at the 99th percentile",
-             .meaning = "per pixel, the baseline walks' interior-node tests over every ray of the "
-                        "pixel (all kinds), per camera sample"};
-  HeatMap ms{.title = "interior-node tests skipped: 1 - HRPP / baseline (HRPP's count includes the "
-                      "wasted predicted walks' tests; red: fewer tests, blue: more)",
+             .units =
+                 "interior-node tests of the baseline walks per camera sample; the bar ends "
+                 "at the 99th percentile",
+             .meaning =
+                 "per pixel, the baseline walks' interior-node tests over every ray of the "
+                 "pixel (all kinds), per camera sample"};
+  HeatMap ms{.title =
+                 "interior-node tests skipped: 1 - HRPP / baseline (HRPP's count includes the "
+                 "wasted predicted walks' tests; red: fewer tests, blue: more)",
              .colormap = "coolwarm",
              .lo = -1,
              .hi = 1,
              .percent = true,
-             .units = "% of the pixel's baseline interior-node tests (work, not time: see "
-                      "net_cycles.png)",
-             .meaning = "per pixel, 1 - HRPP / baseline interior-node tests over the pixel's rays "
-                        "(all kinds); HRPP's tests include those of predicted walks that failed; "
-                        "work skipped, not time: lookups, decisions and leaf and triangle work "
-                        "are not in it"};
+             .units =
+                 "% of the pixel's baseline interior-node tests (work, not time: see "
+                 "net_cycles.png)",
+             .meaning =
+                 "per pixel, 1 - HRPP / baseline interior-node tests over the pixel's rays "
+                 "(all kinds); HRPP's tests include those of predicted walks that failed; "
+                 "work skipped, not time: lookups, decisions and leaf and triangle work "
+                 "are not in it"};
   HeatMap mf{.title = "mispredicted: rays whose prediction failed (false positives) / rays",
              .percent = true,
              .units = "% of the pixel's rays (all kinds)",
-             .meaning = "per pixel, the share of the pixel's rays (all kinds) whose predicted "
-                        "subtrees held no hit (false positives: a wasted predicted walk)"};
+             .meaning =
+                 "per pixel, the share of the pixel's rays (all kinds) whose predicted "
+                 "subtrees held no hit (false positives: a wasted predicted walk)"};
 
   nlohmann::json pictures = nlohmann::json::object();
   const std::string shaded_title =
@@ -543,14 +552,14 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
   const std::string shaded_units = "colour: display sRGB, auto-exposed (exposure " +
                                    label(si.exposure, false) +
                                    "); emitters in their colour, misses dark blue-grey";
-  save("shaded.png", with_legend(upscale(shaded, display_scale(shaded.width, shaded.height)),
-                                 {.head = {shaded_title}, .body = {shaded_units}, .caption = caption}));
+  save("shaded.png",
+       with_legend(upscale(shaded, display_scale(shaded.width, shaded.height)),
+                   {.head = {shaded_title}, .body = {shaded_units}, .caption = caption}));
   pictures["shaded.png"] = shaded_title + "; " + shaded_units;
   nlohmann::json maps = nlohmann::json::object();
   for (auto [name, values, map] :
        {std::tuple{"net_cycles.png", &net, &mc}, std::tuple{"work.png", &work, &mw},
-        std::tuple{"skipped.png", &skipped, &ms},
-        std::tuple{"mispredicted.png", &failed, &mf}}) {
+        std::tuple{"skipped.png", &skipped, &ms}, std::tuple{"mispredicted.png", &failed, &mf}}) {
     save(name, heat_map_image(*values, ps.width, ps.height, map, caption));
     maps[name] = map->to_json();
     pictures[name] = map->meaning;

@@ -109,11 +109,10 @@ nlohmann::json SpecImage::finish(const std::string& dir) const {
                  "2 speculative: the predictor's answer for the same samples, shaded the same way",
                  "3 difference x8: |1 - 2| per channel of 8-bit sRGB, times 8 (black: the same)",
                  stats},
-        .caption = {"scene " + scene_name + ": " + std::to_string(width_) + "x" +
-                        std::to_string(height_) + ", " + std::to_string(spp_) +
-                        " spp; primary rays only",
-                    "predictor: " +
-                        (config_.empty() ? std::string("configuration not given") : config_)}};
+        .caption = {
+            "scene " + scene_name + ": " + std::to_string(width_) + "x" + std::to_string(height_) +
+                ", " + std::to_string(spp_) + " spp; primary rays only",
+            "predictor: " + (config_.empty() ? std::string("configuration not given") : config_)}};
     const Image out = with_legend(row, lg);
     for (const auto* lines : {&lg.head, &lg.body, &lg.caption})
       for (const std::string& l : *lines) j["legend"].push_back(l);

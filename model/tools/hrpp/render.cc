@@ -85,7 +85,8 @@ int cmd_render(const RenderArgs& a) {
     if (phase != name) {
       progress.reset();  // clears the previous phase's line on a terminal
       phase = name;
-      progress = std::make_unique<Progress>(stderr, std::string("render: ") + name, unit, total, t0);
+      progress =
+          std::make_unique<Progress>(stderr, std::string("render: ") + name, unit, total, t0);
     }
     progress->update(done);
   };

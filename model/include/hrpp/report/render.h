@@ -121,8 +121,7 @@ struct HeatMap {
 Vec3 colormap(const std::string& name, double t);
 /// The heat map at its display scale above its legend band; CAPTION names the run.
 Image heat_map_image(const std::vector<double>& values, int width, int height, HeatMap* map,
-                     const std::vector<std::string>& caption = {},
-                     LegendLayout* layout = nullptr);
+                     const std::vector<std::string>& caption = {}, LegendLayout* layout = nullptr);
 
 /// A short line naming a predictor configuration, for captions when the caller gives none:
 /// "hash improved, table 128x8 (K=2), go-up 0, mode closest-exact".

@@ -19,9 +19,9 @@ class Progress {
  public:
   using Clock = std::chrono::steady_clock;
   struct Options {
-    double delay = 2.0;           // seconds since the run's start before the first line
-    double tty_interval = 0.25;   // seconds between updates of the line on a terminal
-    double pipe_interval = 5.0;   // seconds between lines when piped
+    double delay = 2.0;          // seconds since the run's start before the first line
+    double tty_interval = 0.25;  // seconds between updates of the line on a terminal
+    double pipe_interval = 5.0;  // seconds between lines when piped
   };
   /// LABEL names the run or its phase ("render: predictor"), UNIT what is counted ("camera
   /// samples"), TOTAL how many there are. RUN_START is when the whole run started (the delay
@@ -90,7 +90,7 @@ class Progress {
     std::snprintf(b, sizeof b, "%5.1f%% of %" PRIu64 " %s, ", total_ ? 100.0 * done / total_ : 0.0,
                   total_, unit_.c_str());
     char r[64];
-    if (rate >= 1e6)
+    if (rate >= 1e5)
       std::snprintf(r, sizeof r, "%.2f M %s/s, ", rate / 1e6, unit_.c_str());
     else
       std::snprintf(r, sizeof r, "%.0f %s/s, ", rate, unit_.c_str());
