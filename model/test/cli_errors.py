@@ -438,6 +438,42 @@ def main():
         else:
             print("ok   %s" % name)
 
+    # render's progress (issue 20): the configuration (scene, workload, predictor) on standard
+    # output before the run, then, piped, a progress line every few seconds on standard error
+    # with the share done, the rate and the time left (before: silence until the end).
+    name = "render: configuration first, then progress lines when piped"
+    sub = os.path.join(tmp, "render_progress")
+    os.makedirs(sub)
+    with open(os.path.join(sub, "stdout.txt"), "w") as out_f:
+        p = subprocess.Popen([hrpp, "render", scene, "--res", "2048x2048", "--spp", "2",
+                              "--preset", "rtl-default", "--out", os.path.join(sub, "r")],
+                             stdout=out_f, stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        line = p.stderr.readline()  # the first progress line (after about 2 s)
+        dt = time.monotonic() - t0
+        stdout_then = open(os.path.join(sub, "stdout.txt")).read()
+        p.send_signal(signal.SIGINT)
+        try:
+            p.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.communicate()
+    problems = []
+    if not re.fullmatch(r"render: (shading|predictor): +\d+\.\d% of \d+ (pixels|camera samples), "
+                        r"[\d.]+ (M )?\S.*/s, (\d+ s|\d+ min \d+ s) left\n", line):
+        problems.append("first stderr line %r is not a progress line" % line)
+    elif dt < 1.5:
+        problems.append("a progress line after %.1f s (expected none in the first 2 s)" % dt)
+    if not re.search(r"render \S*spd_balls\.glb: 2048x2048, 2 spp.*\n(.*\n)*  preset rtl-default: "
+                     r"hash improved .*table 128x8", stdout_then):
+        problems.append("the configuration was not printed before the run: %r" % stdout_then[-400:])
+    shutil.rmtree(sub, ignore_errors=True)
+    if problems:
+        failures += 1
+        print("FAIL %s: %s" % (name, "; ".join(problems)))
+    else:
+        print("ok   %s" % name)
+
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):
         return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []

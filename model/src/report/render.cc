@@ -11,6 +11,7 @@
 #include <stb/stb_easy_font.h>
 #include <stb/stb_image_write.h>
 
+#include "hrpp/timing/cost_model.h"
 #include "hrpp/util/atomic_file.h"
 
 namespace hrpp {
@@ -69,6 +70,46 @@ int text_width(const std::string& s) {
   return stb_easy_font_width(txt.data());
 }
 
+std::vector<std::string> wrap_text(const std::string& s, int max_width, int scale) {
+  std::vector<std::string> lines;
+  std::string line;
+  auto fits = [&](const std::string& t) { return text_width(t) * scale <= max_width; };
+  size_t i = 0;
+  while (i < s.size()) {
+    size_t j = s.find(' ', i);
+    if (j == std::string::npos) j = s.size();
+    std::string word = s.substr(i, j - i);
+    i = j + 1;
+    if (word.empty()) continue;
+    const std::string joined = line.empty() ? word : line + " " + word;
+    if (fits(joined)) {
+      line = joined;
+      continue;
+    }
+    if (!line.empty()) lines.push_back(line);
+    line.clear();
+    while (!fits(word) && word.size() > 1) {  // a word wider than the band: cut it
+      size_t n = word.size() - 1;
+      while (n > 1 && !fits(word.substr(0, n))) --n;
+      lines.push_back(word.substr(0, n));
+      word = word.substr(n);
+    }
+    line = word;
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+int display_scale(int w, int h) { return std::max(1, 256 / std::max({1, w, h})); }
+
+Image upscale(const Image& img, int k) {
+  if (k <= 1) return img;
+  Image out(img.width * k, img.height * k);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) out.set(x, y, img.get(x / k, y / k));
+  return out;
+}
+
 namespace {
 
 /// Writes BYTES to PATH through a temporary file (hrpp/util/atomic_file.h). Throws RenderError.
@@ -112,7 +153,8 @@ nlohmann::json ShadeInfo::to_json() const {
           {"background_samples", background_samples}};
 }
 
-Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, ShadeInfo* info) {
+Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, ShadeInfo* info,
+            const RowProgress& progress) {
   constexpr float kAmbient = 0.08f;               // display units, times the base colour
   const Vec3 kBackground(0.02f, 0.025f, 0.045f);  // linear; a dark blue-grey
   constexpr float kInvPi = 0.318309886f;
@@ -169,6 +211,7 @@ Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, Shad
         ambient[pixel] +=
             kAmbient * (0.25f + 0.75f * std::fabs(glm::dot(sp.n, glm::normalize(r.dir)))) * base;
       }
+      if (progress && x == w - 1) progress(uint64_t(y + 1) * w, n);
     }
   // Exposure: the 95th percentile of the lit pixels' luminance maps to 0.85.
   std::vector<float> lum;
@@ -198,7 +241,7 @@ Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, Shad
 // ---- predictor per pixel ----------------------------------------------------------------------
 
 PixelStats predictor_pixels(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
-                            Predictor* pred) {
+                            Predictor* pred, const RowProgress& progress) {
   PixelStats ps;
   workload_resolution(scene, opt, &ps.width, &ps.height);
   ps.spp = std::max(1, opt.spp);
@@ -207,13 +250,31 @@ PixelStats predictor_pixels(const Scene& scene, const Bvh& bvh, const WorkloadOp
   ps.hrpp_interior.assign(n, 0);
   ps.rays.assign(n, 0);
   ps.failed.assign(n, 0);
+  ps.baseline_cycles.assign(n, 0);
+  ps.hrpp_cycles.assign(n, 0);
+  const CostModel cost;
+  const uint64_t samples = uint64_t(n) * ps.spp;
+  uint64_t done = 0;
   generate_rays(scene, bvh, opt, [&](const RayRecord& r, const Hit*) {
     const RayResult res = pred->process(r);
     ps.rays[r.pixel]++;
     ps.baseline_interior[r.pixel] += res.base_counters.interior_tests;
     ps.hrpp_interior[r.pixel] += res.hrpp_counters.interior_tests;
     ps.failed[r.pixel] += res.predicted && !res.verified;
+    // The ray's own statistics, as the predictor adds them up (classify), priced alone: the
+    // per-pixel cycles add up to cycle_cost of the totals.
+    PredictStats one;
+    one.rays = 1;
+    one.invalid_rays = res.invalid;
+    one.baseline = res.base_counters;
+    one.hrpp = res.hrpp_counters;
+    if (res.predicted) (res.verified ? one.true_positive : one.false_positive) = 1;
+    const CycleCost c = cycle_cost(one, cost);
+    ps.baseline_cycles[r.pixel] += c.baseline;
+    ps.hrpp_cycles[r.pixel] += c.hrpp;
+    if (r.kind == RayKind::kPrimary && (++done & 0xFF) == 0 && progress) progress(done, samples);
   });
+  if (progress) progress(samples, samples);
   return ps;
 }
 
@@ -239,27 +300,93 @@ Vec3 colormap(const std::string& name, double t) {
 }
 
 nlohmann::json HeatMap::to_json() const {
-  return {{"title", title}, {"colormap", colormap}, {"range", {lo, hi}},
-          {"min", min},     {"mean", mean},         {"max", max}};
+  return {{"title", title},    {"meaning", meaning}, {"units", units}, {"colormap", colormap},
+          {"range", {lo, hi}}, {"min", min},         {"mean", mean},   {"max", max}};
 }
 
 namespace {
 
-std::string label(double v, bool percent) {
+std::string label(double v, bool percent, bool sign = false) {
   char b[64];
+  const char* plus = sign && v > 0 ? "+" : "";
   if (percent)
-    std::snprintf(b, sizeof b, "%.0f%%", 100 * v);
+    std::snprintf(b, sizeof b, "%s%.0f%%", plus, 100 * v);
   else if (std::fabs(v) >= 100 || v == std::floor(v))
-    std::snprintf(b, sizeof b, "%.0f", v);
+    std::snprintf(b, sizeof b, "%s%.0f", plus, v);
   else
-    std::snprintf(b, sizeof b, "%.3g", v);
+    std::snprintf(b, sizeof b, "%s%.3g", plus, v);
   return b;
 }
 
 }  // namespace
 
-Image heat_map_image(const std::vector<double>& values, int w, int h, HeatMap* map) {
-  const Vec3 kNoData(0.5f), kPanel(0.12f), kText(0.95f);
+Image with_legend(const Image& pic, const Legend& lg, LegendLayout* layout) {
+  const Vec3 kPanel(0.12f), kText(0.95f), kDim(0.7f);
+  const int s = pic.width >= 640 ? 2 : 1;
+  const int canvas_w = std::max(pic.width, 480 * s);
+  const int pad = 6 * s, line_h = 12 * s, text_w = canvas_w - 2 * pad;
+  auto wrap_all = [&](const std::vector<std::string>& in) {
+    std::vector<std::string> out;
+    for (const std::string& l : in)
+      for (std::string& w : wrap_text(l, text_w, s)) out.push_back(std::move(w));
+    return out;
+  };
+  const std::vector<std::string> head = wrap_all(lg.head), body = wrap_all(lg.body),
+                                 caption = wrap_all(lg.caption);
+  const int bar_h = 10 * s, bar_block = lg.bar ? bar_h + 3 * s + line_h : 0;
+  const int sep = caption.empty() ? 0 : 5 * s;
+  const int band_h = 4 * s + int(head.size()) * line_h + bar_block + int(body.size()) * line_h +
+                     sep + int(caption.size()) * line_h + 2 * s;
+  Image img(canvas_w, pic.height + band_h, kPanel);
+  const int x0 = (canvas_w - pic.width) / 2;
+  for (int y = 0; y < pic.height; ++y)
+    for (int x = 0; x < pic.width; ++x) img.set(x0 + x, y, pic.get(x, y));
+  int y = pic.height + 4 * s;
+  for (const std::string& l : head) {
+    img.text(pad, y, l, kText, s);
+    y += line_h;
+  }
+  if (const HeatMap* m = lg.bar) {
+    const int bar_x0 = pad, bar_x1 = canvas_w - pad;
+    for (int x = bar_x0; x < bar_x1; ++x)
+      img.fill_rect(x, y, x + 1, y + bar_h,
+                    colormap(m->colormap, double(x - bar_x0) / std::max(1, bar_x1 - bar_x0 - 1)));
+    y += bar_h + 3 * s;
+    const bool diverging = m->lo < 0 && m->hi > 0;
+    std::string lo = label(m->lo, m->percent, diverging), hi = label(m->hi, m->percent, diverging);
+    if (!m->lo_note.empty()) lo += " (" + m->lo_note + ")";
+    if (!m->hi_note.empty()) hi = "(" + m->hi_note + ") " + hi;
+    const int lo_w = text_width(lo) * s, hi_w = text_width(hi) * s;
+    img.text(bar_x0, y, lo, kText, s);
+    img.text(bar_x1 - hi_w, y, hi, kText, s);
+    if (diverging) {  // 0 under its place on the bar, unless it would touch an end label
+      const int zx = bar_x0 + int(std::lround((bar_x1 - bar_x0) * (0 - m->lo) / (m->hi - m->lo)));
+      const int zw = text_width("0") * s;
+      img.fill_rect(zx, y - 3 * s - bar_h / 2, zx + std::max(1, s / 2 + 1), y - 3 * s, kText);
+      if (zx - zw / 2 > bar_x0 + lo_w + pad && zx + zw / 2 < bar_x1 - hi_w - pad)
+        img.text(zx - zw / 2, y, "0", kText, s);
+    }
+    y += line_h;
+  }
+  for (const std::string& l : body) {
+    img.text(pad, y, l, kText, s);
+    y += line_h;
+  }
+  if (!caption.empty()) {
+    img.fill_rect(pad, y + sep / 2 - 1, canvas_w - pad, y + sep / 2, kDim * 0.6f);
+    y += sep;
+  }
+  for (const std::string& l : caption) {
+    img.text(pad, y, l, kDim, s);
+    y += line_h;
+  }
+  if (layout) *layout = {x0, s, pic.height};
+  return img;
+}
+
+Image heat_map_image(const std::vector<double>& values, int w, int h, HeatMap* map,
+                     const std::vector<std::string>& caption, LegendLayout* layout) {
+  const Vec3 kNoData(0.5f);
   double sum = 0, mn = INFINITY, mx = -INFINITY;
   size_t count = 0;
   for (double v : values)
@@ -272,38 +399,37 @@ Image heat_map_image(const std::vector<double>& values, int w, int h, HeatMap* m
   map->min = count ? mn : 0;
   map->max = count ? mx : 0;
   map->mean = count ? sum / count : 0;
-  const int scale = w >= 640 ? 2 : 1;
-  const int canvas_w = std::max(w, 360 * scale), legend_h = 52 * scale;
-  Image img(canvas_w, h + legend_h, kPanel);
+  Image pic(w, h);
   const double span = map->hi > map->lo ? map->hi - map->lo : 1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const double v = values[size_t(y) * w + x];
-      img.set(x, y, std::isfinite(v) ? colormap(map->colormap, (v - map->lo) / span) : kNoData);
+      pic.set(x, y, std::isfinite(v) ? colormap(map->colormap, (v - map->lo) / span) : kNoData);
     }
-  // Legend: title, colour bar, the bar's end values, then min / mean / max of the data.
-  const int pad = 6 * scale, y0 = h + 4 * scale;
-  img.text(pad, y0, map->title, kText, scale);
-  const int bar_y = y0 + 12 * scale, bar_h = 10 * scale, bar_x0 = pad, bar_x1 = canvas_w - pad;
-  for (int x = bar_x0; x < bar_x1; ++x)
-    img.fill_rect(x, bar_y, x + 1, bar_y + bar_h,
-                  colormap(map->colormap, double(x - bar_x0) / std::max(1, bar_x1 - bar_x0 - 1)));
-  const int ly = bar_y + bar_h + 3 * scale;
-  const std::string lo = label(map->lo, map->percent), hi = label(map->hi, map->percent);
-  img.text(bar_x0, ly, lo, kText, scale);
-  img.text(bar_x1 - text_width(hi) * scale, ly, hi, kText, scale);
-  const std::string stats =
-      "min " + label(map->min, map->percent) + "   mean " + label(map->mean, map->percent) +
-      "   max " + label(map->max, map->percent) + (count < values.size() ? "   grey: no data" : "");
-  img.text((canvas_w - text_width(stats) * scale) / 2, ly + 11 * scale, stats, kText, scale);
-  return img;
+  Legend lg{.head = {map->title}, .bar = map, .caption = caption};
+  if (!map->units.empty()) lg.body.push_back("colour: " + map->units);
+  lg.body.push_back("min " + label(map->min, map->percent) + "   mean " +
+                    label(map->mean, map->percent) + "   max " + label(map->max, map->percent) +
+                    (count < values.size() ? "   grey: no data" : ""));
+  return with_legend(upscale(pic, display_scale(w, h)), lg, layout);
 }
 
 // ---- everything -------------------------------------------------------------------------------
 
+std::string config_caption(const PredictorConfig& cfg) {
+  const TableConfig& t = cfg.table;
+  const std::string table =
+      t.unbounded ? "unbounded" : std::to_string(t.sets) + "x" + std::to_string(t.ways);
+  std::string line = "hash " + std::string(hash_variant_name(cfg.hash.variant)) + ", table " +
+                     table + " (K=" + std::to_string(t.nodes_per_entry) + "), go-up " +
+                     std::to_string(cfg.go_up) + ", mode " + predict_mode_name(cfg.mode);
+  if (cfg.any_hit_only) line += ", any-hit rays only";
+  return line;
+}
+
 RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
                         const PredictorConfig& cfg, const std::string& dir,
-                        const nlohmann::json& tool) {
+                        const RenderOptions& ro) {
   namespace fs = std::filesystem;
   RenderOutput out;
   auto save = [&](const std::string& name, const Image& img) {
@@ -312,43 +438,149 @@ RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOption
     out.files.push_back(path);
     return path;
   };
+  auto phase = [&](const char* name, const char* unit) -> RowProgress {
+    if (!ro.progress) return nullptr;
+    return
+        [&ro, name, unit](uint64_t done, uint64_t total) { ro.progress(name, unit, done, total); };
+  };
   ShadeInfo si;
-  save("shaded.png", shade(scene, bvh, opt, &si));
+  const Image shaded = shade(scene, bvh, opt, &si, phase("shading", "pixels"));
 
   Predictor pred(bvh, cfg);
-  const PixelStats ps = predictor_pixels(scene, bvh, opt, &pred);
+  const PixelStats ps =
+      predictor_pixels(scene, bvh, opt, &pred, phase("predictor", "camera samples"));
   const size_t n = ps.rays.size();
-  std::vector<double> work(n), skipped(n), failed(n);
+
+  // What every picture names: the scene, the workload and its rays, the predictor.
+  std::string kinds;
+  uint64_t rays = 0;
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (const uint64_t r = pred.by_kind(RayKind(k)).rays) {
+      kinds += (kinds.empty() ? "" : ", ") + std::string(ray_kind_name(RayKind(k))) + " " +
+               std::to_string(r);
+      rays += r;
+    }
+  char wl[160];
+  std::snprintf(wl, sizeof wl, "%dx%d, %d spp, seed %llu, depth %d", ps.width, ps.height, ps.spp,
+                (unsigned long long)opt.seed, opt.max_depth);
+  const std::vector<std::string> caption = {
+      "scene " + fs::path(scene.path).filename().string() + ": " + wl + "; " +
+          std::to_string(rays) + " rays (" + kinds + ")",
+      "predictor: " + (ro.config.empty() ? config_caption(cfg) : ro.config)};
+
+  // The cost model's net cycles per pixel (docs/cost_model.md).
+  const CostModel cost;
+  const PredictStats& total = pred.total();
+  const CycleCost cc = cycle_cost(total, cost);
+  std::vector<double> net(n), work(n), skipped(n), failed(n);
   for (size_t i = 0; i < n; ++i) {
+    net[i] = ps.rays[i] ? ps.baseline_cycles[i] - ps.hrpp_cycles[i] : NAN;
     work[i] = double(ps.baseline_interior[i]) / ps.spp;
     skipped[i] = ps.baseline_interior[i]
                      ? 1.0 - double(ps.hrpp_interior[i]) / double(ps.baseline_interior[i])
                      : NAN;
     failed[i] = ps.rays[i] ? double(ps.failed[i]) / ps.rays[i] : NAN;
   }
-  HeatMap mw{.title = "baseline interior-node tests per camera sample (all its rays)"};
-  std::vector<double> sorted = work;  // colour bar up to the 99th percentile (outliers clamp)
-  std::nth_element(sorted.begin(), sorted.begin() + (n - 1) * 99 / 100, sorted.end());
-  mw.hi = std::max(1.0, sorted[(n - 1) * 99 / 100]);
-  HeatMap ms{.title = "interior-node tests skipped: 1 - HRPP / baseline (red saves, blue costs)",
+  // Colour bars up to the 99th percentile (outliers clamp); the net cycles' symmetric about 0.
+  auto p99 = [](std::vector<double> v) {
+    v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }),
+            v.end());
+    if (v.empty()) return 0.0;
+    auto k = v.begin() + long((v.size() - 1) * 99 / 100);
+    std::nth_element(v.begin(), k, v.end());
+    return *k;
+  };
+  std::vector<double> abs_net(n);
+  for (size_t i = 0; i < n; ++i) abs_net[i] = std::fabs(net[i]);
+  const double net_range = std::max(1.0, std::ceil(p99(abs_net)));
+  char per_ray[200];
+  const double nrays = std::max<uint64_t>(1, total.rays);
+  std::snprintf(
+      per_ray, sizeof per_ray, "all rays: %.1f -> %.1f cycles per ray, %+.2f%% saved (%s)",
+      cc.baseline / nrays, cc.hrpp / nrays, 100 * cc.saved_fraction(),
+      cc.hrpp > cc.baseline ? "this configuration costs time" : "this configuration saves time");
+  HeatMap mc{.title =
+                 "net cycles saved per pixel by the cost model: baseline - HRPP cycles of the "
+                 "pixel's rays (all kinds); red: prediction saves, blue: it costs",
+             .colormap = "coolwarm",
+             .lo = -net_range,
+             .hi = net_range,
+             .units = std::string("cycles per pixel (") + std::to_string(ps.spp) +
+                      " camera sample(s) and their rays); the bar ends at the 99th percentile of "
+                      "|value|; " +
+                      per_ray,
+             .lo_note = "costs",
+             .hi_note = "saves",
+             .meaning =
+                 "per pixel, the cost model's baseline cycles minus HRPP's cycles (lookup, "
+                 "decision, predicted and full walks, mispredict penalties) over every ray "
+                 "of the pixel, all kinds (docs/cost_model.md); positive: prediction saves "
+                 "time, negative: it costs time"};
+  HeatMap mw{.title = "baseline interior-node tests per camera sample (all its rays)",
+             .hi = std::max(1.0, p99(work)),
+             .units =
+                 "interior-node tests of the baseline walks per camera sample; the bar ends "
+                 "at the 99th percentile",
+             .meaning =
+                 "per pixel, the baseline walks' interior-node tests over every ray of the "
+                 "pixel (all kinds), per camera sample"};
+  HeatMap ms{.title =
+                 "interior-node tests skipped: 1 - HRPP / baseline (HRPP's count includes the "
+                 "wasted predicted walks' tests; red: fewer tests, blue: more)",
              .colormap = "coolwarm",
              .lo = -1,
              .hi = 1,
-             .percent = true};
-  HeatMap mf{.title = "mispredicted: rays whose prediction failed / rays", .percent = true};
+             .percent = true,
+             .units =
+                 "% of the pixel's baseline interior-node tests (work, not time: see "
+                 "net_cycles.png)",
+             .meaning =
+                 "per pixel, 1 - HRPP / baseline interior-node tests over the pixel's rays "
+                 "(all kinds); HRPP's tests include those of predicted walks that failed; "
+                 "work skipped, not time: lookups, decisions and leaf and triangle work "
+                 "are not in it"};
+  HeatMap mf{.title = "mispredicted: rays whose prediction failed (false positives) / rays",
+             .percent = true,
+             .units = "% of the pixel's rays (all kinds)",
+             .meaning =
+                 "per pixel, the share of the pixel's rays (all kinds) whose predicted "
+                 "subtrees held no hit (false positives: a wasted predicted walk)"};
+
+  nlohmann::json pictures = nlohmann::json::object();
+  const std::string shaded_title =
+      "direct lighting (Lambert, every light, shadows traced): camera, lights and geometry";
+  const std::string shaded_units = "colour: display sRGB, auto-exposed (exposure " +
+                                   label(si.exposure, false) +
+                                   "); emitters in their colour, misses dark blue-grey";
+  save("shaded.png",
+       with_legend(upscale(shaded, display_scale(shaded.width, shaded.height)),
+                   {.head = {shaded_title}, .body = {shaded_units}, .caption = caption}));
+  pictures["shaded.png"] = shaded_title + "; " + shaded_units;
   nlohmann::json maps = nlohmann::json::object();
   for (auto [name, values, map] :
-       {std::tuple{"work.png", &work, &mw}, std::tuple{"skipped.png", &skipped, &ms},
-        std::tuple{"mispredicted.png", &failed, &mf}}) {
-    save(name, heat_map_image(*values, ps.width, ps.height, map));
+       {std::tuple{"net_cycles.png", &net, &mc}, std::tuple{"work.png", &work, &mw},
+        std::tuple{"skipped.png", &skipped, &ms}, std::tuple{"mispredicted.png", &failed, &mf}}) {
+    save(name, heat_map_image(*values, ps.width, ps.height, map, caption));
     maps[name] = map->to_json();
+    pictures[name] = map->meaning;
   }
   nlohmann::json pj = pred.to_json();
-  if (!tool.is_null()) out.summary["tool"] = tool;
+  nlohmann::json net_json = cycle_cost_json(total, cost);
+  net_json["saved_cycles"] = cc.baseline - cc.hrpp;
+  net_json["saves_time"] = cc.hrpp < cc.baseline;
+  net_json["cost_model"] = cost.to_json();
+  for (int k = 0; k < kNumRayKinds; ++k)
+    if (pred.by_kind(RayKind(k)).rays)
+      net_json["by_kind"][std::string(ray_kind_name(RayKind(k)))] =
+          cycle_cost_json(pred.by_kind(RayKind(k)), cost);
+  if (!ro.tool.is_null()) out.summary["tool"] = ro.tool;
   out.summary.update({{"scene", scene.path},
                       {"workload", workload_json(scene, opt)},
                       {"shaded", si.to_json()},
                       {"maps", maps},
+                      {"pictures", pictures},
+                      {"caption", caption},
+                      {"net_cycles", net_json},
                       {"predictor", pj["config"]},
                       {"skipped_interior_fraction", pred.total().skipped_interior_fraction()},
                       {"by_kind", pj["by_kind"]}});

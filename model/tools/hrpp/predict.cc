@@ -126,7 +126,12 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
   // The speculative image needs each ray's result: generated workloads, one thread.
   std::unique_ptr<SpecImage>& spec_image = run.spec_image;
   if (!stream && a.threads == 1)
-    spec_image = std::make_unique<SpecImage>(s.scene, wo.width, wo.height, wo.spp);
+    spec_image = std::make_unique<SpecImage>(  // its picture names the configuration
+        s.scene, wo.width, wo.height, wo.spp,
+        (a.p.preset.empty() ? "" : "preset " + a.p.preset + ": ") +
+            predictor_line(a.p, s.cfg,
+                           s.cfg.table.unbounded ? 0 : (s.cfg.table.total_bits() + 7) / 8,
+                           kUnknownEntries));
   const uint64_t expected =
       stream ? stream->header().ray_count : uint64_t(wo.width) * wo.height * wo.spp;
   const char* unit = stream ? "stream rays" : "camera samples";

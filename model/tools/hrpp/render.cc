@@ -13,6 +13,7 @@
 #include "common.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/util/progress.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
 
@@ -67,10 +68,30 @@ int cmd_render(const RenderArgs& a) {
   if (!make_workload("render", a.w, scene, &wo) ||
       !finish_predictor_config("render", a.p, scene, bvh, &cfg))
     return 2;
+  // The configuration before the run (standard output flushed: it may be a pipe).
   std::printf("render %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
+  const uint64_t table_bytes = cfg.table.unbounded ? 0 : (cfg.table.total_bits() + 7) / 8;
+  const std::string config = (a.p.preset.empty() ? "" : "preset " + a.p.preset + ": ") +
+                             predictor_line(a.p, cfg, table_bytes, kUnknownEntries);
+  std::printf("  %s\n", config.c_str());
+  std::fflush(stdout);
   auto t0 = std::chrono::steady_clock::now();
-  RenderOutput out = render_all(scene, bvh, wo, cfg, staging.string(), tool_json());
+  // Progress on standard error, one phase after the other (hrpp/util/progress.h).
+  std::unique_ptr<Progress> progress;
+  std::string phase;
+  RenderOptions ro{.tool = tool_json(), .config = config};
+  ro.progress = [&](const char* name, const char* unit, uint64_t done, uint64_t total) {
+    if (phase != name) {
+      progress.reset();  // clears the previous phase's line on a terminal
+      phase = name;
+      progress =
+          std::make_unique<Progress>(stderr, std::string("render: ") + name, unit, total, t0);
+    }
+    progress->update(done);
+  };
+  RenderOutput out = render_all(scene, bvh, wo, cfg, staging.string(), ro);
+  progress.reset();
   // The run is complete: its folder replaces --out (an earlier render's is removed).
   const fs::path old =
       target.parent_path() / (target.filename().string() + ".old-" + std::to_string(::getpid()));
@@ -89,6 +110,11 @@ int cmd_render(const RenderArgs& a) {
     f = (target / fs::path(f).filename()).string();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
+  const auto& nc = s["net_cycles"];
+  std::printf("  cost model: %.1f -> %.1f cycles per ray (%+.2f%% saved: %s)\n",
+              nc["baseline_cycles_per_ray"].get<double>(), nc["hrpp_cycles_per_ray"].get<double>(),
+              100 * nc["saved_cycle_fraction"].get<double>(),
+              nc["saves_time"].get<bool>() ? "prediction saves time" : "prediction costs time");
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",
               s["shaded"]["exposure"].get<double>(),
               100 * s["shaded"]["lit_fraction"].get<double>());

@@ -1,9 +1,12 @@
 // Pictures of a scene and of the predictor's work on it (docs/workloads.md, "Pictures"): a
 // direct-lighting image that shows the camera, lights and geometry are right, and per-pixel heat
-// maps of the baseline walk's work and of the predictor's outcomes, with a legend.
+// maps of the cost model's net cycles, the baseline walk's work and the predictor's outcomes.
+// Every picture has a legend band under it that names its scene, workload, predictor
+// configuration and units.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -38,6 +41,32 @@ struct Image {
 };
 /// Width in pixels of text drawn with Image::text at scale 1.
 int text_width(const std::string& s);
+/// S split at spaces into lines at most MAX_WIDTH pixels wide at SCALE (a longer word is cut).
+std::vector<std::string> wrap_text(const std::string& s, int max_width, int scale = 1);
+
+/// How many display pixels a picture of W x H pixels draws each of its pixels with: small
+/// pictures are enlarged (nearest neighbour) to at least 256 pixels on their longer side.
+int display_scale(int w, int h);
+/// IMG with every pixel drawn as a K x K square.
+Image upscale(const Image& img, int k);
+
+/// The text band under a picture: lines above an optional colour bar (the title), the bar with
+/// its labels, lines under it (units, statistics), and the run's caption (scene, workload,
+/// predictor), dimmer. The band is at least 480 pixels wide (960 with the text at scale 2, for
+/// pictures 640 or more pixels wide) whatever the picture's size, and as tall as its text needs.
+struct HeatMap;
+struct Legend {
+  std::vector<std::string> head{};
+  const HeatMap* bar = nullptr;
+  std::vector<std::string> body{};
+  std::vector<std::string> caption{};
+};
+/// Where with_legend put the picture: its top-left corner and the text scale.
+struct LegendLayout {
+  int x0 = 0, text_scale = 1, band_y = 0;
+};
+/// PICTURE (already at its display size) centred above its legend band.
+Image with_legend(const Image& picture, const Legend& legend, LegendLayout* layout = nullptr);
 
 /// Writes a PNG (stb_image_write). Throws RenderError naming the file.
 void write_png(const std::string& path, const Image& img);
@@ -55,41 +84,66 @@ struct ShadeInfo {
   uint64_t samples = 0, surface_samples = 0, emitter_samples = 0, background_samples = 0;
   nlohmann::json to_json() const;
 };
-Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, ShadeInfo* info);
+/// PROGRESS (optional) is told the pixels done after each row.
+using RowProgress = std::function<void(uint64_t done, uint64_t total)>;
+Image shade(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt, ShadeInfo* info,
+            const RowProgress& progress = nullptr);
 
 /// Per-pixel sums over every ray of the workload (all kinds) run through the predictor.
 struct PixelStats {
   int width = 0, height = 0, spp = 1;
   std::vector<uint64_t> baseline_interior, hrpp_interior;  // interior-node tests
   std::vector<uint32_t> rays, failed;  // rays; rays whose prediction failed (false positives)
+  // Cost-model cycles (hrpp/timing/cost_model.h, cycle_cost of each ray alone): the baseline
+  // walks', and HRPP's (lookup, decision, predicted and full walks, mispredict penalties).
+  std::vector<double> baseline_cycles, hrpp_cycles;
 };
-/// Runs the workload through `pred` and accumulates per pixel.
+/// Runs the workload through `pred` and accumulates per pixel; PROGRESS (optional) is told the
+/// camera samples done every 256 of them.
 PixelStats predictor_pixels(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
-                            Predictor* pred);
+                            Predictor* pred, const RowProgress& progress = nullptr);
 
-/// One heat map: values per pixel (NaN: no data, drawn grey), a colour map, and a legend strip
-/// under the image with the title, the colour bar, its end values, and min / mean / max.
+/// One heat map: values per pixel (NaN: no data, drawn grey), a colour map, and a legend band
+/// under the image with the title, the colour bar with its end values (and 0 inside a diverging
+/// bar), its units, min / mean / max, and the caption naming the run.
 struct HeatMap {
-  std::string title;
+  std::string title{};
   std::string colormap = "viridis";   // "viridis" (sequential) or "coolwarm" (diverging)
   double lo = 0, hi = 1;              // colour bar range (values outside are clamped)
   bool percent = false;               // labels as percentages
+  std::string units{};                // what the values count, e.g. "net cycles saved per pixel"
+  std::string lo_note{}, hi_note{};   // after the end labels, e.g. "HRPP costs", "HRPP saves"
+  std::string meaning{};              // one sentence for render.json
   double min = 0, mean = 0, max = 0;  // of the values with data (filled by heat_map_image)
   nlohmann::json to_json() const;
 };
 /// Maps t in [0, 1] through a colour map (display values).
 Vec3 colormap(const std::string& name, double t);
-Image heat_map_image(const std::vector<double>& values, int width, int height, HeatMap* map);
+/// The heat map at its display scale above its legend band; CAPTION names the run.
+Image heat_map_image(const std::vector<double>& values, int width, int height, HeatMap* map,
+                     const std::vector<std::string>& caption = {}, LegendLayout* layout = nullptr);
+
+/// A short line naming a predictor configuration, for captions when the caller gives none:
+/// "hash improved, table 128x8 (K=2), go-up 0, mode closest-exact".
+std::string config_caption(const PredictorConfig& cfg);
+
+struct RenderOptions {
+  nlohmann::json tool{};  // when not null, leads render.json as its "tool" object
+  std::string config{};   // the predictor configuration as the captions name it (empty: cfg's)
+  /// Told the phase ("shading", then "predictor"), its unit, and how many are done of how many.
+  std::function<void(const char* phase, const char* unit, uint64_t done, uint64_t total)>
+      progress{};
+};
 
 struct RenderOutput {
   std::vector<std::string> files;
   nlohmann::json summary;  // also written to DIR/render.json
 };
-/// Writes DIR/shaded.png, work.png, skipped.png, mispredicted.png and render.json (the figures
-/// behind every legend). DIR must exist. Throws RenderError on a write failure. TOOL, when not
-/// null, leads render.json as its "tool" object (where the run came from: the hrpp tool's).
+/// Writes DIR/shaded.png, net_cycles.png, work.png, skipped.png, mispredicted.png and
+/// render.json (the figures behind every legend, each picture's meaning and units, the net
+/// cycle totals). DIR must exist. Throws RenderError on a write failure.
 RenderOutput render_all(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
                         const PredictorConfig& cfg, const std::string& dir,
-                        const nlohmann::json& tool = nullptr);
+                        const RenderOptions& ro = {});
 
 }  // namespace hrpp
