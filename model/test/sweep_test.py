@@ -9,6 +9,8 @@ import csv
 import json
 import os
 import pathlib
+import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -24,8 +26,9 @@ CORNELL = str(ROOT / "scenes" / "cornell_box.glb")
 SWEEP = [sys.executable, str(ROOT / "model" / "tools" / "sweep.py"), "--hrpp", HRPP]
 
 
-def run_sweep(*args):
-    return subprocess.run(SWEEP + list(args), capture_output=True, text=True)
+def run_sweep(*args, env_add=None):
+    env = dict(os.environ, **(env_add or {}))
+    return subprocess.run(SWEEP + list(args), capture_output=True, text=True, env=env)
 
 
 def read(path):
@@ -196,6 +199,111 @@ class Tiny(unittest.TestCase):
             self.assertEqual(p.returncode, 2)
             self.assertIn("no sweep-pareto, sweep-latency", p.stderr)
             self.assertEqual(bare.read_text(), "# no blocks\n")
+
+
+class Resume(unittest.TestCase):
+    """Each finished run is kept in CSV.partial.jsonl as it finishes: SIGINT / SIGTERM leave one
+    line and the journal, --resume runs only the missing runs of the same sweep, and the CSV is
+    byte for byte an uninterrupted run's."""
+
+    ARGS = [TETRA, CORNELL, "--param", "precision=4,6", "--param", "mode=anyhit,closest-spec",
+            "--res", "16x16", "--no-timing"]
+
+    @staticmethod
+    def journal_runs(path):
+        lines = pathlib.Path(path).read_text().splitlines()
+        return len(lines) - 1  # the first line names the sweep
+
+    def others(self, stderr):
+        """stderr without the progress lines."""
+        return [l for l in stderr.splitlines() if not l.startswith("sweep: [")]
+
+    def test_interrupt_resume_equals_uninterrupted(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref, a = os.path.join(d, "ref.csv"), os.path.join(d, "a.csv")
+            journal = a + ".partial.jsonl"
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", ref)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertFalse(os.path.exists(ref + ".partial.jsonl"))  # removed when complete
+            # SIGINT after 3 runs (the driver signals itself: the real handler path).
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a,
+                          env_add={"HRPP_SWEEP_STOP_AFTER": "3"})
+            self.assertEqual(p.returncode, 130, p.stderr)
+            self.assertEqual(self.others(p.stderr), [
+                f"hrpp sweep: interrupted; 3 of 8 runs kept in {journal}; --resume continues"])
+            self.assertNotIn("Traceback", p.stderr)
+            self.assertFalse(os.path.exists(a))
+            self.assertEqual(self.journal_runs(journal), 3)
+            # Without --resume the journal is not overwritten.
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("holds 3 of 8 runs of an interrupted sweep; --resume continues it",
+                          p.stderr)
+            # Another sweep's journal is refused, naming the difference.
+            res = self.ARGS.index("--res") + 1
+            other = os.path.join(d, "hrpp-other")  # hrpp of another version
+            pathlib.Path(other).write_text(
+                f'#!/bin/sh\n[ "$1" = --version ] && {{ echo "hrpp 9.9"; exit 0; }}\n'
+                f'exec {HRPP} "$@"\n')
+            os.chmod(other, 0o755)
+            timed = [x for x in self.ARGS if x != "--no-timing"]
+            for args, why in ((self.ARGS[:res] + ["24x24"] + self.ARGS[res + 1:],
+                               "res: 16x16 then, 24x24 now"),
+                              (self.ARGS + ["--param", "table=16x2"],
+                               "--param table: not swept then, 16x2 now"),
+                              (self.ARGS + ["--param", "go_up=1"], "--param go_up: not swept then"),
+                              (timed, "CPU times: --no-timing then, measured now"),
+                              (self.ARGS[1:], "scenes:"),
+                              (self.ARGS + ["--hrpp", other], "hrpp: hrpp ")):
+                p = run_sweep(*args, "--resume", "--no-dask", "--csv", a)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn("is of another sweep", p.stderr)
+                self.assertIn(why, p.stderr)
+            self.assertEqual(self.journal_runs(journal), 3)
+            # --resume on a Dask cluster, SIGTERM after 2 more runs.
+            p = run_sweep(*self.ARGS, "--resume", "--workers", "2", "--csv", a,
+                          env_add={"HRPP_SWEEP_STOP_AFTER": "2:TERM"})
+            self.assertEqual(p.returncode, 143, p.stderr)
+            self.assertIn("sweep: resuming: 3 of 8 runs kept in", p.stderr)
+            self.assertEqual(self.others(p.stderr)[-1],
+                             f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; "
+                             "--resume continues")
+            self.assertEqual(self.journal_runs(journal), 5)
+            # A last line cut short by a kill is dropped.
+            with open(journal, "a") as f:
+                f.write('{"scene": "cut sh')
+            p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(len(re.findall(r"^sweep: \[", p.stderr, re.M)), 3)  # only 3 ran
+            self.assertIn("sweep: [6/8]", p.stderr)
+            self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
+            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])  # no journal, no .tmp
+            p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--resume: no interrupted sweep to continue", p.stderr)
+
+    def test_ctrl_c_to_the_process_group(self):
+        """A Ctrl-C reaches the driver, the Dask workers and the hrpp runs: one line, exit 130,
+        the workers shut down without tracebacks."""
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            env = dict(os.environ, HRPP_SWEEP_STOP_AFTER="2:WAIT")
+            proc = subprocess.Popen(SWEEP + self.ARGS + ["--workers", "2", "--csv", a],
+                                    stderr=subprocess.PIPE, text=True, env=env,
+                                    start_new_session=True)
+            err = ""
+            for line in proc.stderr:
+                err += line
+                if line.startswith("sweep: waiting for a signal"):
+                    os.killpg(proc.pid, signal.SIGINT)
+                    break
+            err += proc.stderr.read()
+            proc.stderr.close()
+            self.assertEqual(proc.wait(timeout=60), 130, err)
+            lines = [l for l in err.splitlines() if not l.startswith("sweep: ")]
+            self.assertEqual(lines, [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
+                                     f"{a}.partial.jsonl; --resume continues"], err)
+            self.assertEqual(os.listdir(d), ["a.csv.partial.jsonl"])
 
 
 class Errors(unittest.TestCase):

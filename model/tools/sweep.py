@@ -26,15 +26,17 @@ keeps its columns. CSVs of different timings (or GPUs) are never merged into one
 """
 import argparse
 import csv
+import difflib
 import io
 import itertools
 import json
 import math
 import os
 import pathlib
+import re
+import signal
 import subprocess
 import sys
-import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -42,8 +44,11 @@ sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp.docs import markers, update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
 
-# Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
+# Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it). preset:
+# a named predictor (hrpp predict --preset; "" for none): its values replace the defaults and the
+# parameters swept beside it override them (PRESET_SET are the ones a preset sets).
 PARAMS = {
+    "preset": ("--preset", ""),
     "hash": ("--hash", "faithful"),
     "precision": ("--precision", "6"),
     "exp_bits": ("--exp-bits", "3"),
@@ -63,6 +68,8 @@ PARAMS = {
 ALIASES = {"exp": "exp_bits", "ways": "table", "k": "nodes_per_entry", "nodes": "nodes_per_entry",
            "go_up_level": "go_up", "pipeline_latency": "latency", "ray_order": "order",
            "variant": "hash", "hash_variant": "hash", "size": "table"}
+PRESET_SET = ("hash", "precision", "exp_bits", "origin_bits", "dir_bits", "combine", "table",
+              "tag_bits", "nodes_per_entry", "go_up", "mode")
 KIND_ORDER = ["primary", "shadow", "ao", "reflection", "refraction", "diffuse", "all"]
 
 RESULT_COLUMNS = [
@@ -114,15 +121,74 @@ def parse_params(specs, timing="cost-model"):
     return grid
 
 
-def expand(grid):
-    """The configurations, in grid order: dicts with every parameter (defaults filled in)."""
+def expand(grid, presets=None):
+    """The configurations, in grid order: dicts with every parameter (defaults filled in; a
+    preset's values, from PRESETS {name: {parameter: value}}, replace the defaults)."""
     names = list(grid)
     configs = []
     for combo in itertools.product(*(grid[n] for n in names)):
         c = {n: d for n, (_, d) in PARAMS.items()}
-        c.update(dict(zip(names, combo)))
+        swept = dict(zip(names, combo))
+        if swept.get("preset"):
+            c.update(presets[swept["preset"]])
+        c.update(swept)
         configs.append(c)
     return configs
+
+
+def preset_names(hrpp):
+    """The preset names `hrpp predict --help` lists (None when it lists none)."""
+    proc = subprocess.run([hrpp, "predict", "--help"], capture_output=True, text=True)
+    m = re.search(r"--preset TEXT:\{([^}]*)\}", proc.stdout)
+    return m.group(1).split(",") if m else None
+
+
+def is_preset_file(value):
+    return value.endswith(".json") or os.sep in value
+
+
+def preset_values(hrpp, scene, preset):
+    """A preset's parameter values ({name: value} for PRESET_SET), from the configuration that
+    `hrpp predict --preset PRESET --json -` reports on one pixel of SCENE."""
+    cmd = [hrpp, "predict", scene, "--res", "1x1", "--preset", preset, "--json", "-"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise BadInput(f"--param preset={preset}: {' '.join(cmd)} exited {proc.returncode}:\n"
+                       + proc.stderr.strip())
+    c = json.loads(proc.stdout)["config"]
+    bounded = c["table"] != "unbounded"
+    return {"hash": c["hash"], "precision": str(c["precision_bits"]),
+            "exp_bits": str(c["exp_bits"]), "origin_bits": str(c["origin_bits"]),
+            "dir_bits": str(c["dir_bits"]), "combine": c["combine"], "table": c["table"],
+            "tag_bits": str(c["tag_bits"]) if bounded and c["tag_bits"] != c["full_tag_bits"]
+            else "full",
+            "nodes_per_entry": str(c["nodes_per_entry"]), "go_up": str(c["go_up"]),
+            "mode": c["mode"]}
+
+
+def check_presets(grid, hrpp, scene):
+    """Checks the swept presets before any run (names against `hrpp predict --help`, files
+    exist; a file is made absolute for the workers) and returns {preset: its values}."""
+    if "preset" not in grid:
+        return {}
+    known = None
+    for i, v in enumerate(grid["preset"]):
+        if is_preset_file(v):
+            if not os.path.isfile(v):
+                raise BadInput(f"--param preset={v}: no such preset file")
+            grid["preset"][i] = os.path.abspath(v)
+            continue
+        if known is None:
+            known = preset_names(hrpp) or []
+        if known and v not in known:
+            close = difflib.get_close_matches(v, known, n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            raise BadInput(f"--param preset={v}: unknown preset '{v}'{hint} (known: "
+                           f"{', '.join(known)}, or a FILE.json)")
+    if "tag_bits" in grid and "full" in grid["tag_bits"]:
+        raise BadInput("--param tag_bits=full cannot override a preset's tag bits (hrpp has no "
+                       "option for the full tag); sweep numbers of tag bits")
+    return {v: preset_values(hrpp, scene, v) for v in grid["preset"]}
 
 
 def applies(name, cfg):
@@ -137,10 +203,17 @@ def applies(name, cfg):
     return True
 
 
-def predict_args(cfg):
+def predict_args(cfg, swept=()):
+    """hrpp predict's options for a configuration: every parameter, or with a preset the preset
+    and the parameters SWEPT beside it (the others are the preset's)."""
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
+        if name == "preset":
+            args += [opt, v] if v else []
+            continue
+        if cfg["preset"] and name in PRESET_SET and name not in swept:
+            continue
         if name in ("tag_bits", "latency") and v in ("full", "none") or not applies(name, cfg):
             continue
         if name == "update_delay" and cfg["latency"] != "none":
@@ -149,12 +222,17 @@ def predict_args(cfg):
     return args
 
 
-def simulate_args(cfg):
+def simulate_args(cfg, swept=()):
     """hrpp simulate's options for a configuration: predict_args without the update delay and
     the pipeline latency (parse_params refuses sweeping them; their defaults add nothing)."""
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
+        if name == "preset":
+            args += [opt, v] if v else []
+            continue
+        if cfg["preset"] and name in PRESET_SET and name not in swept:
+            continue
         if name in NOT_SIMULATED or (name == "tag_bits" and v == "full") or not applies(name, cfg):
             continue
         args += [opt, v]
@@ -164,42 +242,29 @@ def simulate_args(cfg):
 def run_one(task):
     """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
     Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
-    remote worker need not have the repository on its path."""
-    if len(task) == 8:
-        return run_one_simulated(task)
-    index, hrpp, scene, cfg, res, timing, images = task
+    remote worker need not have the repository on its path. The report comes on hrpp's standard
+    output (--json -): no temporary file to leave behind when the sweep is interrupted."""
+    index, hrpp, scene, cfg, res = (task[k] for k in ("index", "hrpp", "scene", "cfg", "res"))
+    sim = task.get("sim")
     t0 = time.time()
-    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
-        out = os.path.join(tmp, "predict.json")
-        cmd = [hrpp, "predict", scene, "--res", res, "--json", out] + predict_args(cfg)
-        if timing:
+    if sim:
+        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", "-"]
+               + simulate_args(cfg, task["swept"]) + ([] if sim["oracle"] else ["--no-oracle"]))
+    else:
+        cmd = [hrpp, "predict", scene, "--res", res, "--json", "-"] + predict_args(
+            cfg, task["swept"])
+        if task["timing"]:
             cmd.append("--measure-time")
-        if images:
-            cmd += ["--spec-images", images]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
-                           "rc": proc.returncode}, 0
-        with open(out) as f:
-            data = json.load(f)
-    return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
-
-
-def run_one_simulated(task):
-    """run_one for --timing simulate: `hrpp simulate` on one configuration and scene."""
-    index, hrpp, scene, cfg, res, _, _, sim = task
-    t0 = time.time()
-    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
-        out = os.path.join(tmp, "simulate.json")
-        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", out]
-               + simulate_args(cfg) + ([] if sim["oracle"] else ["--no-oracle"]))
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
-                           "rc": proc.returncode}, 0
-        with open(out) as f:
-            data = json.load(f)
-    return index, simulated_rows_of(scene, cfg, res, data), time.time() - t0
+        if task["images"]:
+            cmd += ["--spec-images", task["images"]]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
+                       "rc": proc.returncode}, 0
+    data = json.loads(proc.stdout)
+    rows = (simulated_rows_of(scene, cfg, res, data) if sim
+            else rows_of(scene, cfg, res, data, task["timing"]))
+    return index, rows, time.time() - t0
 
 
 def simulated_rows_of(scene, cfg, res, data):
@@ -346,6 +411,7 @@ def read_csv(paths):
     for p in paths:
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
+                r.setdefault("preset", "")  # a CSV from before presets could be swept
                 if r.get("timing") is None:  # a cost-model CSV
                     r.update({c: "" for c in SIM_COLUMNS})
                     r["timing"] = "cost-model"
@@ -388,64 +454,238 @@ def pareto_front(points, minimize=(), maximize=()):
 
 # ---- the sweep -----------------------------------------------------------------------------------
 
-def run_sweep(args, configs, scenes):
+class Interrupted(Exception):
+    """SIGINT or SIGTERM during the runs (signum); the finished runs are in the journal."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+        self.message = ""
+
+
+def journal_path(csv_path):
+    """Where a sweep writing CSV_PATH keeps its finished runs until it completes."""
+    return pathlib.Path(str(csv_path) + ".partial.jsonl")
+
+
+def hrpp_version(hrpp):
+    proc = subprocess.run([hrpp, "--version"], capture_output=True, text=True)
+    return proc.stdout.strip() or f"unknown ({hrpp} --version exited {proc.returncode})"
+
+
+def sweep_identity(args, grid, scenes):
+    """What a journal's runs must share with the sweep that resumes them."""
+    simulated = args.timing == "simulate"
+    return {"scenes": scenes, "grid": grid, "res": args.res, "timing": args.timing,
+            "cpu_times": not args.no_timing and not simulated,
+            "gpu": args.gpu if simulated else None, "oracle": bool(args.oracle),
+            "images": os.path.abspath(args.images) if args.images else None,
+            "hrpp": hrpp_version(args.hrpp)}
+
+
+def identity_differences(then, now):
+    """How a journal's sweep (THEN) differs from this one (NOW), in words; [] when the same."""
+    out = []
+    for key in now:
+        a, b = then.get(key), now[key]
+        if a == b:
+            continue
+        if key == "grid":
+            for n in list(dict.fromkeys(list(a or {}) + list(b))):
+                va, vb = (a or {}).get(n), b.get(n)
+                if va != vb:
+                    out.append(f"--param {n}: " + (",".join(va) if va else "not swept")
+                               + " then, " + (",".join(vb) if vb else "not swept") + " now")
+            if list(a or {}) != list(b) and not out:
+                out.append(f"the --param order: {', '.join(a)} then, {', '.join(b)} now")
+        elif key == "scenes":
+            out.append(f"scenes: {' '.join(a or [])} then, {' '.join(b)} now")
+        elif key == "cpu_times":
+            out.append("CPU times: " + ("measured then, --no-timing now" if a
+                                        else "--no-timing then, measured now"))
+        else:
+            out.append(f"{key}: {a} then, {b} now")
+    return out
+
+
+def read_journal(path):
+    """(header, {(scene, config index): rows}) of a journal; a last line cut short by a kill is
+    left out."""
+    lines = path.read_text().split("\n")
+    try:
+        header = json.loads(lines[0])["sweep"]
+    except (ValueError, KeyError, TypeError):
+        raise BadInput(f"{path}: not a sweep journal (delete it to start again)")
+    done = {}
+    for line in lines[1:]:
+        try:
+            e = json.loads(line)
+            done[(e["scene"], e["config"])] = e["rows"]
+        except (ValueError, KeyError, TypeError):
+            break
+    return header, done
+
+
+def open_journal(args, identity, n):
+    """The journal of this sweep, opened for appending, and the runs it already holds. Without
+    --resume an existing journal is an error (its runs would be lost); with --resume it must be
+    of the same sweep, and is rewritten without a cut-short last line."""
+    path = journal_path(args.csv)
+    done = {}
+    if path.exists():
+        header, done = read_journal(path)
+        if not args.resume:
+            raise BadInput(f"--csv {args.csv}: {path} holds {len(done)} of {n} runs of an "
+                           "interrupted sweep; --resume continues it (or delete it to start "
+                           "again)")
+        diff = identity_differences(header, identity)
+        if diff:
+            raise BadInput(f"--resume: {path} is of another sweep: " + "; ".join(diff))
+    elif args.resume:
+        raise BadInput(f"--resume: no interrupted sweep to continue ({path} does not exist)")
+    text = json.dumps({"sweep": identity}) + "\n" + "".join(
+        json.dumps({"scene": s, "config": ci, "rows": rows}) + "\n"
+        for (s, ci), rows in done.items())
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_atomic(path, text)
+    return path, open(path, "a"), done
+
+
+def run_sweep(args, configs, scenes, grid):
     tasks = []
-    images = None
+    swept = [n for n in grid if n != "preset"]
     for s in scenes:
         for ci, cfg in enumerate(configs):
             images = None
             if args.images and cfg["mode"] == "closest-spec":
                 images = os.path.join(os.path.abspath(args.images),
                                       f"{pathlib.Path(s).stem}-{ci:04d}")
-            task = ((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images)
+            task = {"index": (s, ci), "hrpp": args.hrpp, "scene": s, "cfg": cfg,
+                    "swept": swept, "res": args.res, "timing": not args.no_timing,
+                    "images": images}
             if args.timing == "simulate":
-                task += ({"gpu": args.gpu, "oracle": args.oracle},)
+                task["sim"] = {"gpu": args.gpu, "oracle": args.oracle}
             tasks.append(task)
     n = len(tasks)
-    results = {}
+    path, journal, done = open_journal(args, sweep_identity(args, grid, scenes), n)
+    results = {(s, ci): rows for (s, ci), rows in done.items()}
+    todo = [t for t in tasks if t["index"] not in results]
+    if results:
+        print(f"sweep: resuming: {len(results)} of {n} runs kept in {path}", file=sys.stderr)
     t0 = time.time()
     # The swept parameters, named in each progress line.
     varied = [k for k in PARAMS if len({c[k] for c in configs}) > 1]
+    # A test hook: after this many runs, send this process SIGINT (N), SIGTERM (N:TERM) or wait
+    # for a signal from outside (N:WAIT).
+    stop = os.environ.get("HRPP_SWEEP_STOP_AFTER", "")
+    stop_after, _, stop_sig = stop.partition(":")
+    state = {"new": 0}
 
-    def progress(i, index, rows, secs):
+    def progress(index, rows, secs):
         if "error" in rows:  # bad input (hrpp's exit code 2) stays exit code 2
             print(f"hrpp sweep: {rows['error']}", file=sys.stderr)
             raise SystemExit(2 if rows["rc"] == 2 else 1)
+        journal.write(json.dumps({"scene": index[0], "config": index[1], "rows": rows}) + "\n")
+        journal.flush()
+        os.fsync(journal.fileno())
         results[index] = rows
+        state["new"] += 1
         a = rows[-1]
         params = " ".join(f"{k}={configs[index[1]][k]}" for k in varied)
-        print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
+        print(f"sweep: [{len(results)}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
               f"saved {100 * a['saved_cycles']:6.2f}% cycles, skipped "
               f"{100 * a['skipped_interior']:6.2f}% nodes ({secs:.1f} s; total "
               f"{time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
+        if stop_after and state["new"] == int(stop_after):
+            if stop_sig == "WAIT":  # for a signal from outside
+                print("sweep: waiting for a signal", file=sys.stderr, flush=True)
+                while True:
+                    signal.pause()
+            os.kill(os.getpid(), signal.SIGTERM if stop_sig == "TERM" else signal.SIGINT)
 
-    if args.no_dask:
-        for i, t in enumerate(tasks, 1):
-            progress(i, *run_one(t))
-    else:
-        from dask.distributed import Client, LocalCluster, as_completed
-        if args.scheduler:
-            client = Client(args.scheduler)
-            cluster = None
-        else:
-            cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                                   processes=True, dashboard_address=None)
-            client = Client(cluster)
+    def on_signal(signum, frame):
+        # Once: the cleanup below must not be interrupted by a second Ctrl-C.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Interrupted(signum)
+
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
         try:
-            print(f"sweep: {n} runs on {len(client.scheduler_info()['workers'])} Dask workers "
-                  f"({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
-            futures = client.map(run_one, tasks, pure=False)
-            for i, fut in enumerate(as_completed(futures), 1):
-                progress(i, *fut.result())
+            run_tasks(args, todo, progress)
         finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            journal.close()
+    except Interrupted as e:
+        kept = len(results)
+        if kept:
+            e.message = (f"interrupted; {kept} of {n} runs kept in {path}; --resume "
+                         "continues")
+        else:
+            path.unlink(missing_ok=True)
+            e.message = "interrupted before any run finished; nothing kept"
+        raise
+    except SystemExit:
+        if not results:
+            path.unlink(missing_ok=True)
+        else:
+            print(f"hrpp sweep: {len(results)} of {n} runs kept in {path}; --resume "
+                  "continues", file=sys.stderr)
+        raise
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
     rows = []
     for s in scenes:
         for ci in range(len(configs)):
             rows += results[(s, ci)]
-    return rows
+    return rows, path
+
+
+def run_tasks(args, tasks, progress):
+    """Runs TASKS (here, or on a Dask cluster), calling PROGRESS(index, rows, seconds) as each
+    finishes. The cluster is shut down however this ends."""
+    if args.no_dask:
+        for t in tasks:
+            progress(*run_one(t))
+        return
+    if not tasks:
+        return
+    import logging
+    # The local workers' warnings about tasks cancelled by an interruption are no news (errors
+    # still show); set before the import, which reads it, and inherited by the worker processes.
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    from dask.distributed import Client, LocalCluster, as_completed
+    client = cluster = futures = None
+    try:
+        if args.scheduler:
+            client = Client(args.scheduler)
+        else:
+            # The worker processes inherit SIGINT ignored: a Ctrl-C reaches the whole process
+            # group, and only this driver handles it (shutting the workers down), not each worker
+            # with its own traceback. (The hrpp runs set their own handlers.)
+            handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
+                                       processes=True, dashboard_address=None)
+            finally:
+                signal.signal(signal.SIGINT, handler)
+            client = Client(cluster)
+        print(f"sweep: {len(tasks)} runs on {len(client.scheduler_info()['workers'])} Dask "
+              f"workers ({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
+        futures = client.map(run_one, tasks, pure=False)
+        for fut in as_completed(futures):
+            progress(*fut.result())
+    except BaseException:
+        # Interrupted or failed: the workers' warnings about cancelled tasks are no news.
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        if futures is not None:
+            client.cancel(futures)
+        raise
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 # ---- plots and report ----------------------------------------------------------------------------
@@ -1113,7 +1353,10 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="*", help="glTF scenes (.glb)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
-                    help="parameter values to sweep; names: " + ", ".join(PARAMS))
+                    help="parameter values to sweep; names: " + ", ".join(PARAMS)
+                    + "; preset takes the names `hrpp predict --help` lists (rtl-default, "
+                    "rtl-NAME, micro21, study2019) or FILE.json, passed as --preset, the other "
+                    "swept parameters override its values")
     ap.add_argument("--res", default="64x64", help="image resolution WxH (default 64x64)")
     ap.add_argument("--spp", help="samples per pixel (same as --param spp=N)")
     ap.add_argument("--csv", help="CSV file to write (required unless --from-csv)")
@@ -1138,6 +1381,11 @@ def main():
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                     help="local Dask cluster: worker processes (default: all cores)")
     ap.add_argument("--no-dask", action="store_true", help="run the tasks one by one, here")
+    ap.add_argument("--resume", action="store_true",
+                    help="continue the interrupted sweep whose finished runs are in "
+                         "CSV.partial.jsonl: the same scenes, parameters, resolution, timing "
+                         "and hrpp version (refused, naming the difference, otherwise); only "
+                         "the missing runs are run")
     ap.add_argument("--no-timing", action="store_true",
                     help="do not measure CPU times (the CSV is then reproducible byte for byte)")
     ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"), help="the hrpp binary")
@@ -1147,6 +1395,14 @@ def main():
     try:
         check_outputs(args)
         if args.from_csv:
+            if args.scenes or args.param or args.csv or args.resume:
+                raise BadInput("--from-csv runs nothing: no scenes, --param, --csv or --resume")
+            if not (args.plots or args.report or args.doc):
+                raise BadInput("--from-csv needs an output: --plots DIR, --report FILE or "
+                               "--doc PAGE")
+            for c in args.from_csv:
+                if not os.path.isfile(c):
+                    raise BadInput(f"--from-csv {c}: no such file")
             rows = read_csv(args.from_csv)
         else:
             if not args.scenes:
@@ -1179,16 +1435,21 @@ def main():
                 raise BadInput("--workers must be at least 1")
             if not os.access(args.hrpp, os.X_OK):
                 raise BadInput(f"{args.hrpp}: not an executable (build it: make build)")
-            configs = expand(parse_params(params, args.timing))
+            grid = parse_params(params, args.timing)
             scenes = [os.path.abspath(s) for s in args.scenes]
-            rows = run_sweep(args, configs, scenes)
+            configs = expand(grid, check_presets(grid, args.hrpp, scenes[0]))
+            rows, journal = run_sweep(args, configs, scenes, grid)
             write_csv(args.csv, rows, simulated=args.timing == "simulate")
+            journal.unlink()
             print(f"sweep: wrote {args.csv} ({len(rows)} rows, {len(configs)} configurations x "
                   f"{len(scenes)} scenes)", file=sys.stderr)
             rows = read_csv([args.csv])
     except BadInput as e:
         print(f"hrpp sweep: {e}", file=sys.stderr)
         return 2
+    except Interrupted as e:
+        print(f"hrpp sweep: {e.message}", file=sys.stderr)
+        return 128 + e.signum
     plots = plot_all(rows, args.plots) if args.plots else []
     for p in plots:
         print(f"sweep: wrote {p}", file=sys.stderr)
