@@ -115,7 +115,8 @@ class Tiny(unittest.TestCase):
             # A finite table's bytes follow from its fields: the same in every mode.
             small = {r["table_bytes"] for r in rows if r["table"] == "16x2" and r["precision"] == "6"}
             self.assertEqual(len(small), 1)
-            for f in ("accuracy_vs_time.png", "skipped_vs_bytes.png", "spec_error_vs_saved.png"):
+            for f in ("time_saved.png", "accuracy_vs_time.png", "skipped_vs_bytes.png",
+                      "spec_error_vs_saved.png"):
                 self.assertGreater(os.path.getsize(os.path.join(d, "plots", f)), 1000, f)
             report = pathlib.Path(d, "report.md").read_text()
             self.assertIn("## Pareto-optimal configurations", report)
@@ -306,6 +307,147 @@ class Resume(unittest.TestCase):
             self.assertEqual(os.listdir(d), ["a.csv.partial.jsonl"])
 
 
+class Presets(unittest.TestCase):
+    """--param preset=NAME,...: passed as --preset, the other swept parameters override it; the
+    CSV's preset column and parameter columns say what ran; misspelt names fail fast."""
+
+    def predict(self, d, *opts):
+        out = os.path.join(d, "direct.json")
+        p = subprocess.run([HRPP, "predict", CORNELL, "--res", "16x16", "--json", out]
+                           + list(opts), capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(out) as f:
+            return json.load(f)
+
+    def test_presets_swept(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-default,micro21,study2019",
+                          "--param", "table=64x4,unbounded", "--param", "mode=closest-spec",
+                          "--res", "16x16", "--no-dask",
+                          "--no-timing", "--csv", a, "--report", os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = [r for r in read(a) if r["kind"] == "all"]
+            self.assertEqual([(r["preset"], r["table"]) for r in rows],
+                             [(n, t) for n in ("rtl-default", "micro21", "study2019")
+                              for t in ("64x4", "unbounded")])
+            by = {(r["preset"], r["table"]): r for r in rows}
+            # The preset's own values fill the parameter columns; the swept table overrides it.
+            r = by[("rtl-default", "64x4")]
+            self.assertEqual((r["hash"], r["combine"], r["nodes_per_entry"]),
+                             ("improved", "concat", "2"))
+            self.assertEqual((by[("micro21", "unbounded")]["hash"],
+                              by[("micro21", "unbounded")]["go_up"]), ("micro21", "3"))
+            for (preset, table), r in by.items():
+                data = self.predict(d, "--preset", preset, "--table", table, "--mode",
+                                    "closest-spec")
+                msg = f"{preset} {table}"
+                self.assertEqual(int(r["true_positive"]), data["true_positive"], msg)
+                self.assertAlmostEqual(float(r["hrpp_cycles_per_ray"]),
+                                       data["cost"]["hrpp_cycles_per_ray"], places=6, msg=msg)
+                self.assertEqual(int(r["table_bytes"]), data["table_bytes"], msg)
+            # The preset alone is the preset's run (not the sweep's defaults).
+            self.assertNotEqual(self.predict(d, "--preset", "rtl-default", "--table", "64x4")
+                                ["true_positive"],
+                                self.predict(d, "--table", "64x4")["true_positive"])
+            report = pathlib.Path(d, "r.md").read_text()
+            self.assertIn("| rtl-default table=64x4 |", report)
+            self.assertIn("| micro21 table=unbounded |", report)
+            # An unbounded table has no size to compare: the report says unbounded.
+            self.assertRegex(report, r"\| rtl-default table=unbounded \| .* \| unbounded \(\d+ "
+                                     r"entries used\) \|")
+            # Without a preset the column is empty.
+            b = os.path.join(d, "b.csv")
+            p = run_sweep(CORNELL, "--param", "table=64x4", "--res", "16x16", "--no-dask",
+                          "--no-timing", "--csv", b)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual({r["preset"] for r in read(b)}, {""})
+
+    def test_preset_simulated(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-small", "--res", "8x8", "--no-dask",
+                          "--timing", "simulate", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = read(a)
+            self.assertEqual({(r["preset"], r["table"], r["timing"]) for r in rows},
+                             {("rtl-small", "64x2", "simulate")})
+
+    def test_bad_presets_fail_fast(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-default,rtl-defualt", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("unknown preset 'rtl-defualt'; did you mean 'rtl-default'?", p.stderr)
+            self.assertIn("known: ", p.stderr)
+            p = run_sweep(CORNELL, "--param", f"preset={d}/mine.json", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("mine.json: no such preset file", p.stderr)
+            self.assertEqual(os.listdir(d), [])  # nothing run, nothing written
+
+
+class Plots(unittest.TestCase):
+    """The plots of a 2-scene x 24-configuration sweep: time first, every plot names its scenes,
+    the fixed configuration and its axes' units, titles and legends never overlap the panels,
+    one legend per encoded dimension, unbounded tables apart, large sweeps paged; the report's
+    first table is the time figure."""
+
+    def test_plots_and_report(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(TETRA, CORNELL, "--param", "precision=4,6", "--param",
+                          "table=16x2,unbounded", "--param", "mode=anyhit,closest-exact,"
+                          "closest-spec", "--param", "latency=none,0", "--res", "16x16",
+                          "--no-dask", "--no-timing", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = sweep.read_csv([a])
+            files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
+            self.assertEqual(files, ["time_saved.png", "accuracy_vs_time.png",
+                                     "skipped_vs_bytes.png", "hit_rate_vs_latency.png",
+                                     "hit_rate_vs_latency-2.png", "spec_error_vs_saved.png"])
+            for f in files:
+                self.assertEqual(sweep.LAYOUT_PROBLEMS[f], [], f)
+                t = sweep.PLOT_TEXT[f]
+                self.assertIn("cornell_box", t["title"], f)
+                self.assertIn("fixed: hash=faithful exp_bits=3", t["title"].replace("\n", " "), f)
+                self.assertIn("16x16 pixels", t["title"], f)
+                self.assertTrue(all(t["xlabels"]) and all(t["ylabels"]), f)
+                self.assertTrue(all(re.search(r"%|fraction|cycles per ray|bytes|, rays|scene|configuration",
+                                              l) for l in t["xlabels"] + t["ylabels"]), f)
+            t = sweep.PLOT_TEXT["time_saved.png"]
+            self.assertIn("cost model", t["title"])
+            self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 24)
+            self.assertTrue(any(x.startswith("costs ") for x in t["texts"]))
+            # One legend each for what colour and marker encode.
+            t = sweep.PLOT_TEXT["accuracy_vs_time.png"]
+            title, entries = t["legends"][0]
+            self.assertIn("colour: mode; marker: table (SETSxWAYS)", title)
+            self.assertIn("not told apart: precision, latency", title)
+            self.assertTrue({"anyhit", "closest-exact", "closest-spec", "16x2",
+                             "unbounded"} <= set(entries))
+            t = sweep.PLOT_TEXT["skipped_vs_bytes.png"]
+            self.assertEqual(t["legends"][0][0], "colour: precision; marker: mode; panels: "
+                                                 "latency")
+            self.assertIn("unbounded\n(no fixed size)", t["ticks"])
+            self.assertEqual(len(t["xlabels"]), 4)  # 2 scenes x 2 latencies
+            # 12 configurations at two delays: two pages of at most 8 lines.
+            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
+            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
+                             4)
+            self.assertIn("(page 2 of 2)", sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
+            # The report leads with time; an unbounded table is not a size.
+            r = os.path.join(d, "r.md")
+            p = run_sweep("--from-csv", a, "--report", r)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            report = pathlib.Path(r).read_text()
+            self.assertTrue(report.split("\n## ")[1].startswith("Time: what each configuration "
+                                                                "saves (all rays; the cost "
+                                                                "model's cycles per ray)"))
+            self.assertRegex(report, r"\| precision=4 table=16x2 latency=none mode=anyhit \| "
+                                     r"(saves|costs) \d+\.\d\d%")
+            self.assertIn("% time |", report)
+
+
 class Errors(unittest.TestCase):
     def test_bad_input(self):
         with tempfile.TemporaryDirectory() as d:
@@ -330,13 +472,30 @@ class Errors(unittest.TestCase):
             self.assertIn("not both", p.stderr)
             self.assertFalse(os.path.exists(out))
 
+    def test_from_csv(self):
+        with tempfile.TemporaryDirectory() as d:
+            p = run_sweep("--from-csv", os.path.join(d, "missing.csv"), "--report",
+                          os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("missing.csv: no such file", p.stderr)
+            self.assertNotIn("Traceback", p.stderr)
+            c = pathlib.Path(d, "a.csv")
+            c.write_text(Simulate.COST_HEADER + "\n")
+            p = run_sweep("--from-csv", str(c))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--from-csv needs an output: --plots DIR, --report FILE or --doc PAGE",
+                          p.stderr)
+            p = run_sweep("--from-csv", str(c), "--report", os.path.join(d, "r.md"), "--resume")
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--from-csv runs nothing", p.stderr)
+
 
 class Simulate(unittest.TestCase):
     """--timing simulate: rows carry `hrpp simulate`'s cycles; sweeping the update delay is an
     error; the default (cost-model) CSV keeps its columns and bytes; timings are never merged."""
 
-    # The cost-model CSV's header as it was before --timing existed.
-    COST_HEADER = ("scene,kind,res,hash,precision,exp_bits,origin_bits,dir_bits,combine,table,"
+    # The cost-model CSV's header as it was before --timing existed, with the preset column.
+    COST_HEADER = ("scene,kind,res,preset,hash,precision,exp_bits,origin_bits,dir_bits,combine,table,"
                    "tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
                    "table_bytes,table_entries,update_delay_rays,pred_precision,pred_recall,"
                    "true_positive,false_positive,false_negative,skipped_interior,skipped_tri,"

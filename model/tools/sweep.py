@@ -37,6 +37,7 @@ import re
 import signal
 import subprocess
 import sys
+import textwrap
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -574,7 +575,7 @@ def run_sweep(args, configs, scenes, grid):
         print(f"sweep: resuming: {len(results)} of {n} runs kept in {path}", file=sys.stderr)
     t0 = time.time()
     # The swept parameters, named in each progress line.
-    varied = [k for k in PARAMS if len({c[k] for c in configs}) > 1]
+    varied = [k for k in PARAMS if k in grid and len({c[k] for c in configs}) > 1]
     # A test hook: after this many runs, send this process SIGINT (N), SIGTERM (N:TERM) or wait
     # for a signal from outside (N:WAIT).
     stop = os.environ.get("HRPP_SWEEP_STOP_AFTER", "")
@@ -712,11 +713,18 @@ def with_baselines(pts):
     return out
 
 
+def preset_name(v):
+    """A preset as labels show it: its name, or a FILE.json's stem."""
+    return pathlib.Path(v).stem if is_preset_file(v) else v
+
+
 def label(r, varied):
+    """A configuration in words: its preset's name (when it has one) and the swept parameters."""
     if r.get("baseline"):
         return f"no predictor (the baseline walk, spp={r['spp']})"
-    shown = [n for n in varied if n not in UNUSED.get(r["hash"], ())]
-    return " ".join(f"{n}={r[n]}" for n in shown) or "default"
+    shown = [n for n in varied if n not in UNUSED.get(r["hash"], ()) and n != "preset"]
+    words = [preset_name(r["preset"])] if r.get("preset") else []
+    return " ".join(words + [f"{n}={r[n]}" for n in shown]) or "default"
 
 
 def query(r):
@@ -726,7 +734,13 @@ def query(r):
 
 
 def varied_params(rows):
-    return [n for n in PARAMS if len({r[n] for r in rows}) > 1]
+    """The parameters that take more than one value: among the rows of one preset (a parameter
+    that differs only between presets is the presets' doing, and their names say it)."""
+    by = {}
+    for r in rows:
+        by.setdefault(r["preset"], []).append(r)
+    return [n for n in PARAMS if len({r[n] for r in rows}) > 1 and (
+        n == "preset" or any(len({r[n] for r in v}) > 1 for v in by.values()))]
 
 
 def groups(rows, by_query=False):
@@ -743,143 +757,353 @@ def simulated_on(rows):
     return rows[0]["gpu"] if rows and rows[0]["timing"] == "simulate" else None
 
 
+# The plots' limits: a page holds at most this many scenes (rows or columns of panels), lines
+# (configurations) and configurations of the time summary; the rest go on further pages
+# (NAME-2.png, ...).
+PAGE_SCENES = 3
+PAGE_LINES = 8
+PAGE_CONFIGS = 40
+TABLE_MARKERS = "os^vDPXhp<>"
+
+
+def fixed_config(rows):
+    """The configuration every row shares (the parameters not swept), in words: what a plot's
+    title names besides its scenes."""
+    r = rows[0]
+    fixed = [n for n in PARAMS if len({x[n] for x in rows}) == 1 and n != "preset"
+             and n not in UNUSED.get(r["hash"], ())
+             and not (n == "tag_bits" and r["table"] == "unbounded")
+             and not (n == "update_delay" and r["latency"] != "none")]
+    words = [f"preset {preset_name(r['preset'])}"] if len({x["preset"] for x in rows}) == 1 \
+        and r["preset"] else []
+    words += [f"{n}={r[n]}" for n in fixed if not (r["preset"] and n in PRESET_SET)]
+    res = sorted({x["res"] for x in rows})
+    return "fixed: " + " ".join(words) + f"; {'/'.join(res)} pixels"
+
+
+def time_axis(gpu):
+    return "cost model" if gpu is None else f"simulated, {gpu} GPU"
+
+
+def saved_words(r):
+    """A row's time figure in words: `saves 3.10%` or `costs 6.60% time` (cost model), with the
+    speed-up when simulated (`1.05x, saves 4.76%`, `0.94x: costs 6.38% time`)."""
+    s = r["saved_cycles"]
+    words = f"saves {pct(s)}" if s >= 0 else f"costs {pct(-s)} time"
+    if r.get("speedup", "") != "":
+        return f"{r['speedup']:.3f}x, {words}"
+    return words
+
+
+def config_labels(rows, varied):
+    """{configuration key: label}, the configurations in grid (CSV) order."""
+    out = {}
+    for r in rows:
+        out.setdefault(config_key(r), label(r, varied))
+    return out
+
+
+def config_key(r):
+    return tuple(r[n] for n in PARAMS)
+
+
+def layout_overlaps(fig):
+    """Pairs of a figure's title, panels and legends whose boxes overlap (none in a readable
+    figure): [(what, what)]. Checked on every plot written; sweep.Plots asserts there are none."""
+    fig.canvas.draw()
+    rend = fig.canvas.get_renderer()
+    boxes = []
+    if fig._suptitle is not None and fig._suptitle.get_text():
+        boxes.append(("title", fig._suptitle.get_window_extent(rend)))
+    for i, ax in enumerate(fig.axes):
+        if ax.get_visible():
+            boxes.append((f"panel {i} ({ax.get_title()})", ax.get_tightbbox(rend)))
+    for i, leg in enumerate(fig.legends):
+        boxes.append((f"legend {i}", leg.get_window_extent(rend)))
+    out = []
+    edge = fig.bbox
+    for a, ba in boxes:  # cut off at the figure's edge
+        if ba.x0 < edge.x0 - 1 or ba.y0 < edge.y0 - 1 or ba.x1 > edge.x1 + 1 \
+                or ba.y1 > edge.y1 + 1:
+            out.append((a, "the figure's edge"))
+    for i, (a, ba) in enumerate(boxes):
+        for b, bb in boxes[i + 1:]:
+            if a.startswith("panel") and b.startswith("panel"):
+                continue  # panels' tick labels may touch; titles and legends must not
+            w = min(ba.x1, bb.x1) - max(ba.x0, bb.x0)
+            h = min(ba.y1, bb.y1) - max(ba.y0, bb.y0)
+            if w > 1 and h > 1:
+                out.append((a, b))
+    return out
+
+
+LAYOUT_PROBLEMS = {}  # file name -> layout_overlaps of the last plot_all
+PLOT_TEXT = {}  # file name -> its title, axis labels, tick labels and legend text (for tests)
+
+
 def plot_all(rows, outdir):
+    """Writes the plots (the first one leads with time) and returns their paths. Each names its
+    scenes, the fixed configuration and the units of its axes; large sweeps go on pages."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     files = []
+    LAYOUT_PROBLEMS.clear()
+    PLOT_TEXT.clear()
     allrows = [r for r in rows if r["kind"] == "all"]
     scenes = sorted({r["scene"] for r in rows})
     kinds = [k for k in KIND_ORDER if any(r["kind"] == k for r in rows)]
+    varied = varied_params(rows)
+    gpu = simulated_on(rows)
+    fixed = fixed_config(rows)
+    labels = config_labels(allrows, varied)
 
-    def grid_axes(title):
-        fig, axes = plt.subplots(len(scenes), len(kinds), squeeze=False,
-                                 figsize=(3.2 * len(kinds), 2.8 * len(scenes)))
-        fig.suptitle(title)
-        return fig, axes
+    def pages(items, n):
+        return [items[i:i + n] for i in range(0, len(items), n)] or [[]]
+
+    def page_name(name, i):
+        return f"{name}.png" if i == 0 else f"{name}-{i + 1}.png"
+
+    def title(fig, what, page_scenes, page=None):
+        head = what + (f" (page {page[0] + 1} of {page[1]})" if page and page[1] > 1 else "")
+        width = int(fig.get_figwidth() * 72 / (9 * 0.62))  # characters of 9 points
+        fig.suptitle("\n".join(textwrap.wrap(head, width)) + "\n"
+                     + "\n".join(textwrap.wrap("scenes: " + ", ".join(page_scenes), width))
+                     + "\n" + "\n".join(textwrap.wrap(fixed, width)), fontsize=9)
 
     def save(fig, name):
-        fig.tight_layout()
         p = outdir / name
+        LAYOUT_PROBLEMS[name] = layout_overlaps(fig)
+        axes = [ax for ax in fig.axes if ax.get_visible()]
+        PLOT_TEXT[name] = {
+            "title": fig._suptitle.get_text(),
+            "xlabels": [ax.get_xlabel() for ax in axes if ax.get_label() != "<colorbar>"],
+            "ylabels": [ax.get_ylabel() for ax in axes],
+            "ticks": [t.get_text() for ax in axes for t in ax.get_xticklabels()
+                      + ax.get_yticklabels()],
+            "texts": [t.get_text() for ax in axes for t in ax.texts],
+            "legends": [(leg.get_title().get_text(), [t.get_text() for t in leg.get_texts()])
+                        for leg in fig.legends]}
         fig.savefig(p, dpi=80)
         plt.close(fig)
         files.append(p)
 
-    # 1. accuracy against time, Pareto front marked.
-    gpu = simulated_on(rows)
-    fig, axes = grid_axes(("correct answers vs cost-model cycles per ray" if gpu is None else
-                           f"correct answers vs simulated cycles per ray (GPU {gpu})")
-                          + "\nPareto fronts: closest-hit "
-                          "queries red, any-hit queries green dashed; dotted: baselines;\n"
-                          "marker size: prediction precision")
+    # 1. Time first: saved cycles per configuration and scene, those that cost time in red.
+    order = sorted(labels, key=lambda c: -sum(r["saved_cycles"] for r in allrows
+                                              if config_key(r) == c))
+    by = {(r["scene"], config_key(r)): r for r in allrows}
+    cfg_pages = pages(order, PAGE_CONFIGS)
+    for pi, cfgs in enumerate(cfg_pages):
+        longest = max([len(labels[c]) for c in cfgs] + [10])
+        fig, ax = plt.subplots(figsize=(max(7.0, 2.4 + 0.065 * longest + 1.3 * len(scenes)),
+                                        2.8 + 0.28 * len(cfgs)), layout="constrained")
+        vals = [[100 * by[(s, c)]["saved_cycles"] if (s, c) in by else math.nan
+                 for s in scenes] for c in cfgs]
+        lim = max([abs(v) for row in vals for v in row if not math.isnan(v)] + [0.1])
+        im = ax.imshow(vals, cmap="RdBu", vmin=-lim, vmax=lim, aspect="auto")
+        for i, row in enumerate(vals):
+            for j, v in enumerate(row):
+                if not math.isnan(v):
+                    ax.text(j, i, f"saves {v:.2f}%" if v >= 0 else f"costs {-v:.2f}%",
+                            ha="center", va="center", fontsize=7,
+                            color="white" if abs(v) > 0.6 * lim else "black")
+        ax.set_xticks(range(len(scenes)), scenes, fontsize=8)
+        ax.set_yticks(range(len(cfgs)), [labels[c] for c in cfgs], fontsize=7)
+        ax.set_xlabel("scene", fontsize=8)
+        ax.set_ylabel("configuration (best on average first)", fontsize=8)
+        cb = fig.colorbar(im, ax=ax, shrink=0.8)
+        cb.set_label(f"cycles saved, % of the baseline walk's ({time_axis(gpu)}); red: costs "
+                     "time", fontsize=7)
+        cb.ax.tick_params(labelsize=7)
+        title(fig, f"time: cycles saved per configuration, all rays ({time_axis(gpu)})",
+              scenes, (pi, len(cfg_pages)))
+        save(fig, page_name("time_saved", pi))
+
+    # 2. Correct answers against time; colour = mode, marker = table size (unbounded: its own).
+    modes = [m for m in ("anyhit", "closest-exact", "closest-spec") if any(r["mode"] == m
+                                                                          for r in rows)]
+    mode_colour = {"anyhit": "tab:green", "closest-exact": "tab:blue",
+                   "closest-spec": "tab:orange"}
+    tables = sorted({r["table"] for r in rows if r["table"] != "unbounded"},
+                    key=lambda t: tuple(int(x) for x in t.split("x")))
+    table_marker = {t: TABLE_MARKERS[i % len(TABLE_MARKERS)] for i, t in enumerate(tables)}
+    table_marker["unbounded"] = "*"
     g = groups(rows)
-    for i, s in enumerate(scenes):
-        for j, k in enumerate(kinds):
-            ax = axes[i][j]
-            pts = g.get((s, k), [])
-            if not pts:
-                ax.set_visible(False)
-                continue
-            for mode, colour in (("anyhit", "tab:green"), ("closest-exact", "tab:blue"),
-                                 ("closest-spec", "tab:orange")):
-                sel = [p for p in pts if p["mode"] == mode]
-                if sel:
-                    ax.scatter([p["hrpp_cycles_per_ray"] for p in sel],
-                               [p["accuracy"] for p in sel],
-                               s=[8 + 40 * p["pred_precision"] for p in sel], c=colour,
-                               label=mode, alpha=0.7)
-            for q, style in (("closest-hit", "r-"), ("any-hit", "g--")):
-                sub = [p for p in pts if query(p) == q]
-                if not sub:
+    rest = [n for n in varied if n not in ("mode", "table")]
+    scene_pages = pages(scenes, PAGE_SCENES)
+    for pi, ps in enumerate(scene_pages):
+        fig, axes = plt.subplots(len(ps), len(kinds), squeeze=False, layout="constrained",
+                                 figsize=(3.2 * len(kinds), 2.6 * len(ps) + 1.6))
+        for i, s in enumerate(ps):
+            for j, k in enumerate(kinds):
+                ax = axes[i][j]
+                pts = g.get((s, k), [])
+                if not pts:
+                    ax.set_visible(False)
                     continue
-                sub = with_baselines(sub)
-                front = [sub[f] for f in pareto_front(sub, ["hrpp_cycles_per_ray"], ["accuracy"])]
-                ax.plot([p["hrpp_cycles_per_ray"] for p in front],
-                        [p["accuracy"] for p in front], style, lw=1)
-                ax.axvline(sub[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
-            ax.set_title(f"{s} / {k}", fontsize=9)
-            ax.set_xlabel("cycles per ray" if gpu is None else
-                          f"cycles per ray (simulated, {gpu})", fontsize=8)
-            ax.set_ylabel("correct answers", fontsize=8)
-            ax.tick_params(labelsize=7)
-            if i == 0 and j == 0:
-                ax.legend(fontsize=6)
-    save(fig, "accuracy_vs_time.png")
+                for p in pts:
+                    ax.scatter(p["hrpp_cycles_per_ray"], p["accuracy"], s=30, alpha=0.75,
+                               c=mode_colour[p["mode"]], marker=table_marker[p["table"]],
+                               edgecolors="black" if p["table"] == "unbounded" else "none",
+                               linewidths=0.5)
+                for q, style in (("closest-hit", "r-"), ("any-hit", "g--")):
+                    sub = [p for p in pts if query(p) == q]
+                    if not sub:
+                        continue
+                    sub = with_baselines(sub)
+                    front = [sub[f] for f in pareto_front(sub, ["hrpp_cycles_per_ray"],
+                                                          ["accuracy"])]
+                    ax.plot([p["hrpp_cycles_per_ray"] for p in front],
+                            [p["accuracy"] for p in front], style, lw=1)
+                    ax.axvline(sub[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
+                ax.set_title(f"{s} / {k} rays", fontsize=8)
+                ax.set_xlabel(f"cycles per ray ({time_axis(gpu)})", fontsize=7)
+                ax.set_ylabel("correct answers (fraction)", fontsize=7)
+                ax.tick_params(labelsize=7)
+        handles = ([Patch(color=mode_colour[m], label=m) for m in modes]
+                   + [Line2D([], [], ls="", marker=table_marker[t], c="grey",
+                             mec="black" if t == "unbounded" else "grey", label=t)
+                      for t in tables + (["unbounded"] if any(r["table"] == "unbounded"
+                                                                for r in rows) else [])]
+                   + [Line2D([], [], c="r", label="Pareto front, closest-hit queries"),
+                      Line2D([], [], c="g", ls="--", label="Pareto front, any-hit queries"),
+                      Line2D([], [], c="grey", ls=":", label="baseline walk (no predictor)")])
+        fig.legend(handles=handles, loc="outside lower center", ncol=min(6, len(handles)),
+                   fontsize=7, title="colour: mode; marker: table (SETSxWAYS)"
+                   + (f"; not told apart: {', '.join(rest)}" if rest else ""),
+                   title_fontsize=7)
+        title(fig, f"correct answers vs cycles per ray ({time_axis(gpu)})", ps,
+              (pi, len(scene_pages)))
+        save(fig, page_name("accuracy_vs_time", pi))
 
-    # 2. skipped work against table bytes, finite vs unbounded.
-    fig, axes = plt.subplots(1, len(scenes), squeeze=False, figsize=(3.4 * len(scenes), 3))
-    for i, s in enumerate(scenes):
-        ax = axes[0][i]
-        pts = [r for r in allrows if r["scene"] == s]
-        fin = [p for p in pts if p["table"] != "unbounded"]
-        unb = [p for p in pts if p["table"] == "unbounded" and p["table_bytes"] != ""]
-        if fin:
-            ax.scatter([p["table_bytes"] for p in fin], [100 * p["skipped_interior"] for p in fin],
-                       s=12, label="finite")
-        if unb:
-            ax.scatter([p["table_bytes"] for p in unb], [100 * p["skipped_interior"] for p in unb],
-                       s=18, marker="x", c="k", label="unbounded")
-        ax.set_xscale("log")
-        ax.set_title(s, fontsize=9)
-        ax.set_xlabel("table bytes", fontsize=8)
-        ax.set_ylabel("% interior tests skipped", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.legend(fontsize=6)
-    save(fig, "skipped_vs_bytes.png")
+    # 3. Skipped work against table bytes: colour = hash (or preset), marker = mode, one column
+    # of panels per update delay (or latency) when swept; unbounded tables apart, at the right.
+    facet = next((n for n in ("latency", "update_delay") if n in varied), None)
+    colour_by = next((n for n in varied if n not in ("mode", "table", facet)), "hash")
+    colour_vals = sorted({r[colour_by] for r in allrows},
+                         key=lambda v: (0, int(v), "") if v.isdigit() else (1, 0, v))
+    colour = {v: f"C{i % 10}" for i, v in enumerate(colour_vals)}
+    mode_marker = {"anyhit": "^", "closest-exact": "o", "closest-spec": "s"}
+    facet_vals = (sorted({r[facet] for r in allrows}, key=lambda v: -1 if v == "none" else int(v))
+                  if facet else [None])
+    for pi, ps in enumerate(scene_pages):
+        fig, axes = plt.subplots(len(ps), len(facet_vals), squeeze=False, layout="constrained",
+                                 figsize=(max(5.0, 3.6 * len(facet_vals)), 2.8 * len(ps) + 1.6))
+        fin_bytes = [r["table_bytes"] for r in allrows if r["table"] != "unbounded"
+                     and r["table_bytes"] != ""]
+        unb_x = max(fin_bytes) * 4 if fin_bytes else 1.0
+        for i, s in enumerate(ps):
+            for j, fv in enumerate(facet_vals):
+                ax = axes[i][j]
+                pts = [r for r in allrows if r["scene"] == s and (facet is None or r[facet] == fv)]
+                for p in pts:
+                    unb = p["table"] == "unbounded"
+                    if not unb and p["table_bytes"] == "":
+                        continue
+                    ax.scatter(unb_x if unb else p["table_bytes"], 100 * p["skipped_interior"],
+                               s=30, alpha=0.75, c=colour[p[colour_by]],
+                               marker=mode_marker[p["mode"]])
+                ax.set_xscale("log")
+                ax.minorticks_off()
+                lo, hi = (min(fin_bytes) / 1.6, max(fin_bytes) * 1.6) if fin_bytes else (1, 2)
+                ticks = [m * 10.0 ** e for e in range(math.floor(math.log10(lo)),
+                                                      math.ceil(math.log10(hi)) + 1)
+                         for m in (1, 2, 5) if lo <= m * 10.0 ** e <= hi]
+                names = [f"{b / 1e3:g} KB" if b >= 1000 else f"{b:.0f} B" for b in ticks]
+                if any(p["table"] == "unbounded" for p in pts):
+                    ax.axvline(unb_x / 2, color="grey", lw=0.8, ls="--")
+                    ticks.append(unb_x)
+                    names.append("unbounded\n(no fixed size)")
+                ax.set_xticks(ticks, names, fontsize=6)
+                ax.set_xlim(lo, max(ticks) * 1.6)
+                ax.set_title(s + (f" / {facet}={fv}" if facet else ""), fontsize=8)
+                ax.set_xlabel("table size, bytes (log scale); unbounded apart", fontsize=7)
+                ax.set_ylabel("interior-node tests skipped, % (net)", fontsize=7)
+                ax.tick_params(labelsize=7)
+        handles = ([Patch(color=colour[v], label=preset_name(v) if colour_by == "preset"
+                          else f"{colour_by}={v}") for v in colour_vals]
+                   + [Line2D([], [], ls="", marker=mode_marker[m], c="grey", label=m)
+                      for m in modes])
+        rest3 = [n for n in varied if n not in (colour_by, "mode", "table", facet)]
+        fig.legend(handles=handles, loc="outside lower center", ncol=min(6, len(handles)),
+                   fontsize=7, title=f"colour: {colour_by}; marker: mode"
+                   + (f"; panels: {facet}" if facet else "")
+                   + (f"; not told apart: {', '.join(rest3)}" if rest3 else ""),
+                   title_fontsize=7)
+        title(fig, "interior-node tests skipped vs table size, all rays", ps,
+              (pi, len(scene_pages)))
+        save(fig, page_name("skipped_vs_bytes", pi))
 
-    # 3. prediction hit rate against pipeline latency (update delay in rays): one line per scene
-    # and combination of the other parameters that was run at more than one delay.
-    lines3 = delay_groups(rows)
+    # 4. Prediction precision and recall against the update delay (all rays): one column of
+    # panels per scene, a row each for precision and recall, a line per configuration.
+    lines3 = {k: v for k, v in delay_groups(rows).items() if k[1] == "all"}
     if lines3:
-        # One row of panels per combination of the other parameters, one column per ray kind;
-        # colour = scene, solid = precision, dashed = recall.
         others = sorted({o for (_, _, o) in lines3})
         names = [n for n in PARAMS if n not in ("update_delay", "latency")]
         vary = [i for i, n in enumerate(names) if len({o[i] for o in others}) > 1]
-        colours = {s: f"C{i % 10}" for i, s in enumerate(scenes)}
-        fig, axes = plt.subplots(len(others), len(kinds), squeeze=False,
-                                 figsize=(3.4 * len(kinds), 2.8 * len(others) + 0.8))
-        fig.suptitle("prediction precision (solid) and recall (dashed) against the update delay")
-        for i, o in enumerate(others):
-            title = " ".join(f"{names[v]}={o[v]}" for v in vary)
-            for j, k in enumerate(kinds):
-                ax = axes[i][j]
-                for (s, kk, oo), pts in sorted(lines3.items()):
-                    if kk != k or oo != o:
-                        continue
-                    x = [max(0.5, p["update_delay_rays"]) for p in pts]
-                    ax.plot(x, [p["pred_precision"] for p in pts], "o-", ms=3, c=colours[s],
-                            label=s)
-                    ax.plot(x, [p["pred_recall"] for p in pts], "x--", ms=3, c=colours[s])
-                ax.set_xscale("log")
-                ax.set_ylim(-0.02, 1.02)
-                ax.set_title(f"{k} {title}", fontsize=8)
-                ax.set_xlabel("update delay, rays (0 drawn at 0.5)", fontsize=7)
-                ax.set_ylabel("precision / recall", fontsize=7)
-                ax.tick_params(labelsize=7)
-        handles, labels_ = axes[0][0].get_legend_handles_labels()
-        fig.legend(handles, labels_, loc="lower center", ncol=max(1, len(scenes)), fontsize=7)
-        fig.tight_layout(rect=(0, 0.06, 1, 1))
-        p = outdir / "hit_rate_vs_latency.png"
-        fig.savefig(p, dpi=80)
-        plt.close(fig)
-        files.append(p)
 
-    # 4. speculative image error against time saved.
+        def line_label(o):
+            r = dict(zip(names, o))
+            words = [preset_name(r["preset"])] if r["preset"] else []
+            return " ".join(words + [f"{names[v]}={o[v]}" for v in vary
+                                     if names[v] != "preset"]) or "default"
+
+        line_pages = [(ps, os_) for ps in scene_pages for os_ in pages(others, PAGE_LINES)]
+        for pi, (ps, os_) in enumerate(line_pages):
+            fig, axes = plt.subplots(2, len(ps), squeeze=False, layout="constrained",
+                                     figsize=(max(5.0, 4.0 * len(ps)), 6.2))
+            colours = {o: f"C{i % 10}" for i, o in enumerate(os_)}
+            for j, s in enumerate(ps):
+                for i, (what, col) in enumerate((("prediction precision", "pred_precision"),
+                                                 ("recall", "pred_recall"))):
+                    ax = axes[i][j]
+                    for o in os_:
+                        pts = lines3.get((s, "all", o))
+                        if not pts:
+                            continue
+                        ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
+                                [p[col] for p in pts], "o-", ms=3, c=colours[o])
+                    ax.set_xscale("log")
+                    ax.set_ylim(-0.02, 1.02)
+                    ax.set_title(f"{s}: {what}", fontsize=8)
+                    ax.set_xlabel("update delay, rays (log; 0 drawn at 0.5)", fontsize=7)
+                    ax.set_ylabel(f"{what} (fraction)", fontsize=7)
+                    ax.tick_params(labelsize=7)
+            handles = [Line2D([], [], marker="o", ms=3, c=colours[o], label=line_label(o))
+                       for o in os_]
+            fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7,
+                       title="configuration (colour)", title_fontsize=7)
+            title(fig, "prediction precision and recall vs the update delay, all rays", ps,
+                  (pi, len(line_pages)))
+            save(fig, page_name("hit_rate_vs_latency", pi))
+
+    # 5. Speculative image error against time saved; the region where prediction costs time
+    # shaded.
     spec = [r for r in allrows if r["mode"] == "closest-spec" and r["image_mae"] != ""]
     if spec:
-        fig, ax = plt.subplots(figsize=(5, 3.5))
+        fig, ax = plt.subplots(figsize=(6, 4.6), layout="constrained")
+        xs = [100 * p["saved_cycles"] for p in spec]
+        lo = min(xs + [0.0])
+        if lo < 0:
+            ax.axvspan(lo * 1.1 - 0.1, 0, color="tab:red", alpha=0.08, lw=0)
+            ax.text(lo * 0.55, 0.98, "costs time", transform=ax.get_xaxis_transform(),
+                    ha="center", va="top", fontsize=7, color="tab:red")
+        ax.axvline(0, color="grey", lw=0.8)
         for s in scenes:
             pts = [r for r in spec if r["scene"] == s]
             ax.scatter([100 * p["saved_cycles"] for p in pts],
-                       [100 * p["image_differ"] for p in pts], s=12, label=s)
-        ax.set_xlabel("% cost-model cycles saved (all rays)" if gpu is None else
-                      f"% simulated cycles saved (all rays, {gpu})")
-        ax.set_ylabel("% pixels that differ from the exact image")
-        ax.set_title("closest-spec: image error vs time saved", fontsize=9)
-        ax.legend(fontsize=6)
+                       [100 * p["image_differ"] for p in pts], s=14, label=s)
+        ax.set_xlabel(f"cycles saved, % of the baseline's (all rays; {time_axis(gpu)})",
+                      fontsize=8)
+        ax.set_ylabel("pixels that differ from the exact image, %", fontsize=8)
+        ax.tick_params(labelsize=7)
+        fig.legend(loc="outside lower center", ncol=min(4, len(scenes)), fontsize=7,
+                   title="scene (colour)", title_fontsize=7)
+        title(fig, "closest-spec: image error vs time saved", scenes)
         save(fig, "spec_error_vs_saved.png")
     return files
 
@@ -889,8 +1113,42 @@ def pct(x):
 
 
 def table_bytes(r):
-    """A row's table bytes for a table cell ('-' when unknown: an unbounded simulated table)."""
+    """A row's table bytes for a table cell: an unbounded table has no size (its entries used, when
+    known, are not a size to compare with a fixed table's)."""
+    if r["table"] == "unbounded":
+        used = r.get("table_entries", "")
+        return "unbounded" + (f" ({int(used):,} entries used)" if used != "" else "")
     return "-" if r["table_bytes"] == "" else f"{int(r['table_bytes']):,}"
+
+
+def saved_cell(x):
+    """Saved cycles for a table cell: `3.10%`, or `costs 6.60%` when prediction costs time."""
+    return pct(x) if x >= 0 else f"costs {pct(-x)}"
+
+
+def time_section(rows, varied, gpu):
+    """The report's first table: every configuration's time figure on every scene (all rays),
+    best on average first, those that cost time said so."""
+    allrows = [r for r in rows if r["kind"] == "all"]
+    scenes = sorted({r["scene"] for r in allrows})
+    labels = config_labels(allrows, varied)
+    by = {(r["scene"], config_key(r)): r for r in allrows}
+    order = sorted(labels, key=lambda c: -sum(r["saved_cycles"] for r in allrows
+                                              if config_key(r) == c))
+    costs = [c for c in order if all(by[(s, c)]["saved_cycles"] < 0 for s in scenes
+                                     if (s, c) in by)]
+    what = ("the cost model's cycles per ray" if gpu is None
+            else f"simulated cycles on the `{gpu}` GPU (speed-up = baseline / HRPP cycles)")
+    out = [f"## Time: what each configuration saves (all rays; {what})", "",
+           "Cycles saved against the baseline walk without a predictor; a configuration that "
+           "takes longer than the baseline \"costs\" time. Best on average first."
+           + (f" {len(costs)} of {len(order)} configurations cost time on every scene."
+              if costs else ""), "",
+           "| configuration | " + " | ".join(scenes) + " |", "|---|" + "---|" * len(scenes)]
+    for c in order:
+        out.append(f"| {labels[c]} | " + " | ".join(
+            saved_words(by[(s, c)]) if (s, c) in by else "-" for s in scenes) + " |")
+    return out + [""]
 
 
 def report(rows, plots, path, command):
@@ -907,6 +1165,7 @@ def report(rows, plots, path, command):
              time_is + " Accuracy: the share "
              "of correct answers (only closest-spec can be wrong), prediction precision and recall, "
              "net skipped interior-node tests. Swept: " + (", ".join(varied) or "nothing") + ".", ""]
+    lines += time_section(rows, varied, gpu)
     for p in plots:
         lines += [f"![{p.stem}]({os.path.relpath(p, pathlib.Path(path).parent)})", ""]
     lines += ["## Pareto-optimal configurations (cycles per ray vs correct answers)"
@@ -937,7 +1196,7 @@ def report(rows, plots, path, command):
                 cpu = f"{p['speedup']:.3f}x"
             lines.append(
                 f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
-                f"({p['baseline_cycles_per_ray']:.1f}) | {pct(p['saved_cycles'])} | "
+                f"({p['baseline_cycles_per_ray']:.1f}) | {saved_cell(p['saved_cycles'])} | "
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
                 f"{pct(p['skipped_interior'])} | {table_bytes(p)} | {cpu} |")
         lines.append("")
@@ -976,7 +1235,7 @@ def latency_section(rows, varied):
             out.append(f"| {s} | {k} | {label(p, shown)} | {p['latency']} | "
                        f"{int(p['update_delay_rays'])} | {p['pred_precision']:.4f} | "
                        f"{p['pred_recall']:.4f} | {pct(p['skipped_interior'])} | "
-                       f"{pct(p['saved_cycles'])} |")
+                       f"{saved_cell(p['saved_cycles'])} |")
     return out + [""]
 
 
@@ -1006,7 +1265,7 @@ def spec_section(rows, varied, path):
             rel = os.path.relpath(pic, pathlib.Path(path).parent)
             link = f"[png]({rel})"
             pics.append(f"![{s}]({rel})")
-        out.append(f"| {s} | {label(best, varied)} | {pct(best['saved_cycles'])} | "
+        out.append(f"| {s} | {label(best, varied)} | {saved_cell(best['saved_cycles'])} | "
                    f"{pct(best['wrong_fraction'])} | {best['image_mae']:.5f} | "
                    f"{pct(best['image_differ'])} | {link} |")
     return out + [""] + [p + "\n" for p in pics]
@@ -1094,9 +1353,9 @@ def recommend(rows, varied):
             if best is None:
                 msg = ("none saves anything" if u["saved_cycles"] <= 0
                        else "none of the swept tables")
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {msg} | - | - |")
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {msg} | - | - |")
             else:
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {best['table']} "
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {best['table']} "
                            f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
         out.append("")
     out += delta_lines(rows)
@@ -1121,6 +1380,8 @@ def short_label(r):
         return "no predictor"
     words = [f"improved {r['origin_bits']}/{r['dir_bits']}" if r["hash"] == "improved"
              else f"P={r['precision']}", r["table"]]
+    if r.get("preset"):
+        words = [preset_name(r["preset"]), r["table"]]
     if r["tag_bits"] != "full":
         words.append(f"T{r['tag_bits']}")
     words.append(r["mode"])
