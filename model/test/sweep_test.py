@@ -278,7 +278,8 @@ class Resume(unittest.TestCase):
             self.assertEqual(len(re.findall(r"^sweep: \[", p.stderr, re.M)), 3)  # only 3 ran
             self.assertIn("sweep: [6/8]", p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
-            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])  # no journal, no .tmp
+            # No journal, no .tmp file.
+            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])
             p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
             self.assertEqual(p.returncode, 2, p.stderr)
             self.assertIn("--resume: no interrupted sweep to continue", p.stderr)
@@ -412,8 +413,8 @@ class Plots(unittest.TestCase):
                 self.assertIn("fixed: hash=faithful exp_bits=3", t["title"].replace("\n", " "), f)
                 self.assertIn("16x16 pixels", t["title"], f)
                 self.assertTrue(all(t["xlabels"]) and all(t["ylabels"]), f)
-                self.assertTrue(all(re.search(r"%|fraction|cycles per ray|bytes|, rays|scene|configuration",
-                                              l) for l in t["xlabels"] + t["ylabels"]), f)
+                units = r"%|fraction|cycles per ray|bytes|, rays|scene|configuration"
+                self.assertTrue(all(re.search(units, l) for l in t["xlabels"] + t["ylabels"]), f)
             t = sweep.PLOT_TEXT["time_saved.png"]
             self.assertIn("cost model", t["title"])
             self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 24)
@@ -495,8 +496,8 @@ class Simulate(unittest.TestCase):
     error; the default (cost-model) CSV keeps its columns and bytes; timings are never merged."""
 
     # The cost-model CSV's header as it was before --timing existed, with the preset column.
-    COST_HEADER = ("scene,kind,res,preset,hash,precision,exp_bits,origin_bits,dir_bits,combine,table,"
-                   "tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
+    COST_HEADER = ("scene,kind,res,preset,hash,precision,exp_bits,origin_bits,dir_bits,combine,"
+                   "table,tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
                    "table_bytes,table_entries,update_delay_rays,pred_precision,pred_recall,"
                    "true_positive,false_positive,false_negative,skipped_interior,skipped_tri,"
                    "skipped_walks,wrong_results,wrong_fraction,accuracy,baseline_cycles_per_ray,"

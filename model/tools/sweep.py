@@ -4,6 +4,8 @@
     hrpp sweep SCENE... --param NAME=V1,V2,... [--param ...] [--res WxH] [--spp N] --csv FILE
                [--timing cost-model | --timing simulate [--gpu mobile|desktop|FILE] [--oracle]]
                [--plots DIR] [--report FILE] [--scheduler ADDRESS | --workers N | --no-dask]
+               [--resume]
+    hrpp sweep --from-csv FILE... [--plots DIR] [--report FILE] [--doc PAGE]   (one at least)
 
 Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
 `hrpp predict` run, an independent task of a Dask distributed cluster: a LocalCluster with
@@ -12,6 +14,23 @@ see the same paths: the hrpp binary and the scenes). --no-dask runs the tasks on
 this process (the reference the Dask test compares with). The CSV has one row per scene x
 configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a run is
 reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
+
+Presets: --param preset=rtl-default,micro21,study2019 (the names `hrpp predict --help` lists, or
+FILE.json) runs each task with --preset NAME; the other swept parameters override the preset's
+values (the parameters not swept are the preset's). The CSV's preset column names it (empty for
+none) and the parameter columns hold the values that ran; labels name configurations by preset.
+
+Interruption: each finished run is appended to CSV.partial.jsonl as it finishes. SIGINT or
+SIGTERM stops the sweep with one line (exit 130 / 143), shuts the Dask cluster down and keeps the
+journal; --resume runs only the missing runs of the same sweep (same scenes, parameters,
+resolution, timing, GPU and hrpp version; refused naming the difference otherwise) and the CSV
+is then byte for byte an uninterrupted run's. The journal is removed when the CSV is written.
+
+The report and the plots lead with time (time_saved.png, the report's first table: cycles saved
+per configuration and scene; a configuration that takes longer than the baseline "costs" time).
+Every plot names its scenes, the fixed configuration and its axes' units; large sweeps go on
+further pages (NAME-2.png, ...). Unbounded tables have no size: plots put them apart, the report
+says "unbounded".
 
 Pareto fronts use the cost model's deterministic cycles, never the noisy CPU times.
 
@@ -1353,9 +1372,11 @@ def recommend(rows, varied):
             if best is None:
                 msg = ("none saves anything" if u["saved_cycles"] <= 0
                        else "none of the swept tables")
-                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {msg} | - | - |")
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {msg} "
+                           "| - | - |")
             else:
-                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {best['table']} "
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | "
+                           f"{best['table']} "
                            f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
         out.append("")
     out += delta_lines(rows)
