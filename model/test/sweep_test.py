@@ -402,8 +402,14 @@ class Plots(unittest.TestCase):
                           "--no-dask", "--no-timing", "--csv", a)
             self.assertEqual(p.returncode, 0, p.stderr)
             rows = sweep.read_csv([a])
-            files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
-            self.assertEqual(files, ["time_saved.png", "accuracy_vs_time.png",
+            # Pages of at most 16 configurations and 8 lines (40 and 12 in use).
+            limits = sweep.PAGE_CONFIGS, sweep.PAGE_LINES
+            sweep.PAGE_CONFIGS, sweep.PAGE_LINES = 16, 8
+            try:
+                files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
+            finally:
+                sweep.PAGE_CONFIGS, sweep.PAGE_LINES = limits
+            self.assertEqual(files, ["time_saved.png", "time_saved-2.png", "accuracy_vs_time.png",
                                      "skipped_vs_bytes.png", "hit_rate_vs_latency.png",
                                      "hit_rate_vs_latency-2.png", "spec_error_vs_saved.png"])
             for f in files:
@@ -417,7 +423,10 @@ class Plots(unittest.TestCase):
                 self.assertTrue(all(re.search(units, l) for l in t["xlabels"] + t["ylabels"]), f)
             t = sweep.PLOT_TEXT["time_saved.png"]
             self.assertIn("cost model", t["title"])
-            self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 24)
+            self.assertIn("(page 1 of 2)", t["title"])
+            self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 16)
+            self.assertEqual(len([x for x in sweep.PLOT_TEXT["time_saved-2.png"]["ticks"]
+                                  if "precision=" in x]), 8)
             self.assertTrue(any(x.startswith("costs ") for x in t["texts"]))
             # One legend each for what colour and marker encode.
             t = sweep.PLOT_TEXT["accuracy_vs_time.png"]

@@ -780,7 +780,7 @@ def simulated_on(rows):
 # (configurations) and configurations of the time summary; the rest go on further pages
 # (NAME-2.png, ...).
 PAGE_SCENES = 3
-PAGE_LINES = 8
+PAGE_LINES = 12
 PAGE_CONFIGS = 40
 TABLE_MARKERS = "os^vDPXhp<>"
 
@@ -1071,10 +1071,14 @@ def plot_all(rows, outdir):
             return " ".join(words + [f"{names[v]}={o[v]}" for v in vary
                                      if names[v] != "preset"]) or "default"
 
-        line_pages = [(ps, os_) for ps in scene_pages for os_ in pages(others, PAGE_LINES)]
+        line_pages = [(ps, os_) for ps in pages(scenes, PAGE_SCENES + 1)
+                      for os_ in pages(others, PAGE_LINES)]
         for pi, (ps, os_) in enumerate(line_pages):
+            longest = max(len(line_label(o)) for o in os_)
+            width = max(5.0, 3.6 * len(ps), 0.075 * longest + 1.0)
+            ncol = max(1, min(3, int(width / (0.075 * longest + 0.8))))
             fig, axes = plt.subplots(2, len(ps), squeeze=False, layout="constrained",
-                                     figsize=(max(5.0, 4.0 * len(ps)), 6.2))
+                                     figsize=(width, 5.6 + 0.16 * math.ceil(len(os_) / ncol)))
             colours = {o: f"C{i % 10}" for i, o in enumerate(os_)}
             for j, s in enumerate(ps):
                 for i, (what, col) in enumerate((("prediction precision", "pred_precision"),
@@ -1094,7 +1098,7 @@ def plot_all(rows, outdir):
                     ax.tick_params(labelsize=7)
             handles = [Line2D([], [], marker="o", ms=3, c=colours[o], label=line_label(o))
                        for o in os_]
-            fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7,
+            fig.legend(handles=handles, loc="outside lower center", ncol=ncol, fontsize=7,
                        title="configuration (colour)", title_fontsize=7)
             title(fig, "prediction precision and recall vs the update delay, all rays", ps,
                   (pi, len(line_pages)))
