@@ -9,6 +9,8 @@ import csv
 import json
 import os
 import pathlib
+import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -24,8 +26,9 @@ CORNELL = str(ROOT / "scenes" / "cornell_box.glb")
 SWEEP = [sys.executable, str(ROOT / "model" / "tools" / "sweep.py"), "--hrpp", HRPP]
 
 
-def run_sweep(*args):
-    return subprocess.run(SWEEP + list(args), capture_output=True, text=True)
+def run_sweep(*args, env_add=None):
+    env = dict(os.environ, **(env_add or {}))
+    return subprocess.run(SWEEP + list(args), capture_output=True, text=True, env=env)
 
 
 def read(path):
@@ -112,7 +115,8 @@ class Tiny(unittest.TestCase):
             # A finite table's bytes follow from its fields: the same in every mode.
             small = {r["table_bytes"] for r in rows if r["table"] == "16x2" and r["precision"] == "6"}
             self.assertEqual(len(small), 1)
-            for f in ("accuracy_vs_time.png", "skipped_vs_bytes.png", "spec_error_vs_saved.png"):
+            for f in ("time_saved.png", "accuracy_vs_time.png", "skipped_vs_bytes.png",
+                      "spec_error_vs_saved.png"):
                 self.assertGreater(os.path.getsize(os.path.join(d, "plots", f)), 1000, f)
             report = pathlib.Path(d, "report.md").read_text()
             self.assertIn("## Pareto-optimal configurations", report)
@@ -198,6 +202,262 @@ class Tiny(unittest.TestCase):
             self.assertEqual(bare.read_text(), "# no blocks\n")
 
 
+class Resume(unittest.TestCase):
+    """Each finished run is kept in CSV.partial.jsonl as it finishes: SIGINT / SIGTERM leave one
+    line and the journal, --resume runs only the missing runs of the same sweep, and the CSV is
+    byte for byte an uninterrupted run's."""
+
+    ARGS = [TETRA, CORNELL, "--param", "precision=4,6", "--param", "mode=anyhit,closest-spec",
+            "--res", "16x16", "--no-timing"]
+
+    @staticmethod
+    def journal_runs(path):
+        lines = pathlib.Path(path).read_text().splitlines()
+        return len(lines) - 1  # the first line names the sweep
+
+    def others(self, stderr):
+        """stderr without the progress lines."""
+        return [l for l in stderr.splitlines() if not l.startswith("sweep: [")]
+
+    def test_interrupt_resume_equals_uninterrupted(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref, a = os.path.join(d, "ref.csv"), os.path.join(d, "a.csv")
+            journal = a + ".partial.jsonl"
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", ref)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertFalse(os.path.exists(ref + ".partial.jsonl"))  # removed when complete
+            # SIGINT after 3 runs (the driver signals itself: the real handler path).
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a,
+                          env_add={"HRPP_SWEEP_STOP_AFTER": "3"})
+            self.assertEqual(p.returncode, 130, p.stderr)
+            self.assertEqual(self.others(p.stderr), [
+                f"hrpp sweep: interrupted; 3 of 8 runs kept in {journal}; --resume continues"])
+            self.assertNotIn("Traceback", p.stderr)
+            self.assertFalse(os.path.exists(a))
+            self.assertEqual(self.journal_runs(journal), 3)
+            # Without --resume the journal is not overwritten.
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("holds 3 of 8 runs of an interrupted sweep; --resume continues it",
+                          p.stderr)
+            # Another sweep's journal is refused, naming the difference.
+            res = self.ARGS.index("--res") + 1
+            other = os.path.join(d, "hrpp-other")  # hrpp of another version
+            pathlib.Path(other).write_text(
+                f'#!/bin/sh\n[ "$1" = --version ] && {{ echo "hrpp 9.9"; exit 0; }}\n'
+                f'exec {HRPP} "$@"\n')
+            os.chmod(other, 0o755)
+            timed = [x for x in self.ARGS if x != "--no-timing"]
+            for args, why in ((self.ARGS[:res] + ["24x24"] + self.ARGS[res + 1:],
+                               "res: 16x16 then, 24x24 now"),
+                              (self.ARGS + ["--param", "table=16x2"],
+                               "--param table: not swept then, 16x2 now"),
+                              (self.ARGS + ["--param", "go_up=1"], "--param go_up: not swept then"),
+                              (timed, "CPU times: --no-timing then, measured now"),
+                              (self.ARGS[1:], "scenes:"),
+                              (self.ARGS + ["--hrpp", other], "hrpp: hrpp ")):
+                p = run_sweep(*args, "--resume", "--no-dask", "--csv", a)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn("is of another sweep", p.stderr)
+                self.assertIn(why, p.stderr)
+            self.assertEqual(self.journal_runs(journal), 3)
+            # --resume on a Dask cluster, SIGTERM after 2 more runs.
+            p = run_sweep(*self.ARGS, "--resume", "--workers", "2", "--csv", a,
+                          env_add={"HRPP_SWEEP_STOP_AFTER": "2:TERM"})
+            self.assertEqual(p.returncode, 143, p.stderr)
+            self.assertIn("sweep: resuming: 3 of 8 runs kept in", p.stderr)
+            self.assertEqual(self.others(p.stderr)[-1],
+                             f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; "
+                             "--resume continues")
+            self.assertEqual(self.journal_runs(journal), 5)
+            # A last line cut short by a kill is dropped.
+            with open(journal, "a") as f:
+                f.write('{"scene": "cut sh')
+            p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(len(re.findall(r"^sweep: \[", p.stderr, re.M)), 3)  # only 3 ran
+            self.assertIn("sweep: [6/8]", p.stderr)
+            self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
+            # No journal, no .tmp file.
+            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])
+            p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--resume: no interrupted sweep to continue", p.stderr)
+
+    def test_ctrl_c_to_the_process_group(self):
+        """A Ctrl-C reaches the driver, the Dask workers and the hrpp runs: one line, exit 130,
+        the workers shut down without tracebacks."""
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            env = dict(os.environ, HRPP_SWEEP_STOP_AFTER="2:WAIT")
+            proc = subprocess.Popen(SWEEP + self.ARGS + ["--workers", "2", "--csv", a],
+                                    stderr=subprocess.PIPE, text=True, env=env,
+                                    start_new_session=True)
+            err = ""
+            for line in proc.stderr:
+                err += line
+                if line.startswith("sweep: waiting for a signal"):
+                    os.killpg(proc.pid, signal.SIGINT)
+                    break
+            err += proc.stderr.read()
+            proc.stderr.close()
+            self.assertEqual(proc.wait(timeout=60), 130, err)
+            lines = [l for l in err.splitlines() if not l.startswith("sweep: ")]
+            self.assertEqual(lines, [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
+                                     f"{a}.partial.jsonl; --resume continues"], err)
+            self.assertEqual(os.listdir(d), ["a.csv.partial.jsonl"])
+
+
+class Presets(unittest.TestCase):
+    """--param preset=NAME,...: passed as --preset, the other swept parameters override it; the
+    CSV's preset column and parameter columns say what ran; misspelt names fail fast."""
+
+    def predict(self, d, *opts):
+        out = os.path.join(d, "direct.json")
+        p = subprocess.run([HRPP, "predict", CORNELL, "--res", "16x16", "--json", out]
+                           + list(opts), capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(out) as f:
+            return json.load(f)
+
+    def test_presets_swept(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-default,micro21,study2019",
+                          "--param", "table=64x4,unbounded", "--param", "mode=closest-spec",
+                          "--res", "16x16", "--no-dask",
+                          "--no-timing", "--csv", a, "--report", os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = [r for r in read(a) if r["kind"] == "all"]
+            self.assertEqual([(r["preset"], r["table"]) for r in rows],
+                             [(n, t) for n in ("rtl-default", "micro21", "study2019")
+                              for t in ("64x4", "unbounded")])
+            by = {(r["preset"], r["table"]): r for r in rows}
+            # The preset's own values fill the parameter columns; the swept table overrides it.
+            r = by[("rtl-default", "64x4")]
+            self.assertEqual((r["hash"], r["combine"], r["nodes_per_entry"]),
+                             ("improved", "concat", "2"))
+            self.assertEqual((by[("micro21", "unbounded")]["hash"],
+                              by[("micro21", "unbounded")]["go_up"]), ("micro21", "3"))
+            for (preset, table), r in by.items():
+                data = self.predict(d, "--preset", preset, "--table", table, "--mode",
+                                    "closest-spec")
+                msg = f"{preset} {table}"
+                self.assertEqual(int(r["true_positive"]), data["true_positive"], msg)
+                self.assertAlmostEqual(float(r["hrpp_cycles_per_ray"]),
+                                       data["cost"]["hrpp_cycles_per_ray"], places=6, msg=msg)
+                self.assertEqual(int(r["table_bytes"]), data["table_bytes"], msg)
+            # The preset alone is the preset's run (not the sweep's defaults).
+            self.assertNotEqual(self.predict(d, "--preset", "rtl-default", "--table", "64x4")
+                                ["true_positive"],
+                                self.predict(d, "--table", "64x4")["true_positive"])
+            report = pathlib.Path(d, "r.md").read_text()
+            self.assertIn("| rtl-default table=64x4 |", report)
+            self.assertIn("| micro21 table=unbounded |", report)
+            # An unbounded table has no size to compare: the report says unbounded.
+            self.assertRegex(report, r"\| rtl-default table=unbounded \| .* \| unbounded \(\d+ "
+                                     r"entries used\) \|")
+            # Without a preset the column is empty.
+            b = os.path.join(d, "b.csv")
+            p = run_sweep(CORNELL, "--param", "table=64x4", "--res", "16x16", "--no-dask",
+                          "--no-timing", "--csv", b)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual({r["preset"] for r in read(b)}, {""})
+
+    def test_preset_simulated(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-small", "--res", "8x8", "--no-dask",
+                          "--timing", "simulate", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = read(a)
+            self.assertEqual({(r["preset"], r["table"], r["timing"]) for r in rows},
+                             {("rtl-small", "64x2", "simulate")})
+
+    def test_bad_presets_fail_fast(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(CORNELL, "--param", "preset=rtl-default,rtl-defualt", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("unknown preset 'rtl-defualt'; did you mean 'rtl-default'?", p.stderr)
+            self.assertIn("known: ", p.stderr)
+            p = run_sweep(CORNELL, "--param", f"preset={d}/mine.json", "--csv", a)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("mine.json: no such preset file", p.stderr)
+            self.assertEqual(os.listdir(d), [])  # nothing run, nothing written
+
+
+class Plots(unittest.TestCase):
+    """The plots of a 2-scene x 24-configuration sweep: time first, every plot names its scenes,
+    the fixed configuration and its axes' units, titles and legends never overlap the panels,
+    one legend per encoded dimension, unbounded tables apart, large sweeps paged; the report's
+    first table is the time figure."""
+
+    def test_plots_and_report(self):
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(TETRA, CORNELL, "--param", "precision=4,6", "--param",
+                          "table=16x2,unbounded", "--param", "mode=anyhit,closest-exact,"
+                          "closest-spec", "--param", "latency=none,0", "--res", "16x16",
+                          "--no-dask", "--no-timing", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = sweep.read_csv([a])
+            # Pages of at most 16 configurations and 8 lines (40 and 12 in use).
+            limits = sweep.PAGE_CONFIGS, sweep.PAGE_LINES
+            sweep.PAGE_CONFIGS, sweep.PAGE_LINES = 16, 8
+            try:
+                files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
+            finally:
+                sweep.PAGE_CONFIGS, sweep.PAGE_LINES = limits
+            self.assertEqual(files, ["time_saved.png", "time_saved-2.png", "accuracy_vs_time.png",
+                                     "skipped_vs_bytes.png", "hit_rate_vs_latency.png",
+                                     "hit_rate_vs_latency-2.png", "spec_error_vs_saved.png"])
+            for f in files:
+                self.assertEqual(sweep.LAYOUT_PROBLEMS[f], [], f)
+                t = sweep.PLOT_TEXT[f]
+                self.assertIn("cornell_box", t["title"], f)
+                self.assertIn("fixed: hash=faithful exp_bits=3", t["title"].replace("\n", " "), f)
+                self.assertIn("16x16 pixels", t["title"], f)
+                self.assertTrue(all(t["xlabels"]) and all(t["ylabels"]), f)
+                units = r"%|fraction|cycles per ray|bytes|, rays|scene|configuration"
+                self.assertTrue(all(re.search(units, l) for l in t["xlabels"] + t["ylabels"]), f)
+            t = sweep.PLOT_TEXT["time_saved.png"]
+            self.assertIn("cost model", t["title"])
+            self.assertIn("(page 1 of 2)", t["title"])
+            self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 16)
+            self.assertEqual(len([x for x in sweep.PLOT_TEXT["time_saved-2.png"]["ticks"]
+                                  if "precision=" in x]), 8)
+            self.assertTrue(any(x.startswith("costs ") for x in t["texts"]))
+            # One legend each for what colour and marker encode.
+            t = sweep.PLOT_TEXT["accuracy_vs_time.png"]
+            title, entries = t["legends"][0]
+            self.assertIn("colour: mode; marker: table (SETSxWAYS)", title)
+            self.assertIn("not told apart: precision, latency", title)
+            self.assertTrue({"anyhit", "closest-exact", "closest-spec", "16x2",
+                             "unbounded"} <= set(entries))
+            t = sweep.PLOT_TEXT["skipped_vs_bytes.png"]
+            self.assertEqual(t["legends"][0][0], "colour: precision; marker: mode; panels: "
+                                                 "latency")
+            self.assertIn("unbounded\n(no fixed size)", t["ticks"])
+            self.assertEqual(len(t["xlabels"]), 4)  # 2 scenes x 2 latencies
+            # 12 configurations at two delays: two pages of at most 8 lines.
+            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
+            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
+                             4)
+            self.assertIn("(page 2 of 2)", sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
+            # The report leads with time; an unbounded table is not a size.
+            r = os.path.join(d, "r.md")
+            p = run_sweep("--from-csv", a, "--report", r)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            report = pathlib.Path(r).read_text()
+            self.assertTrue(report.split("\n## ")[1].startswith("Time: what each configuration "
+                                                                "saves (all rays; the cost "
+                                                                "model's cycles per ray)"))
+            self.assertRegex(report, r"\| precision=4 table=16x2 latency=none mode=anyhit \| "
+                                     r"(saves|costs) \d+\.\d\d%")
+            self.assertIn("% time |", report)
+
+
 class Errors(unittest.TestCase):
     def test_bad_input(self):
         with tempfile.TemporaryDirectory() as d:
@@ -222,14 +482,31 @@ class Errors(unittest.TestCase):
             self.assertIn("not both", p.stderr)
             self.assertFalse(os.path.exists(out))
 
+    def test_from_csv(self):
+        with tempfile.TemporaryDirectory() as d:
+            p = run_sweep("--from-csv", os.path.join(d, "missing.csv"), "--report",
+                          os.path.join(d, "r.md"))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("missing.csv: no such file", p.stderr)
+            self.assertNotIn("Traceback", p.stderr)
+            c = pathlib.Path(d, "a.csv")
+            c.write_text(Simulate.COST_HEADER + "\n")
+            p = run_sweep("--from-csv", str(c))
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--from-csv needs an output: --plots DIR, --report FILE or --doc PAGE",
+                          p.stderr)
+            p = run_sweep("--from-csv", str(c), "--report", os.path.join(d, "r.md"), "--resume")
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn("--from-csv runs nothing", p.stderr)
+
 
 class Simulate(unittest.TestCase):
     """--timing simulate: rows carry `hrpp simulate`'s cycles; sweeping the update delay is an
     error; the default (cost-model) CSV keeps its columns and bytes; timings are never merged."""
 
-    # The cost-model CSV's header as it was before --timing existed.
-    COST_HEADER = ("scene,kind,res,hash,precision,exp_bits,origin_bits,dir_bits,combine,table,"
-                   "tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
+    # The cost-model CSV's header as it was before --timing existed, with the preset column.
+    COST_HEADER = ("scene,kind,res,preset,hash,precision,exp_bits,origin_bits,dir_bits,combine,"
+                   "table,tag_bits,nodes_per_entry,go_up,update_delay,latency,mode,spp,order,rays,"
                    "table_bytes,table_entries,update_delay_rays,pred_precision,pred_recall,"
                    "true_positive,false_positive,false_negative,skipped_interior,skipped_tri,"
                    "skipped_walks,wrong_results,wrong_fraction,accuracy,baseline_cycles_per_ray,"

@@ -4,6 +4,8 @@
     hrpp sweep SCENE... --param NAME=V1,V2,... [--param ...] [--res WxH] [--spp N] --csv FILE
                [--timing cost-model | --timing simulate [--gpu mobile|desktop|FILE] [--oracle]]
                [--plots DIR] [--report FILE] [--scheduler ADDRESS | --workers N | --no-dask]
+               [--resume]
+    hrpp sweep --from-csv FILE... [--plots DIR] [--report FILE] [--doc PAGE]   (one at least)
 
 Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
 `hrpp predict` run, an independent task of a Dask distributed cluster: a LocalCluster with
@@ -12,6 +14,23 @@ see the same paths: the hrpp binary and the scenes). --no-dask runs the tasks on
 this process (the reference the Dask test compares with). The CSV has one row per scene x
 configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a run is
 reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
+
+Presets: --param preset=rtl-default,micro21,study2019 (the names `hrpp predict --help` lists, or
+FILE.json) runs each task with --preset NAME; the other swept parameters override the preset's
+values (the parameters not swept are the preset's). The CSV's preset column names it (empty for
+none) and the parameter columns hold the values that ran; labels name configurations by preset.
+
+Interruption: each finished run is appended to CSV.partial.jsonl as it finishes. SIGINT or
+SIGTERM stops the sweep with one line (exit 130 / 143), shuts the Dask cluster down and keeps the
+journal; --resume runs only the missing runs of the same sweep (same scenes, parameters,
+resolution, timing, GPU and hrpp version; refused naming the difference otherwise) and the CSV
+is then byte for byte an uninterrupted run's. The journal is removed when the CSV is written.
+
+The report and the plots lead with time (time_saved.png, the report's first table: cycles saved
+per configuration and scene; a configuration that takes longer than the baseline "costs" time).
+Every plot names its scenes, the fixed configuration and its axes' units; large sweeps go on
+further pages (NAME-2.png, ...). Unbounded tables have no size: plots put them apart, the report
+says "unbounded".
 
 Pareto fronts use the cost model's deterministic cycles, never the noisy CPU times.
 
@@ -26,15 +45,18 @@ keeps its columns. CSVs of different timings (or GPUs) are never merged into one
 """
 import argparse
 import csv
+import difflib
 import io
 import itertools
 import json
 import math
 import os
 import pathlib
+import re
+import signal
 import subprocess
 import sys
-import tempfile
+import textwrap
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -42,8 +64,11 @@ sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp.docs import markers, update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
 
-# Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it).
+# Sweepable parameters: name -> (hrpp predict option, default as hrpp predict uses it). preset:
+# a named predictor (hrpp predict --preset; "" for none): its values replace the defaults and the
+# parameters swept beside it override them (PRESET_SET are the ones a preset sets).
 PARAMS = {
+    "preset": ("--preset", ""),
     "hash": ("--hash", "faithful"),
     "precision": ("--precision", "6"),
     "exp_bits": ("--exp-bits", "3"),
@@ -63,6 +88,8 @@ PARAMS = {
 ALIASES = {"exp": "exp_bits", "ways": "table", "k": "nodes_per_entry", "nodes": "nodes_per_entry",
            "go_up_level": "go_up", "pipeline_latency": "latency", "ray_order": "order",
            "variant": "hash", "hash_variant": "hash", "size": "table"}
+PRESET_SET = ("hash", "precision", "exp_bits", "origin_bits", "dir_bits", "combine", "table",
+              "tag_bits", "nodes_per_entry", "go_up", "mode")
 KIND_ORDER = ["primary", "shadow", "ao", "reflection", "refraction", "diffuse", "all"]
 
 RESULT_COLUMNS = [
@@ -114,15 +141,74 @@ def parse_params(specs, timing="cost-model"):
     return grid
 
 
-def expand(grid):
-    """The configurations, in grid order: dicts with every parameter (defaults filled in)."""
+def expand(grid, presets=None):
+    """The configurations, in grid order: dicts with every parameter (defaults filled in; a
+    preset's values, from PRESETS {name: {parameter: value}}, replace the defaults)."""
     names = list(grid)
     configs = []
     for combo in itertools.product(*(grid[n] for n in names)):
         c = {n: d for n, (_, d) in PARAMS.items()}
-        c.update(dict(zip(names, combo)))
+        swept = dict(zip(names, combo))
+        if swept.get("preset"):
+            c.update(presets[swept["preset"]])
+        c.update(swept)
         configs.append(c)
     return configs
+
+
+def preset_names(hrpp):
+    """The preset names `hrpp predict --help` lists (None when it lists none)."""
+    proc = subprocess.run([hrpp, "predict", "--help"], capture_output=True, text=True)
+    m = re.search(r"--preset TEXT:\{([^}]*)\}", proc.stdout)
+    return m.group(1).split(",") if m else None
+
+
+def is_preset_file(value):
+    return value.endswith(".json") or os.sep in value
+
+
+def preset_values(hrpp, scene, preset):
+    """A preset's parameter values ({name: value} for PRESET_SET), from the configuration that
+    `hrpp predict --preset PRESET --json -` reports on one pixel of SCENE."""
+    cmd = [hrpp, "predict", scene, "--res", "1x1", "--preset", preset, "--json", "-"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise BadInput(f"--param preset={preset}: {' '.join(cmd)} exited {proc.returncode}:\n"
+                       + proc.stderr.strip())
+    c = json.loads(proc.stdout)["config"]
+    bounded = c["table"] != "unbounded"
+    return {"hash": c["hash"], "precision": str(c["precision_bits"]),
+            "exp_bits": str(c["exp_bits"]), "origin_bits": str(c["origin_bits"]),
+            "dir_bits": str(c["dir_bits"]), "combine": c["combine"], "table": c["table"],
+            "tag_bits": str(c["tag_bits"]) if bounded and c["tag_bits"] != c["full_tag_bits"]
+            else "full",
+            "nodes_per_entry": str(c["nodes_per_entry"]), "go_up": str(c["go_up"]),
+            "mode": c["mode"]}
+
+
+def check_presets(grid, hrpp, scene):
+    """Checks the swept presets before any run (names against `hrpp predict --help`, files
+    exist; a file is made absolute for the workers) and returns {preset: its values}."""
+    if "preset" not in grid:
+        return {}
+    known = None
+    for i, v in enumerate(grid["preset"]):
+        if is_preset_file(v):
+            if not os.path.isfile(v):
+                raise BadInput(f"--param preset={v}: no such preset file")
+            grid["preset"][i] = os.path.abspath(v)
+            continue
+        if known is None:
+            known = preset_names(hrpp) or []
+        if known and v not in known:
+            close = difflib.get_close_matches(v, known, n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            raise BadInput(f"--param preset={v}: unknown preset '{v}'{hint} (known: "
+                           f"{', '.join(known)}, or a FILE.json)")
+    if "tag_bits" in grid and "full" in grid["tag_bits"]:
+        raise BadInput("--param tag_bits=full cannot override a preset's tag bits (hrpp has no "
+                       "option for the full tag); sweep numbers of tag bits")
+    return {v: preset_values(hrpp, scene, v) for v in grid["preset"]}
 
 
 def applies(name, cfg):
@@ -137,10 +223,17 @@ def applies(name, cfg):
     return True
 
 
-def predict_args(cfg):
+def predict_args(cfg, swept=()):
+    """hrpp predict's options for a configuration: every parameter, or with a preset the preset
+    and the parameters SWEPT beside it (the others are the preset's)."""
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
+        if name == "preset":
+            args += [opt, v] if v else []
+            continue
+        if cfg["preset"] and name in PRESET_SET and name not in swept:
+            continue
         if name in ("tag_bits", "latency") and v in ("full", "none") or not applies(name, cfg):
             continue
         if name == "update_delay" and cfg["latency"] != "none":
@@ -149,12 +242,17 @@ def predict_args(cfg):
     return args
 
 
-def simulate_args(cfg):
+def simulate_args(cfg, swept=()):
     """hrpp simulate's options for a configuration: predict_args without the update delay and
     the pipeline latency (parse_params refuses sweeping them; their defaults add nothing)."""
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
+        if name == "preset":
+            args += [opt, v] if v else []
+            continue
+        if cfg["preset"] and name in PRESET_SET and name not in swept:
+            continue
         if name in NOT_SIMULATED or (name == "tag_bits" and v == "full") or not applies(name, cfg):
             continue
         args += [opt, v]
@@ -164,42 +262,29 @@ def simulate_args(cfg):
 def run_one(task):
     """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
     Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
-    remote worker need not have the repository on its path."""
-    if len(task) == 8:
-        return run_one_simulated(task)
-    index, hrpp, scene, cfg, res, timing, images = task
+    remote worker need not have the repository on its path. The report comes on hrpp's standard
+    output (--json -): no temporary file to leave behind when the sweep is interrupted."""
+    index, hrpp, scene, cfg, res = (task[k] for k in ("index", "hrpp", "scene", "cfg", "res"))
+    sim = task.get("sim")
     t0 = time.time()
-    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
-        out = os.path.join(tmp, "predict.json")
-        cmd = [hrpp, "predict", scene, "--res", res, "--json", out] + predict_args(cfg)
-        if timing:
+    if sim:
+        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", "-"]
+               + simulate_args(cfg, task["swept"]) + ([] if sim["oracle"] else ["--no-oracle"]))
+    else:
+        cmd = [hrpp, "predict", scene, "--res", res, "--json", "-"] + predict_args(
+            cfg, task["swept"])
+        if task["timing"]:
             cmd.append("--measure-time")
-        if images:
-            cmd += ["--spec-images", images]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
-                           "rc": proc.returncode}, 0
-        with open(out) as f:
-            data = json.load(f)
-    return index, rows_of(scene, cfg, res, data, timing), time.time() - t0
-
-
-def run_one_simulated(task):
-    """run_one for --timing simulate: `hrpp simulate` on one configuration and scene."""
-    index, hrpp, scene, cfg, res, _, _, sim = task
-    t0 = time.time()
-    with tempfile.TemporaryDirectory(prefix="hrpp-sweep-") as tmp:
-        out = os.path.join(tmp, "simulate.json")
-        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", out]
-               + simulate_args(cfg) + ([] if sim["oracle"] else ["--no-oracle"]))
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
-                           "rc": proc.returncode}, 0
-        with open(out) as f:
-            data = json.load(f)
-    return index, simulated_rows_of(scene, cfg, res, data), time.time() - t0
+        if task["images"]:
+            cmd += ["--spec-images", task["images"]]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
+                       "rc": proc.returncode}, 0
+    data = json.loads(proc.stdout)
+    rows = (simulated_rows_of(scene, cfg, res, data) if sim
+            else rows_of(scene, cfg, res, data, task["timing"]))
+    return index, rows, time.time() - t0
 
 
 def simulated_rows_of(scene, cfg, res, data):
@@ -346,6 +431,7 @@ def read_csv(paths):
     for p in paths:
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
+                r.setdefault("preset", "")  # a CSV from before presets could be swept
                 if r.get("timing") is None:  # a cost-model CSV
                     r.update({c: "" for c in SIM_COLUMNS})
                     r["timing"] = "cost-model"
@@ -388,64 +474,238 @@ def pareto_front(points, minimize=(), maximize=()):
 
 # ---- the sweep -----------------------------------------------------------------------------------
 
-def run_sweep(args, configs, scenes):
+class Interrupted(Exception):
+    """SIGINT or SIGTERM during the runs (signum); the finished runs are in the journal."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+        self.message = ""
+
+
+def journal_path(csv_path):
+    """Where a sweep writing CSV_PATH keeps its finished runs until it completes."""
+    return pathlib.Path(str(csv_path) + ".partial.jsonl")
+
+
+def hrpp_version(hrpp):
+    proc = subprocess.run([hrpp, "--version"], capture_output=True, text=True)
+    return proc.stdout.strip() or f"unknown ({hrpp} --version exited {proc.returncode})"
+
+
+def sweep_identity(args, grid, scenes):
+    """What a journal's runs must share with the sweep that resumes them."""
+    simulated = args.timing == "simulate"
+    return {"scenes": scenes, "grid": grid, "res": args.res, "timing": args.timing,
+            "cpu_times": not args.no_timing and not simulated,
+            "gpu": args.gpu if simulated else None, "oracle": bool(args.oracle),
+            "images": os.path.abspath(args.images) if args.images else None,
+            "hrpp": hrpp_version(args.hrpp)}
+
+
+def identity_differences(then, now):
+    """How a journal's sweep (THEN) differs from this one (NOW), in words; [] when the same."""
+    out = []
+    for key in now:
+        a, b = then.get(key), now[key]
+        if a == b:
+            continue
+        if key == "grid":
+            for n in list(dict.fromkeys(list(a or {}) + list(b))):
+                va, vb = (a or {}).get(n), b.get(n)
+                if va != vb:
+                    out.append(f"--param {n}: " + (",".join(va) if va else "not swept")
+                               + " then, " + (",".join(vb) if vb else "not swept") + " now")
+            if list(a or {}) != list(b) and not out:
+                out.append(f"the --param order: {', '.join(a)} then, {', '.join(b)} now")
+        elif key == "scenes":
+            out.append(f"scenes: {' '.join(a or [])} then, {' '.join(b)} now")
+        elif key == "cpu_times":
+            out.append("CPU times: " + ("measured then, --no-timing now" if a
+                                        else "--no-timing then, measured now"))
+        else:
+            out.append(f"{key}: {a} then, {b} now")
+    return out
+
+
+def read_journal(path):
+    """(header, {(scene, config index): rows}) of a journal; a last line cut short by a kill is
+    left out."""
+    lines = path.read_text().split("\n")
+    try:
+        header = json.loads(lines[0])["sweep"]
+    except (ValueError, KeyError, TypeError):
+        raise BadInput(f"{path}: not a sweep journal (delete it to start again)")
+    done = {}
+    for line in lines[1:]:
+        try:
+            e = json.loads(line)
+            done[(e["scene"], e["config"])] = e["rows"]
+        except (ValueError, KeyError, TypeError):
+            break
+    return header, done
+
+
+def open_journal(args, identity, n):
+    """The journal of this sweep, opened for appending, and the runs it already holds. Without
+    --resume an existing journal is an error (its runs would be lost); with --resume it must be
+    of the same sweep, and is rewritten without a cut-short last line."""
+    path = journal_path(args.csv)
+    done = {}
+    if path.exists():
+        header, done = read_journal(path)
+        if not args.resume:
+            raise BadInput(f"--csv {args.csv}: {path} holds {len(done)} of {n} runs of an "
+                           "interrupted sweep; --resume continues it (or delete it to start "
+                           "again)")
+        diff = identity_differences(header, identity)
+        if diff:
+            raise BadInput(f"--resume: {path} is of another sweep: " + "; ".join(diff))
+    elif args.resume:
+        raise BadInput(f"--resume: no interrupted sweep to continue ({path} does not exist)")
+    text = json.dumps({"sweep": identity}) + "\n" + "".join(
+        json.dumps({"scene": s, "config": ci, "rows": rows}) + "\n"
+        for (s, ci), rows in done.items())
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_atomic(path, text)
+    return path, open(path, "a"), done
+
+
+def run_sweep(args, configs, scenes, grid):
     tasks = []
-    images = None
+    swept = [n for n in grid if n != "preset"]
     for s in scenes:
         for ci, cfg in enumerate(configs):
             images = None
             if args.images and cfg["mode"] == "closest-spec":
                 images = os.path.join(os.path.abspath(args.images),
                                       f"{pathlib.Path(s).stem}-{ci:04d}")
-            task = ((s, ci), args.hrpp, s, cfg, args.res, not args.no_timing, images)
+            task = {"index": (s, ci), "hrpp": args.hrpp, "scene": s, "cfg": cfg,
+                    "swept": swept, "res": args.res, "timing": not args.no_timing,
+                    "images": images}
             if args.timing == "simulate":
-                task += ({"gpu": args.gpu, "oracle": args.oracle},)
+                task["sim"] = {"gpu": args.gpu, "oracle": args.oracle}
             tasks.append(task)
     n = len(tasks)
-    results = {}
+    path, journal, done = open_journal(args, sweep_identity(args, grid, scenes), n)
+    results = {(s, ci): rows for (s, ci), rows in done.items()}
+    todo = [t for t in tasks if t["index"] not in results]
+    if results:
+        print(f"sweep: resuming: {len(results)} of {n} runs kept in {path}", file=sys.stderr)
     t0 = time.time()
     # The swept parameters, named in each progress line.
-    varied = [k for k in PARAMS if len({c[k] for c in configs}) > 1]
+    varied = [k for k in PARAMS if k in grid and len({c[k] for c in configs}) > 1]
+    # A test hook: after this many runs, send this process SIGINT (N), SIGTERM (N:TERM) or wait
+    # for a signal from outside (N:WAIT).
+    stop = os.environ.get("HRPP_SWEEP_STOP_AFTER", "")
+    stop_after, _, stop_sig = stop.partition(":")
+    state = {"new": 0}
 
-    def progress(i, index, rows, secs):
+    def progress(index, rows, secs):
         if "error" in rows:  # bad input (hrpp's exit code 2) stays exit code 2
             print(f"hrpp sweep: {rows['error']}", file=sys.stderr)
             raise SystemExit(2 if rows["rc"] == 2 else 1)
+        journal.write(json.dumps({"scene": index[0], "config": index[1], "rows": rows}) + "\n")
+        journal.flush()
+        os.fsync(journal.fileno())
         results[index] = rows
+        state["new"] += 1
         a = rows[-1]
         params = " ".join(f"{k}={configs[index[1]][k]}" for k in varied)
-        print(f"sweep: [{i}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
+        print(f"sweep: [{len(results)}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
               f"saved {100 * a['saved_cycles']:6.2f}% cycles, skipped "
               f"{100 * a['skipped_interior']:6.2f}% nodes ({secs:.1f} s; total "
               f"{time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
+        if stop_after and state["new"] == int(stop_after):
+            if stop_sig == "WAIT":  # for a signal from outside
+                print("sweep: waiting for a signal", file=sys.stderr, flush=True)
+                while True:
+                    signal.pause()
+            os.kill(os.getpid(), signal.SIGTERM if stop_sig == "TERM" else signal.SIGINT)
 
-    if args.no_dask:
-        for i, t in enumerate(tasks, 1):
-            progress(i, *run_one(t))
-    else:
-        from dask.distributed import Client, LocalCluster, as_completed
-        if args.scheduler:
-            client = Client(args.scheduler)
-            cluster = None
-        else:
-            cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                                   processes=True, dashboard_address=None)
-            client = Client(cluster)
+    def on_signal(signum, frame):
+        # Once: the cleanup below must not be interrupted by a second Ctrl-C.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Interrupted(signum)
+
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
         try:
-            print(f"sweep: {n} runs on {len(client.scheduler_info()['workers'])} Dask workers "
-                  f"({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
-            futures = client.map(run_one, tasks, pure=False)
-            for i, fut in enumerate(as_completed(futures), 1):
-                progress(i, *fut.result())
+            run_tasks(args, todo, progress)
         finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            journal.close()
+    except Interrupted as e:
+        kept = len(results)
+        if kept:
+            e.message = (f"interrupted; {kept} of {n} runs kept in {path}; --resume "
+                         "continues")
+        else:
+            path.unlink(missing_ok=True)
+            e.message = "interrupted before any run finished; nothing kept"
+        raise
+    except SystemExit:
+        if not results:
+            path.unlink(missing_ok=True)
+        else:
+            print(f"hrpp sweep: {len(results)} of {n} runs kept in {path}; --resume "
+                  "continues", file=sys.stderr)
+        raise
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
     rows = []
     for s in scenes:
         for ci in range(len(configs)):
             rows += results[(s, ci)]
-    return rows
+    return rows, path
+
+
+def run_tasks(args, tasks, progress):
+    """Runs TASKS (here, or on a Dask cluster), calling PROGRESS(index, rows, seconds) as each
+    finishes. The cluster is shut down however this ends."""
+    if args.no_dask:
+        for t in tasks:
+            progress(*run_one(t))
+        return
+    if not tasks:
+        return
+    import logging
+    # The local workers' warnings about tasks cancelled by an interruption are no news (errors
+    # still show); set before the import, which reads it, and inherited by the worker processes.
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    from dask.distributed import Client, LocalCluster, as_completed
+    client = cluster = futures = None
+    try:
+        if args.scheduler:
+            client = Client(args.scheduler)
+        else:
+            # The worker processes inherit SIGINT ignored: a Ctrl-C reaches the whole process
+            # group, and only this driver handles it (shutting the workers down), not each worker
+            # with its own traceback. (The hrpp runs set their own handlers.)
+            handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
+                                       processes=True, dashboard_address=None)
+            finally:
+                signal.signal(signal.SIGINT, handler)
+            client = Client(cluster)
+        print(f"sweep: {len(tasks)} runs on {len(client.scheduler_info()['workers'])} Dask "
+              f"workers ({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
+        futures = client.map(run_one, tasks, pure=False)
+        for fut in as_completed(futures):
+            progress(*fut.result())
+    except BaseException:
+        # Interrupted or failed: the workers' warnings about cancelled tasks are no news.
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        if futures is not None:
+            client.cancel(futures)
+        raise
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 # ---- plots and report ----------------------------------------------------------------------------
@@ -472,11 +732,18 @@ def with_baselines(pts):
     return out
 
 
+def preset_name(v):
+    """A preset as labels show it: its name, or a FILE.json's stem."""
+    return pathlib.Path(v).stem if is_preset_file(v) else v
+
+
 def label(r, varied):
+    """A configuration in words: its preset's name (when it has one) and the swept parameters."""
     if r.get("baseline"):
         return f"no predictor (the baseline walk, spp={r['spp']})"
-    shown = [n for n in varied if n not in UNUSED.get(r["hash"], ())]
-    return " ".join(f"{n}={r[n]}" for n in shown) or "default"
+    shown = [n for n in varied if n not in UNUSED.get(r["hash"], ()) and n != "preset"]
+    words = [preset_name(r["preset"])] if r.get("preset") else []
+    return " ".join(words + [f"{n}={r[n]}" for n in shown]) or "default"
 
 
 def query(r):
@@ -486,7 +753,13 @@ def query(r):
 
 
 def varied_params(rows):
-    return [n for n in PARAMS if len({r[n] for r in rows}) > 1]
+    """The parameters that take more than one value: among the rows of one preset (a parameter
+    that differs only between presets is the presets' doing, and their names say it)."""
+    by = {}
+    for r in rows:
+        by.setdefault(r["preset"], []).append(r)
+    return [n for n in PARAMS if len({r[n] for r in rows}) > 1 and (
+        n == "preset" or any(len({r[n] for r in v}) > 1 for v in by.values()))]
 
 
 def groups(rows, by_query=False):
@@ -503,143 +776,357 @@ def simulated_on(rows):
     return rows[0]["gpu"] if rows and rows[0]["timing"] == "simulate" else None
 
 
+# The plots' limits: a page holds at most this many scenes (rows or columns of panels), lines
+# (configurations) and configurations of the time summary; the rest go on further pages
+# (NAME-2.png, ...).
+PAGE_SCENES = 3
+PAGE_LINES = 12
+PAGE_CONFIGS = 40
+TABLE_MARKERS = "os^vDPXhp<>"
+
+
+def fixed_config(rows):
+    """The configuration every row shares (the parameters not swept), in words: what a plot's
+    title names besides its scenes."""
+    r = rows[0]
+    fixed = [n for n in PARAMS if len({x[n] for x in rows}) == 1 and n != "preset"
+             and n not in UNUSED.get(r["hash"], ())
+             and not (n == "tag_bits" and r["table"] == "unbounded")
+             and not (n == "update_delay" and r["latency"] != "none")]
+    words = [f"preset {preset_name(r['preset'])}"] if len({x["preset"] for x in rows}) == 1 \
+        and r["preset"] else []
+    words += [f"{n}={r[n]}" for n in fixed if not (r["preset"] and n in PRESET_SET)]
+    res = sorted({x["res"] for x in rows})
+    return "fixed: " + " ".join(words) + f"; {'/'.join(res)} pixels"
+
+
+def time_axis(gpu):
+    return "cost model" if gpu is None else f"simulated, {gpu} GPU"
+
+
+def saved_words(r):
+    """A row's time figure in words: `saves 3.10%` or `costs 6.60% time` (cost model), with the
+    speed-up when simulated (`1.05x, saves 4.76%`, `0.94x: costs 6.38% time`)."""
+    s = r["saved_cycles"]
+    words = f"saves {pct(s)}" if s >= 0 else f"costs {pct(-s)} time"
+    if r.get("speedup", "") != "":
+        return f"{r['speedup']:.3f}x, {words}"
+    return words
+
+
+def config_labels(rows, varied):
+    """{configuration key: label}, the configurations in grid (CSV) order."""
+    out = {}
+    for r in rows:
+        out.setdefault(config_key(r), label(r, varied))
+    return out
+
+
+def config_key(r):
+    return tuple(r[n] for n in PARAMS)
+
+
+def layout_overlaps(fig):
+    """Pairs of a figure's title, panels and legends whose boxes overlap (none in a readable
+    figure): [(what, what)]. Checked on every plot written; sweep.Plots asserts there are none."""
+    fig.canvas.draw()
+    rend = fig.canvas.get_renderer()
+    boxes = []
+    if fig._suptitle is not None and fig._suptitle.get_text():
+        boxes.append(("title", fig._suptitle.get_window_extent(rend)))
+    for i, ax in enumerate(fig.axes):
+        if ax.get_visible():
+            boxes.append((f"panel {i} ({ax.get_title()})", ax.get_tightbbox(rend)))
+    for i, leg in enumerate(fig.legends):
+        boxes.append((f"legend {i}", leg.get_window_extent(rend)))
+    out = []
+    edge = fig.bbox
+    for a, ba in boxes:  # cut off at the figure's edge
+        if ba.x0 < edge.x0 - 1 or ba.y0 < edge.y0 - 1 or ba.x1 > edge.x1 + 1 \
+                or ba.y1 > edge.y1 + 1:
+            out.append((a, "the figure's edge"))
+    for i, (a, ba) in enumerate(boxes):
+        for b, bb in boxes[i + 1:]:
+            if a.startswith("panel") and b.startswith("panel"):
+                continue  # panels' tick labels may touch; titles and legends must not
+            w = min(ba.x1, bb.x1) - max(ba.x0, bb.x0)
+            h = min(ba.y1, bb.y1) - max(ba.y0, bb.y0)
+            if w > 1 and h > 1:
+                out.append((a, b))
+    return out
+
+
+LAYOUT_PROBLEMS = {}  # file name -> layout_overlaps of the last plot_all
+PLOT_TEXT = {}  # file name -> its title, axis labels, tick labels and legend text (for tests)
+
+
 def plot_all(rows, outdir):
+    """Writes the plots (the first one leads with time) and returns their paths. Each names its
+    scenes, the fixed configuration and the units of its axes; large sweeps go on pages."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     files = []
+    LAYOUT_PROBLEMS.clear()
+    PLOT_TEXT.clear()
     allrows = [r for r in rows if r["kind"] == "all"]
     scenes = sorted({r["scene"] for r in rows})
     kinds = [k for k in KIND_ORDER if any(r["kind"] == k for r in rows)]
+    varied = varied_params(rows)
+    gpu = simulated_on(rows)
+    fixed = fixed_config(rows)
+    labels = config_labels(allrows, varied)
 
-    def grid_axes(title):
-        fig, axes = plt.subplots(len(scenes), len(kinds), squeeze=False,
-                                 figsize=(3.2 * len(kinds), 2.8 * len(scenes)))
-        fig.suptitle(title)
-        return fig, axes
+    def pages(items, n):
+        return [items[i:i + n] for i in range(0, len(items), n)] or [[]]
+
+    def page_name(name, i):
+        return f"{name}.png" if i == 0 else f"{name}-{i + 1}.png"
+
+    def title(fig, what, page_scenes, page=None):
+        head = what + (f" (page {page[0] + 1} of {page[1]})" if page and page[1] > 1 else "")
+        width = int(fig.get_figwidth() * 72 / (9 * 0.62))  # characters of 9 points
+        fig.suptitle("\n".join(textwrap.wrap(head, width)) + "\n"
+                     + "\n".join(textwrap.wrap("scenes: " + ", ".join(page_scenes), width))
+                     + "\n" + "\n".join(textwrap.wrap(fixed, width)), fontsize=9)
 
     def save(fig, name):
-        fig.tight_layout()
         p = outdir / name
+        LAYOUT_PROBLEMS[name] = layout_overlaps(fig)
+        axes = [ax for ax in fig.axes if ax.get_visible()]
+        PLOT_TEXT[name] = {
+            "title": fig._suptitle.get_text(),
+            "xlabels": [ax.get_xlabel() for ax in axes if ax.get_label() != "<colorbar>"],
+            "ylabels": [ax.get_ylabel() for ax in axes],
+            "ticks": [t.get_text() for ax in axes for t in ax.get_xticklabels()
+                      + ax.get_yticklabels()],
+            "texts": [t.get_text() for ax in axes for t in ax.texts],
+            "legends": [(leg.get_title().get_text(), [t.get_text() for t in leg.get_texts()])
+                        for leg in fig.legends]}
         fig.savefig(p, dpi=80)
         plt.close(fig)
         files.append(p)
 
-    # 1. accuracy against time, Pareto front marked.
-    gpu = simulated_on(rows)
-    fig, axes = grid_axes(("correct answers vs cost-model cycles per ray" if gpu is None else
-                           f"correct answers vs simulated cycles per ray (GPU {gpu})")
-                          + "\nPareto fronts: closest-hit "
-                          "queries red, any-hit queries green dashed; dotted: baselines;\n"
-                          "marker size: prediction precision")
+    # 1. Time first: saved cycles per configuration and scene, those that cost time in red.
+    order = sorted(labels, key=lambda c: -sum(r["saved_cycles"] for r in allrows
+                                              if config_key(r) == c))
+    by = {(r["scene"], config_key(r)): r for r in allrows}
+    cfg_pages = pages(order, PAGE_CONFIGS)
+    for pi, cfgs in enumerate(cfg_pages):
+        longest = max([len(labels[c]) for c in cfgs] + [10])
+        fig, ax = plt.subplots(figsize=(max(7.0, 2.4 + 0.065 * longest + 1.3 * len(scenes)),
+                                        2.8 + 0.28 * len(cfgs)), layout="constrained")
+        vals = [[100 * by[(s, c)]["saved_cycles"] if (s, c) in by else math.nan
+                 for s in scenes] for c in cfgs]
+        lim = max([abs(v) for row in vals for v in row if not math.isnan(v)] + [0.1])
+        im = ax.imshow(vals, cmap="RdBu", vmin=-lim, vmax=lim, aspect="auto")
+        for i, row in enumerate(vals):
+            for j, v in enumerate(row):
+                if not math.isnan(v):
+                    ax.text(j, i, f"saves {v:.2f}%" if v >= 0 else f"costs {-v:.2f}%",
+                            ha="center", va="center", fontsize=7,
+                            color="white" if abs(v) > 0.6 * lim else "black")
+        ax.set_xticks(range(len(scenes)), scenes, fontsize=8)
+        ax.set_yticks(range(len(cfgs)), [labels[c] for c in cfgs], fontsize=7)
+        ax.set_xlabel("scene", fontsize=8)
+        ax.set_ylabel("configuration (best on average first)", fontsize=8)
+        cb = fig.colorbar(im, ax=ax, shrink=0.8)
+        cb.set_label(f"cycles saved, % of the baseline walk's ({time_axis(gpu)}); red: costs "
+                     "time", fontsize=7)
+        cb.ax.tick_params(labelsize=7)
+        title(fig, f"time: cycles saved per configuration, all rays ({time_axis(gpu)})",
+              scenes, (pi, len(cfg_pages)))
+        save(fig, page_name("time_saved", pi))
+
+    # 2. Correct answers against time; colour = mode, marker = table size (unbounded: its own).
+    modes = [m for m in ("anyhit", "closest-exact", "closest-spec") if any(r["mode"] == m
+                                                                          for r in rows)]
+    mode_colour = {"anyhit": "tab:green", "closest-exact": "tab:blue",
+                   "closest-spec": "tab:orange"}
+    tables = sorted({r["table"] for r in rows if r["table"] != "unbounded"},
+                    key=lambda t: tuple(int(x) for x in t.split("x")))
+    table_marker = {t: TABLE_MARKERS[i % len(TABLE_MARKERS)] for i, t in enumerate(tables)}
+    table_marker["unbounded"] = "*"
     g = groups(rows)
-    for i, s in enumerate(scenes):
-        for j, k in enumerate(kinds):
-            ax = axes[i][j]
-            pts = g.get((s, k), [])
-            if not pts:
-                ax.set_visible(False)
-                continue
-            for mode, colour in (("anyhit", "tab:green"), ("closest-exact", "tab:blue"),
-                                 ("closest-spec", "tab:orange")):
-                sel = [p for p in pts if p["mode"] == mode]
-                if sel:
-                    ax.scatter([p["hrpp_cycles_per_ray"] for p in sel],
-                               [p["accuracy"] for p in sel],
-                               s=[8 + 40 * p["pred_precision"] for p in sel], c=colour,
-                               label=mode, alpha=0.7)
-            for q, style in (("closest-hit", "r-"), ("any-hit", "g--")):
-                sub = [p for p in pts if query(p) == q]
-                if not sub:
+    rest = [n for n in varied if n not in ("mode", "table")]
+    scene_pages = pages(scenes, PAGE_SCENES)
+    for pi, ps in enumerate(scene_pages):
+        fig, axes = plt.subplots(len(ps), len(kinds), squeeze=False, layout="constrained",
+                                 figsize=(3.2 * len(kinds), 2.6 * len(ps) + 1.6))
+        for i, s in enumerate(ps):
+            for j, k in enumerate(kinds):
+                ax = axes[i][j]
+                pts = g.get((s, k), [])
+                if not pts:
+                    ax.set_visible(False)
                     continue
-                sub = with_baselines(sub)
-                front = [sub[f] for f in pareto_front(sub, ["hrpp_cycles_per_ray"], ["accuracy"])]
-                ax.plot([p["hrpp_cycles_per_ray"] for p in front],
-                        [p["accuracy"] for p in front], style, lw=1)
-                ax.axvline(sub[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
-            ax.set_title(f"{s} / {k}", fontsize=9)
-            ax.set_xlabel("cycles per ray" if gpu is None else
-                          f"cycles per ray (simulated, {gpu})", fontsize=8)
-            ax.set_ylabel("correct answers", fontsize=8)
-            ax.tick_params(labelsize=7)
-            if i == 0 and j == 0:
-                ax.legend(fontsize=6)
-    save(fig, "accuracy_vs_time.png")
+                for p in pts:
+                    ax.scatter(p["hrpp_cycles_per_ray"], p["accuracy"], s=30, alpha=0.75,
+                               c=mode_colour[p["mode"]], marker=table_marker[p["table"]],
+                               edgecolors="black" if p["table"] == "unbounded" else "none",
+                               linewidths=0.5)
+                for q, style in (("closest-hit", "r-"), ("any-hit", "g--")):
+                    sub = [p for p in pts if query(p) == q]
+                    if not sub:
+                        continue
+                    sub = with_baselines(sub)
+                    front = [sub[f] for f in pareto_front(sub, ["hrpp_cycles_per_ray"],
+                                                          ["accuracy"])]
+                    ax.plot([p["hrpp_cycles_per_ray"] for p in front],
+                            [p["accuracy"] for p in front], style, lw=1)
+                    ax.axvline(sub[0]["baseline_cycles_per_ray"], color="grey", ls=":", lw=1)
+                ax.set_title(f"{s} / {k} rays", fontsize=8)
+                ax.set_xlabel(f"cycles per ray ({time_axis(gpu)})", fontsize=7)
+                ax.set_ylabel("correct answers (fraction)", fontsize=7)
+                ax.tick_params(labelsize=7)
+        handles = ([Patch(color=mode_colour[m], label=m) for m in modes]
+                   + [Line2D([], [], ls="", marker=table_marker[t], c="grey",
+                             mec="black" if t == "unbounded" else "grey", label=t)
+                      for t in tables + (["unbounded"] if any(r["table"] == "unbounded"
+                                                                for r in rows) else [])]
+                   + [Line2D([], [], c="r", label="Pareto front, closest-hit queries"),
+                      Line2D([], [], c="g", ls="--", label="Pareto front, any-hit queries"),
+                      Line2D([], [], c="grey", ls=":", label="baseline walk (no predictor)")])
+        fig.legend(handles=handles, loc="outside lower center", ncol=min(6, len(handles)),
+                   fontsize=7, title="colour: mode; marker: table (SETSxWAYS)"
+                   + (f"; not told apart: {', '.join(rest)}" if rest else ""),
+                   title_fontsize=7)
+        title(fig, f"correct answers vs cycles per ray ({time_axis(gpu)})", ps,
+              (pi, len(scene_pages)))
+        save(fig, page_name("accuracy_vs_time", pi))
 
-    # 2. skipped work against table bytes, finite vs unbounded.
-    fig, axes = plt.subplots(1, len(scenes), squeeze=False, figsize=(3.4 * len(scenes), 3))
-    for i, s in enumerate(scenes):
-        ax = axes[0][i]
-        pts = [r for r in allrows if r["scene"] == s]
-        fin = [p for p in pts if p["table"] != "unbounded"]
-        unb = [p for p in pts if p["table"] == "unbounded" and p["table_bytes"] != ""]
-        if fin:
-            ax.scatter([p["table_bytes"] for p in fin], [100 * p["skipped_interior"] for p in fin],
-                       s=12, label="finite")
-        if unb:
-            ax.scatter([p["table_bytes"] for p in unb], [100 * p["skipped_interior"] for p in unb],
-                       s=18, marker="x", c="k", label="unbounded")
-        ax.set_xscale("log")
-        ax.set_title(s, fontsize=9)
-        ax.set_xlabel("table bytes", fontsize=8)
-        ax.set_ylabel("% interior tests skipped", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.legend(fontsize=6)
-    save(fig, "skipped_vs_bytes.png")
+    # 3. Skipped work against table bytes: colour = hash (or preset), marker = mode, one column
+    # of panels per update delay (or latency) when swept; unbounded tables apart, at the right.
+    facet = next((n for n in ("latency", "update_delay") if n in varied), None)
+    colour_by = next((n for n in varied if n not in ("mode", "table", facet)), "hash")
+    colour_vals = sorted({r[colour_by] for r in allrows},
+                         key=lambda v: (0, int(v), "") if v.isdigit() else (1, 0, v))
+    colour = {v: f"C{i % 10}" for i, v in enumerate(colour_vals)}
+    mode_marker = {"anyhit": "^", "closest-exact": "o", "closest-spec": "s"}
+    facet_vals = (sorted({r[facet] for r in allrows}, key=lambda v: -1 if v == "none" else int(v))
+                  if facet else [None])
+    for pi, ps in enumerate(scene_pages):
+        fig, axes = plt.subplots(len(ps), len(facet_vals), squeeze=False, layout="constrained",
+                                 figsize=(max(5.0, 3.6 * len(facet_vals)), 2.8 * len(ps) + 1.6))
+        fin_bytes = [r["table_bytes"] for r in allrows if r["table"] != "unbounded"
+                     and r["table_bytes"] != ""]
+        unb_x = max(fin_bytes) * 4 if fin_bytes else 1.0
+        for i, s in enumerate(ps):
+            for j, fv in enumerate(facet_vals):
+                ax = axes[i][j]
+                pts = [r for r in allrows if r["scene"] == s and (facet is None or r[facet] == fv)]
+                for p in pts:
+                    unb = p["table"] == "unbounded"
+                    if not unb and p["table_bytes"] == "":
+                        continue
+                    ax.scatter(unb_x if unb else p["table_bytes"], 100 * p["skipped_interior"],
+                               s=30, alpha=0.75, c=colour[p[colour_by]],
+                               marker=mode_marker[p["mode"]])
+                ax.set_xscale("log")
+                ax.minorticks_off()
+                lo, hi = (min(fin_bytes) / 1.6, max(fin_bytes) * 1.6) if fin_bytes else (1, 2)
+                ticks = [m * 10.0 ** e for e in range(math.floor(math.log10(lo)),
+                                                      math.ceil(math.log10(hi)) + 1)
+                         for m in (1, 2, 5) if lo <= m * 10.0 ** e <= hi]
+                names = [f"{b / 1e3:g} KB" if b >= 1000 else f"{b:.0f} B" for b in ticks]
+                if any(p["table"] == "unbounded" for p in pts):
+                    ax.axvline(unb_x / 2, color="grey", lw=0.8, ls="--")
+                    ticks.append(unb_x)
+                    names.append("unbounded\n(no fixed size)")
+                ax.set_xticks(ticks, names, fontsize=6)
+                ax.set_xlim(lo, max(ticks) * 1.6)
+                ax.set_title(s + (f" / {facet}={fv}" if facet else ""), fontsize=8)
+                ax.set_xlabel("table size, bytes (log scale); unbounded apart", fontsize=7)
+                ax.set_ylabel("interior-node tests skipped, % (net)", fontsize=7)
+                ax.tick_params(labelsize=7)
+        handles = ([Patch(color=colour[v], label=preset_name(v) if colour_by == "preset"
+                          else f"{colour_by}={v}") for v in colour_vals]
+                   + [Line2D([], [], ls="", marker=mode_marker[m], c="grey", label=m)
+                      for m in modes])
+        rest3 = [n for n in varied if n not in (colour_by, "mode", "table", facet)]
+        fig.legend(handles=handles, loc="outside lower center", ncol=min(6, len(handles)),
+                   fontsize=7, title=f"colour: {colour_by}; marker: mode"
+                   + (f"; panels: {facet}" if facet else "")
+                   + (f"; not told apart: {', '.join(rest3)}" if rest3 else ""),
+                   title_fontsize=7)
+        title(fig, "interior-node tests skipped vs table size, all rays", ps,
+              (pi, len(scene_pages)))
+        save(fig, page_name("skipped_vs_bytes", pi))
 
-    # 3. prediction hit rate against pipeline latency (update delay in rays): one line per scene
-    # and combination of the other parameters that was run at more than one delay.
-    lines3 = delay_groups(rows)
+    # 4. Prediction precision and recall against the update delay (all rays): one column of
+    # panels per scene, a row each for precision and recall, a line per configuration.
+    lines3 = {k: v for k, v in delay_groups(rows).items() if k[1] == "all"}
     if lines3:
-        # One row of panels per combination of the other parameters, one column per ray kind;
-        # colour = scene, solid = precision, dashed = recall.
         others = sorted({o for (_, _, o) in lines3})
         names = [n for n in PARAMS if n not in ("update_delay", "latency")]
         vary = [i for i, n in enumerate(names) if len({o[i] for o in others}) > 1]
-        colours = {s: f"C{i % 10}" for i, s in enumerate(scenes)}
-        fig, axes = plt.subplots(len(others), len(kinds), squeeze=False,
-                                 figsize=(3.4 * len(kinds), 2.8 * len(others) + 0.8))
-        fig.suptitle("prediction precision (solid) and recall (dashed) against the update delay")
-        for i, o in enumerate(others):
-            title = " ".join(f"{names[v]}={o[v]}" for v in vary)
-            for j, k in enumerate(kinds):
-                ax = axes[i][j]
-                for (s, kk, oo), pts in sorted(lines3.items()):
-                    if kk != k or oo != o:
-                        continue
-                    x = [max(0.5, p["update_delay_rays"]) for p in pts]
-                    ax.plot(x, [p["pred_precision"] for p in pts], "o-", ms=3, c=colours[s],
-                            label=s)
-                    ax.plot(x, [p["pred_recall"] for p in pts], "x--", ms=3, c=colours[s])
-                ax.set_xscale("log")
-                ax.set_ylim(-0.02, 1.02)
-                ax.set_title(f"{k} {title}", fontsize=8)
-                ax.set_xlabel("update delay, rays (0 drawn at 0.5)", fontsize=7)
-                ax.set_ylabel("precision / recall", fontsize=7)
-                ax.tick_params(labelsize=7)
-        handles, labels_ = axes[0][0].get_legend_handles_labels()
-        fig.legend(handles, labels_, loc="lower center", ncol=max(1, len(scenes)), fontsize=7)
-        fig.tight_layout(rect=(0, 0.06, 1, 1))
-        p = outdir / "hit_rate_vs_latency.png"
-        fig.savefig(p, dpi=80)
-        plt.close(fig)
-        files.append(p)
 
-    # 4. speculative image error against time saved.
+        def line_label(o):
+            r = dict(zip(names, o))
+            words = [preset_name(r["preset"])] if r["preset"] else []
+            return " ".join(words + [f"{names[v]}={o[v]}" for v in vary
+                                     if names[v] != "preset"]) or "default"
+
+        line_pages = [(ps, os_) for ps in pages(scenes, PAGE_SCENES + 1)
+                      for os_ in pages(others, PAGE_LINES)]
+        for pi, (ps, os_) in enumerate(line_pages):
+            longest = max(len(line_label(o)) for o in os_)
+            width = max(5.0, 3.6 * len(ps), 0.075 * longest + 1.0)
+            ncol = max(1, min(3, int(width / (0.075 * longest + 0.8))))
+            fig, axes = plt.subplots(2, len(ps), squeeze=False, layout="constrained",
+                                     figsize=(width, 5.6 + 0.16 * math.ceil(len(os_) / ncol)))
+            colours = {o: f"C{i % 10}" for i, o in enumerate(os_)}
+            for j, s in enumerate(ps):
+                for i, (what, col) in enumerate((("prediction precision", "pred_precision"),
+                                                 ("recall", "pred_recall"))):
+                    ax = axes[i][j]
+                    for o in os_:
+                        pts = lines3.get((s, "all", o))
+                        if not pts:
+                            continue
+                        ax.plot([max(0.5, p["update_delay_rays"]) for p in pts],
+                                [p[col] for p in pts], "o-", ms=3, c=colours[o])
+                    ax.set_xscale("log")
+                    ax.set_ylim(-0.02, 1.02)
+                    ax.set_title(f"{s}: {what}", fontsize=8)
+                    ax.set_xlabel("update delay, rays (log; 0 drawn at 0.5)", fontsize=7)
+                    ax.set_ylabel(f"{what} (fraction)", fontsize=7)
+                    ax.tick_params(labelsize=7)
+            handles = [Line2D([], [], marker="o", ms=3, c=colours[o], label=line_label(o))
+                       for o in os_]
+            fig.legend(handles=handles, loc="outside lower center", ncol=ncol, fontsize=7,
+                       title="configuration (colour)", title_fontsize=7)
+            title(fig, "prediction precision and recall vs the update delay, all rays", ps,
+                  (pi, len(line_pages)))
+            save(fig, page_name("hit_rate_vs_latency", pi))
+
+    # 5. Speculative image error against time saved; the region where prediction costs time
+    # shaded.
     spec = [r for r in allrows if r["mode"] == "closest-spec" and r["image_mae"] != ""]
     if spec:
-        fig, ax = plt.subplots(figsize=(5, 3.5))
+        fig, ax = plt.subplots(figsize=(6, 4.6), layout="constrained")
+        xs = [100 * p["saved_cycles"] for p in spec]
+        lo = min(xs + [0.0])
+        if lo < 0:
+            ax.axvspan(lo * 1.1 - 0.1, 0, color="tab:red", alpha=0.08, lw=0)
+            ax.text(lo * 0.55, 0.98, "costs time", transform=ax.get_xaxis_transform(),
+                    ha="center", va="top", fontsize=7, color="tab:red")
+        ax.axvline(0, color="grey", lw=0.8)
         for s in scenes:
             pts = [r for r in spec if r["scene"] == s]
             ax.scatter([100 * p["saved_cycles"] for p in pts],
-                       [100 * p["image_differ"] for p in pts], s=12, label=s)
-        ax.set_xlabel("% cost-model cycles saved (all rays)" if gpu is None else
-                      f"% simulated cycles saved (all rays, {gpu})")
-        ax.set_ylabel("% pixels that differ from the exact image")
-        ax.set_title("closest-spec: image error vs time saved", fontsize=9)
-        ax.legend(fontsize=6)
+                       [100 * p["image_differ"] for p in pts], s=14, label=s)
+        ax.set_xlabel(f"cycles saved, % of the baseline's (all rays; {time_axis(gpu)})",
+                      fontsize=8)
+        ax.set_ylabel("pixels that differ from the exact image, %", fontsize=8)
+        ax.tick_params(labelsize=7)
+        fig.legend(loc="outside lower center", ncol=min(4, len(scenes)), fontsize=7,
+                   title="scene (colour)", title_fontsize=7)
+        title(fig, "closest-spec: image error vs time saved", scenes)
         save(fig, "spec_error_vs_saved.png")
     return files
 
@@ -649,8 +1136,42 @@ def pct(x):
 
 
 def table_bytes(r):
-    """A row's table bytes for a table cell ('-' when unknown: an unbounded simulated table)."""
+    """A row's table bytes for a table cell: an unbounded table has no size (its entries used, when
+    known, are not a size to compare with a fixed table's)."""
+    if r["table"] == "unbounded":
+        used = r.get("table_entries", "")
+        return "unbounded" + (f" ({int(used):,} entries used)" if used != "" else "")
     return "-" if r["table_bytes"] == "" else f"{int(r['table_bytes']):,}"
+
+
+def saved_cell(x):
+    """Saved cycles for a table cell: `3.10%`, or `costs 6.60%` when prediction costs time."""
+    return pct(x) if x >= 0 else f"costs {pct(-x)}"
+
+
+def time_section(rows, varied, gpu):
+    """The report's first table: every configuration's time figure on every scene (all rays),
+    best on average first, those that cost time said so."""
+    allrows = [r for r in rows if r["kind"] == "all"]
+    scenes = sorted({r["scene"] for r in allrows})
+    labels = config_labels(allrows, varied)
+    by = {(r["scene"], config_key(r)): r for r in allrows}
+    order = sorted(labels, key=lambda c: -sum(r["saved_cycles"] for r in allrows
+                                              if config_key(r) == c))
+    costs = [c for c in order if all(by[(s, c)]["saved_cycles"] < 0 for s in scenes
+                                     if (s, c) in by)]
+    what = ("the cost model's cycles per ray" if gpu is None
+            else f"simulated cycles on the `{gpu}` GPU (speed-up = baseline / HRPP cycles)")
+    out = [f"## Time: what each configuration saves (all rays; {what})", "",
+           "Cycles saved against the baseline walk without a predictor; a configuration that "
+           "takes longer than the baseline \"costs\" time. Best on average first."
+           + (f" {len(costs)} of {len(order)} configurations cost time on every scene."
+              if costs else ""), "",
+           "| configuration | " + " | ".join(scenes) + " |", "|---|" + "---|" * len(scenes)]
+    for c in order:
+        out.append(f"| {labels[c]} | " + " | ".join(
+            saved_words(by[(s, c)]) if (s, c) in by else "-" for s in scenes) + " |")
+    return out + [""]
 
 
 def report(rows, plots, path, command):
@@ -667,6 +1188,7 @@ def report(rows, plots, path, command):
              time_is + " Accuracy: the share "
              "of correct answers (only closest-spec can be wrong), prediction precision and recall, "
              "net skipped interior-node tests. Swept: " + (", ".join(varied) or "nothing") + ".", ""]
+    lines += time_section(rows, varied, gpu)
     for p in plots:
         lines += [f"![{p.stem}]({os.path.relpath(p, pathlib.Path(path).parent)})", ""]
     lines += ["## Pareto-optimal configurations (cycles per ray vs correct answers)"
@@ -697,7 +1219,7 @@ def report(rows, plots, path, command):
                 cpu = f"{p['speedup']:.3f}x"
             lines.append(
                 f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
-                f"({p['baseline_cycles_per_ray']:.1f}) | {pct(p['saved_cycles'])} | "
+                f"({p['baseline_cycles_per_ray']:.1f}) | {saved_cell(p['saved_cycles'])} | "
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
                 f"{pct(p['skipped_interior'])} | {table_bytes(p)} | {cpu} |")
         lines.append("")
@@ -736,7 +1258,7 @@ def latency_section(rows, varied):
             out.append(f"| {s} | {k} | {label(p, shown)} | {p['latency']} | "
                        f"{int(p['update_delay_rays'])} | {p['pred_precision']:.4f} | "
                        f"{p['pred_recall']:.4f} | {pct(p['skipped_interior'])} | "
-                       f"{pct(p['saved_cycles'])} |")
+                       f"{saved_cell(p['saved_cycles'])} |")
     return out + [""]
 
 
@@ -766,7 +1288,7 @@ def spec_section(rows, varied, path):
             rel = os.path.relpath(pic, pathlib.Path(path).parent)
             link = f"[png]({rel})"
             pics.append(f"![{s}]({rel})")
-        out.append(f"| {s} | {label(best, varied)} | {pct(best['saved_cycles'])} | "
+        out.append(f"| {s} | {label(best, varied)} | {saved_cell(best['saved_cycles'])} | "
                    f"{pct(best['wrong_fraction'])} | {best['image_mae']:.5f} | "
                    f"{pct(best['image_differ'])} | {link} |")
     return out + [""] + [p + "\n" for p in pics]
@@ -854,9 +1376,11 @@ def recommend(rows, varied):
             if best is None:
                 msg = ("none saves anything" if u["saved_cycles"] <= 0
                        else "none of the swept tables")
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {msg} | - | - |")
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | {msg} "
+                           "| - | - |")
             else:
-                out.append(f"| {u['scene']} | {oth} | {pct(u['saved_cycles'])} | {best['table']} "
+                out.append(f"| {u['scene']} | {oth} | {saved_cell(u['saved_cycles'])} | "
+                           f"{best['table']} "
                            f"| {int(best['table_bytes']):,} | {pct(best['saved_cycles'])} |")
         out.append("")
     out += delta_lines(rows)
@@ -881,6 +1405,8 @@ def short_label(r):
         return "no predictor"
     words = [f"improved {r['origin_bits']}/{r['dir_bits']}" if r["hash"] == "improved"
              else f"P={r['precision']}", r["table"]]
+    if r.get("preset"):
+        words = [preset_name(r["preset"]), r["table"]]
     if r["tag_bits"] != "full":
         words.append(f"T{r['tag_bits']}")
     words.append(r["mode"])
@@ -1113,7 +1639,10 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="*", help="glTF scenes (.glb)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
-                    help="parameter values to sweep; names: " + ", ".join(PARAMS))
+                    help="parameter values to sweep; names: " + ", ".join(PARAMS)
+                    + "; preset takes the names `hrpp predict --help` lists (rtl-default, "
+                    "rtl-NAME, micro21, study2019) or FILE.json, passed as --preset, the other "
+                    "swept parameters override its values")
     ap.add_argument("--res", default="64x64", help="image resolution WxH (default 64x64)")
     ap.add_argument("--spp", help="samples per pixel (same as --param spp=N)")
     ap.add_argument("--csv", help="CSV file to write (required unless --from-csv)")
@@ -1138,6 +1667,11 @@ def main():
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                     help="local Dask cluster: worker processes (default: all cores)")
     ap.add_argument("--no-dask", action="store_true", help="run the tasks one by one, here")
+    ap.add_argument("--resume", action="store_true",
+                    help="continue the interrupted sweep whose finished runs are in "
+                         "CSV.partial.jsonl: the same scenes, parameters, resolution, timing "
+                         "and hrpp version (refused, naming the difference, otherwise); only "
+                         "the missing runs are run")
     ap.add_argument("--no-timing", action="store_true",
                     help="do not measure CPU times (the CSV is then reproducible byte for byte)")
     ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"), help="the hrpp binary")
@@ -1147,6 +1681,14 @@ def main():
     try:
         check_outputs(args)
         if args.from_csv:
+            if args.scenes or args.param or args.csv or args.resume:
+                raise BadInput("--from-csv runs nothing: no scenes, --param, --csv or --resume")
+            if not (args.plots or args.report or args.doc):
+                raise BadInput("--from-csv needs an output: --plots DIR, --report FILE or "
+                               "--doc PAGE")
+            for c in args.from_csv:
+                if not os.path.isfile(c):
+                    raise BadInput(f"--from-csv {c}: no such file")
             rows = read_csv(args.from_csv)
         else:
             if not args.scenes:
@@ -1179,16 +1721,21 @@ def main():
                 raise BadInput("--workers must be at least 1")
             if not os.access(args.hrpp, os.X_OK):
                 raise BadInput(f"{args.hrpp}: not an executable (build it: make build)")
-            configs = expand(parse_params(params, args.timing))
+            grid = parse_params(params, args.timing)
             scenes = [os.path.abspath(s) for s in args.scenes]
-            rows = run_sweep(args, configs, scenes)
+            configs = expand(grid, check_presets(grid, args.hrpp, scenes[0]))
+            rows, journal = run_sweep(args, configs, scenes, grid)
             write_csv(args.csv, rows, simulated=args.timing == "simulate")
+            journal.unlink()
             print(f"sweep: wrote {args.csv} ({len(rows)} rows, {len(configs)} configurations x "
                   f"{len(scenes)} scenes)", file=sys.stderr)
             rows = read_csv([args.csv])
     except BadInput as e:
         print(f"hrpp sweep: {e}", file=sys.stderr)
         return 2
+    except Interrupted as e:
+        print(f"hrpp sweep: {e.message}", file=sys.stderr)
+        return 128 + e.signum
     plots = plot_all(rows, args.plots) if args.plots else []
     for p in plots:
         print(f"sweep: wrote {p}", file=sys.stderr)
