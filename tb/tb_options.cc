@@ -22,8 +22,13 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   src->require_option(1);
   app.add_option("--rays", o->nrays, "rays to run (at most)")
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32));
-  app.add_option("--config", o->config, "RTL configuration")
-      ->check(CLI::IsMember(rtl_config_names()));
+  std::vector<std::string> configs = rtl_config_names();
+  for (const std::string& n : rtl_config_names()) configs.push_back("rtl-" + n);
+  app.add_option("--config", o->config,
+                 "RTL configuration (rtl/config/hrpp_configs.json), by its name or by its preset "
+                 "name as hrpp predict/simulate take it (rtl-default is default)")
+      ->check(CLI::IsMember(configs))
+      ->capture_default_str();
   app.add_option("--mode", o->mode, "how closest-hit rays use predictions")
       ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}));
   app.add_option("--go-up", o->go_up, "go-up level of inserted nodes")->check(CLI::Range(0u, 64u));
@@ -77,6 +82,7 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   } catch (const CLI::ParseError& e) {
     return cli::usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
+  if (o->config.starts_with("rtl-")) o->config = o->config.substr(4);  // the preset's name
   // Outputs are checked before the work starts: a run never ends without its waveform.
   if (!o->trace.empty())
     if (const std::string why = cli::output_file_problem(o->trace); !why.empty()) {

@@ -40,6 +40,7 @@ void print_header(const RtlConfig& spec, const CycleConfig& cc, const TbOptions&
       rays.rays.size(), !stream_path.empty() ? stream_path.c_str() : rays.scene_file.c_str(),
       invalid ? (" (" + std::to_string(invalid) + " invalid rays not issued)").c_str() : "",
       (unsigned long long)o.seed);
+  std::fflush(stdout);  // before the run, also when piped
 }
 
 void print_parity(const Run& r, std::chrono::steady_clock::time_point t_sim, std::clock_t cpu_sim) {

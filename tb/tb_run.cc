@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hrpp/util/progress.h"
 #include "tb_dut.h"
 
 namespace hrpp::tb {
@@ -149,7 +150,11 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   reset_dut(dut.get(), cc, [&] {
     if (wave) wave->dump(time++);
   });
+  // Progress on standard error for long runs (hrpp/util/progress.h): after 2 s, then in place
+  // on a terminal or every 5 s when piped.
+  Progress progress(stderr, "tb_hrpp", "rays", rays.size());
   for (uint64_t cycle = 0; !eng.done(); ++cycle) {
+    if ((cycle & 0xFFF) == 0) progress.update(eng.rays_finished());
     if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
       std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
                   (unsigned long long)eng.rays_finished(), rays.size(), (unsigned long long)cycle);

@@ -474,6 +474,34 @@ def main():
     else:
         print("ok   %s" % name)
 
+    # tb_hrpp: --config takes the RTL configurations by their preset names too; the configuration
+    # first, then (piped) progress lines on standard error after about 2 s.
+    name = "tb_hrpp --config rtl-default: configuration first, then progress lines when piped"
+    with open(os.path.join(tmp, "tb_stdout.txt"), "w") as out_f:
+        p = subprocess.Popen([tb_hrpp, "--scene", scene, "--rays", "4000000", "--config",
+                              "rtl-default"], stdout=out_f, stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        line = p.stderr.readline()
+        dt = time.monotonic() - t0
+        stdout_then = open(os.path.join(tmp, "tb_stdout.txt")).read()
+        p.kill()
+        p.communicate()
+    problems = []
+    if not re.fullmatch(r"tb_hrpp: +\d+\.\d% of \d+ rays, [\d.]+ (M |k )?rays/s, "
+                        r"(\d+ s|\d+ min \d+ s|\d+ h \d+ min) left\n", line):
+        problems.append("first stderr line %r is not a progress line" % line)
+    elif dt < 1.5:
+        problems.append("a progress line after %.1f s (expected none in the first 2 s)" % dt)
+    if not stdout_then.startswith("tb_hrpp: config default (improved hash, 128 sets x 8 ways"):
+        problems.append("the configuration was not printed before the run: %r" % stdout_then[:300])
+    if problems:
+        failures += 1
+        print("FAIL %s: %s" % (name, "; ".join(problems)))
+    else:
+        print("ok   %s" % name)
+    run([tb_hrpp, "--scene", scene, "--rays", "10", "--config", "rtl-defualt"], 2,
+        r"did you mean|rtl-default", name="tb_hrpp --config misspelt")
+
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):
         return ["ran before checking its output: %r" % p.stdout[:200]] if p.stdout.strip() else []

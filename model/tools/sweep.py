@@ -170,7 +170,8 @@ def is_preset_file(value):
 def preset_values(hrpp, scene, preset):
     """A preset's parameter values ({name: value} for PRESET_SET), from the configuration that
     `hrpp predict --preset PRESET --json -` reports on one pixel of SCENE."""
-    cmd = [hrpp, "predict", scene, "--res", "1x1", "--preset", preset, "--json", "-"]
+    cmd = [hrpp, "predict", scene, "--res", "1x1", "--preset", preset, "--timing", "cost-model",
+           "--json", "-"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         raise BadInput(f"--param preset={preset}: {' '.join(cmd)} exited {proc.returncode}:\n"
@@ -271,8 +272,8 @@ def run_one(task):
         cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", "-"]
                + simulate_args(cfg, task["swept"]) + ([] if sim["oracle"] else ["--no-oracle"]))
     else:
-        cmd = [hrpp, "predict", scene, "--res", res, "--json", "-"] + predict_args(
-            cfg, task["swept"])
+        cmd = [hrpp, "predict", scene, "--res", res, "--timing", "cost-model", "--json",
+               "-"] + predict_args(cfg, task["swept"])
         if task["timing"]:
             cmd.append("--measure-time")
         if task["images"]:

@@ -294,7 +294,11 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
             return "'" + v + "' is neither a preset (" + names + ") nor a .json file" +
                    (c.empty() ? "" : "; did you mean " + c + "?");
           },
-          "NAME|FILE.json"));
+          [&] {  // as CLI::IsMember shows its names, so that scripts can read them
+            std::string d;
+            for (const std::string& p : presets) d += (d.empty() ? "{" : ",") + p;
+            return d + "}|FILE.json";
+          }()));
   app->add_option("--hash", a.hash, "hash variant (micro21: MICRO 2021's grid-spherical hash)")
       ->check(CLI::IsMember({"faithful", "improved", "micro21"}))
       ->capture_default_str();

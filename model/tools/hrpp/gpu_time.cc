@@ -85,8 +85,10 @@ void add_timing_options(CLI::App* app, TimingArgs& a) {
 bool check_timing_args(const char* cmd, const TimingArgs& a, sim::GpuConfig* gpu) {
   if (a.timing != "simulate") {
     if (a.gpu_option && a.gpu_option->count()) {
-      std::fprintf(stderr, "hrpp %s: --gpu applies only to --timing simulate; this run uses "
-                   "--timing %s\n", cmd, a.timing.c_str());
+      std::fprintf(stderr,
+                   "hrpp %s: --gpu applies only to --timing simulate; this run uses "
+                   "--timing %s\n",
+                   cmd, a.timing.c_str());
       return false;
     }
     return true;
@@ -103,7 +105,8 @@ nlohmann::json GpuTime::to_json() const {
           {"baseline_cycles", none.cycles},
           {"cycles", pred.cycles},
           {"speedup", speedup()},
-          {"time_saved_fraction", pred.cycles && none.cycles ? 1.0 - double(pred.cycles) / double(none.cycles) : 0.0},
+          {"time_saved_fraction",
+           pred.cycles && none.cycles ? 1.0 - double(pred.cycles) / double(none.cycles) : 0.0},
           {"stall_cycles", pred.predictor.stall_cycles}};
 }
 
@@ -125,10 +128,9 @@ bool simulate_time(const char* cmd, const TimingArgs& t, const sim::GpuConfig& g
       const auto now = std::chrono::steady_clock::now();
       if (now - last < std::chrono::seconds(2)) return;
       last = now;
-      std::fprintf(stderr, "%s: time on %s, %s: %5.1f%% of %llu rays, %.0f s\n", cmd,
-                   t.gpu.c_str(), name, 100.0 * pr.finished / std::max<uint64_t>(1, pr.rays),
-                   (unsigned long long)pr.rays,
-                   std::chrono::duration<double>(now - t0).count());
+      std::fprintf(stderr, "%s: time on %s, %s: %5.1f%% of %llu rays, %.0f s\n", cmd, t.gpu.c_str(),
+                   name, 100.0 * pr.finished / std::max<uint64_t>(1, pr.rays),
+                   (unsigned long long)pr.rays, std::chrono::duration<double>(now - t0).count());
     };
     return sim::simulate(bvh, rays, o);
   };

@@ -11,8 +11,10 @@
 #include <string>
 
 #include "common.h"
+#include "gpu_time.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/util/atomic_file.h"
 #include "hrpp/util/progress.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
@@ -24,11 +26,15 @@ struct RenderArgs {
   std::string scene, out;
   WorkloadArgs w;
   PredictorArgs p;
+  TimingArgs t;  // the time figure: simulated (--gpu) or the cost model's
 };
 
 int cmd_render(const RenderArgs& a) {
   PredictorConfig cfg;
-  if (!parse_predictor_args("render", a.p, &cfg) || !check_workload_args("render", a.w)) return 2;
+  sim::GpuConfig gpu;
+  if (!parse_predictor_args("render", a.p, &cfg) || !check_workload_args("render", a.w) ||
+      !check_timing_args("render", a.t, &gpu))
+    return 2;
   if (!check_output_path("render", "--out", a.out, OutputKind::kFolder)) return 2;
   // The pictures of one run, or none: they are written into a fresh folder beside --out, which
   // then takes --out's place. An existing --out is replaced only when it is empty or an earlier
@@ -72,8 +78,8 @@ int cmd_render(const RenderArgs& a) {
   std::printf("render %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
   const uint64_t table_bytes = cfg.table.unbounded ? 0 : (cfg.table.total_bits() + 7) / 8;
-  const std::string config = (a.p.preset.empty() ? "" : "preset " + a.p.preset + ": ") +
-                             predictor_line(a.p, cfg, table_bytes, kUnknownEntries);
+  const std::string config =
+      "preset " + a.p.label + ": " + predictor_line(a.p, cfg, table_bytes, kUnknownEntries);
   std::printf("  %s\n", config.c_str());
   std::fflush(stdout);
   auto t0 = std::chrono::steady_clock::now();
@@ -92,6 +98,26 @@ int cmd_render(const RenderArgs& a) {
   };
   RenderOutput out = render_all(scene, bvh, wo, cfg, staging.string(), ro);
   progress.reset();
+  // The time figure: the same rays on RT units (hrpp simulate), with no predictor and this one;
+  // render.json gets it before the folder is put in place.
+  std::unique_ptr<GpuTime> time;
+  if (a.t.timing == "simulate") {
+    std::vector<RayRecord> rays;
+    generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) { rays.push_back(r); });
+    time = std::make_unique<GpuTime>();
+    if (!simulate_time("render", a.t, gpu, a.p, cfg, scene, bvh, rays, time.get())) return 2;
+  }
+  const auto& nc = out.summary["net_cycles"];
+  const double cost_base = nc["baseline_cycles"].get<double>(),
+               cost_hrpp = nc["hrpp_cycles"].get<double>();
+  out.summary["time"] = time_json(time.get(), cost_base, cost_hrpp);
+  out.summary["preset"] = preset_json(a.p);
+  try {
+    write_file_atomic((staging / "render.json").string(), out.summary.dump(2) + "\n");
+  } catch (const AtomicFileError& e) {
+    std::fprintf(stderr, "hrpp render: %s\n", e.what());
+    return 2;
+  }
   // The run is complete: its folder replaces --out (an earlier render's is removed).
   const fs::path old =
       target.parent_path() / (target.filename().string() + ".old-" + std::to_string(::getpid()));
@@ -110,11 +136,9 @@ int cmd_render(const RenderArgs& a) {
     f = (target / fs::path(f).filename()).string();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& s = out.summary;
-  const auto& nc = s["net_cycles"];
-  std::printf("  cost model: %.1f -> %.1f cycles per ray (%+.2f%% saved: %s)\n",
-              nc["baseline_cycles_per_ray"].get<double>(), nc["hrpp_cycles_per_ray"].get<double>(),
-              100 * nc["saved_cycle_fraction"].get<double>(),
-              nc["saves_time"].get<bool>() ? "prediction saves time" : "prediction costs time");
+  uint64_t rays = 0;
+  for (const auto& [kind, k] : s["by_kind"].items()) rays += k["rays"].get<uint64_t>();
+  std::printf("%s", time_lines(time.get(), cost_base, cost_hrpp, rays).c_str());
   std::printf("  shaded: exposure %.4g, %.1f%% of surface samples lit\n",
               s["shaded"]["exposure"].get<double>(),
               100 * s["shaded"]["lit_fraction"].get<double>());
@@ -144,6 +168,7 @@ Subcommand add_render(CLI::App& app) {
       ->required();
   add_workload_options(rd, ra->w, "shadow,ao");
   add_predictor_options(rd, ra->p);
+  add_timing_options(rd, ra->t);
   return {rd, [ra] {
             if (!resolve_preset("render", ra->p)) return 2;
             return cmd_render(*ra);
