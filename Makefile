@@ -65,9 +65,10 @@ build: setup $(BUILD)/build.ninja
 
 # ---------------------------------------------------------------------------------------------
 # Main job on the default scene: its summary (scene, camera, lights, materials, BVH statistics),
-# a cross-check of our traversal against Embree, the predictor (the 6 KB table of the RTL's
-# default configuration, improved hash) with its per-kind figures, pictures in out/render/, and
-# the RTL against the cycle model on the scene's rays.
+# then the time first: the RTL's default configuration (rtl-default) on the mobile RT units
+# (hrpp simulate), the predictor's work per ray kind (each report leads with its time figure),
+# pictures in out/render/, a cross-check of our traversal against Embree, and the RTL against the
+# cycle model on the scene's rays and inside the simulated RT units.
 # ---------------------------------------------------------------------------------------------
 # The RTL configurations and latencies: rtl/config/hrpp_configs.json.
 PREDICT_DEFAULT := --preset rtl-default --mode closest-exact
@@ -75,11 +76,11 @@ PREDICT_DEFAULT := --preset rtl-default --mode closest-exact
 run: build
 	@mkdir -p $(OUT)
 	$(BUILD)/hrpp info $(SCENE)
-	$(BUILD)/hrpp check-embree $(SCENE) --rays 65536 --kind all --json $(OUT)/check-embree.json
-	$(BUILD)/hrpp predict $(SCENE) $(PREDICT_DEFAULT) --json $(OUT)/predict.json
-	$(BUILD)/hrpp render $(SCENE) $(PREDICT_DEFAULT) --out $(OUT)/render
-	$(BUILD)/tb_hrpp --scene $(SCENE) --rays 100000 --config default
 	$(BUILD)/hrpp simulate $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --json $(OUT)/simulate.json
+	$(BUILD)/hrpp predict $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --json $(OUT)/predict.json
+	$(BUILD)/hrpp render $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --out $(OUT)/render
+	$(BUILD)/hrpp check-embree $(SCENE) --rays 65536 --kind all --json $(OUT)/check-embree.json
+	$(BUILD)/tb_hrpp --scene $(SCENE) --rays 100000 --config rtl-default
 	$(BUILD)/hrpp simulate $(SCENE) $(PREDICT_DEFAULT) --gpu mobile --res 64x64 --rtl \
 	  --json $(OUT)/simulate-rtl.json
 

@@ -319,6 +319,51 @@ def main():
     run([hrpp, "simulate", scene, "--res", "8x8", "--preset", "rtl-defualt"], 2,
         r"did you mean rtl-default\?", name="simulate --preset misspelt")
 
+    # info --json holds everything its text shows (issue 20: it lacked the camera, the lights and
+    # the materials): the camera's vectors, each light and each material by name.
+    def info_complete(p):
+        try:
+            j = json.load(open(ij))
+        except (OSError, ValueError) as e:
+            return ["no JSON: %s" % e]
+        problems = []
+        text = p.stdout
+        cam = j.get("camera")
+        if not isinstance(cam, dict):
+            return ["camera %r" % cam]
+        for key in ("eye", "target", "up"):
+            m = re.search(r"\s%s \(([^)]*)\)" % key, text)
+            want = [float(x) for x in m.group(1).split(",")] if m else None
+            if want is None or any(abs(a - b) > 1e-3 * max(1, abs(b))
+                                   for a, b in zip(cam.get(key, []), want)):
+                problems.append("camera.%s %r, text %r" % (key, cam.get(key), want))
+        m = re.search(r"lights +(\d+) punctual, (\d+) emissive", text)
+        lights = j.get("lights")
+        if not m or not isinstance(lights, list) or len(lights) != int(m.group(1)) or \
+                j.get("emissive_triangles") != int(m.group(2)):
+            problems.append("lights %r against %r" % (lights, m and m.group(0)))
+        else:
+            for l in lights:
+                if not re.search(r"\n +%s +%s +intensity" % (re.escape(l["name"]), l["type"]),
+                                 text):
+                    problems.append("light %r not in the text" % l)
+        mats = j.get("materials")
+        m = re.search(r"materials +(\d+)", text)
+        if not m or not isinstance(mats, list) or len(mats) != int(m.group(1)):
+            problems.append("materials %r against %r" % (mats, m and m.group(0)))
+        else:
+            for x in mats:
+                if not re.search(r"\n +%s +base .*, %d triangles" % (re.escape(x["name"]),
+                                                                       x["triangles"]), text):
+                    problems.append("material %r not in the text" % x)
+        return problems
+    ij = os.path.join(odd, "info.json")
+    apartment = os.path.join(source, "..", "shared", "scenes", "dream_apartment.glb")
+    for sc in [os.path.join(source, "scenes", "cornell_box.glb")] + \
+            ([apartment] if os.path.exists(apartment) else []):
+        run([hrpp, "info", sc, "--json", ij], 0, limit=30, check=info_complete,
+            name="info --json: complete (%s)" % os.path.basename(sc))
+
     # Time first (issue 20): the report's first result line is the simulated time on RT units,
     # with its verdict in words, then the cost model's; the JSON's "time" says which and how.
     def time_first(timing):

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/util/progress.h"
 
 namespace hrpp::cli {
 namespace {
@@ -122,20 +123,14 @@ bool simulate_time(const char* cmd, const TimingArgs& t, const sim::GpuConfig& g
   sim::SimOptions pred = none;
   if (!predictor_sim_options(cmd, p, cfg, scene, bvh, &pred, &out->timing)) return false;
   const auto t0 = std::chrono::steady_clock::now();
-  auto run = [&](sim::SimOptions o, const char* name) {
-    auto last = std::chrono::steady_clock::now();
-    o.progress = [&](const sim::SimProgress& pr) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::seconds(2)) return;
-      last = now;
-      std::fprintf(stderr, "%s: time on %s, %s: %5.1f%% of %llu rays, %.0f s\n", cmd, t.gpu.c_str(),
-                   name, 100.0 * pr.finished / std::max<uint64_t>(1, pr.rays),
-                   (unsigned long long)pr.rays, std::chrono::duration<double>(now - t0).count());
-    };
+  auto run = [&](sim::SimOptions o, const std::string& name) {
+    Progress progress(stderr, std::string(cmd) + ": time on " + t.gpu + ", " + name, "rays",
+                      rays.size(), t0);
+    o.progress = [&](const sim::SimProgress& pr) { progress.update(pr.finished); };
     return sim::simulate(bvh, rays, o);
   };
   out->none = run(none, "no predictor");
-  out->pred = run(pred, p.label.c_str());
+  out->pred = run(pred, p.label);
   return true;
 }
 

@@ -83,17 +83,59 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
     std::printf(" %zu:%u", k, st.leaf_size_histogram[k]);
   std::printf("\n");
   if (!json_path.empty()) {
+    // Everything the text shows.
+    auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    nlohmann::json lights = nlohmann::json::array();
+    for (const Light& l : s.lights) {
+      nlohmann::json lj = {{"name", l.name},
+                           {"type", light_type_name(l.type)},
+                           {"intensity", l.intensity},
+                           {"color", vec(l.color)},
+                           {"range", l.range > 0 ? nlohmann::json(l.range) : nlohmann::json()}};
+      if (l.type != Light::Type::kDirectional) lj["position"] = vec(l.position);
+      if (l.type != Light::Type::kPoint) lj["direction"] = vec(l.direction);
+      lights.push_back(lj);
+    }
+    nlohmann::json materials = nlohmann::json::array();
+    for (size_t i = 0; i < s.materials.size(); ++i) {
+      const Material& m = s.materials[i];
+      materials.push_back(
+          {{"name", m.name},
+           {"base_color", {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a}},
+           {"metallic", m.metallic},
+           {"roughness", m.roughness},
+           {"emission", m.is_emissive() ? vec(m.emission()) : nlohmann::json()},
+           {"transmission", m.transmission},
+           {"ior", m.ior},
+           {"double_sided", m.double_sided},
+           {"triangles", tri_count[i]}});
+    }
+    nlohmann::json meshes = nlohmann::json::array();
+    for (const MeshRange& m : s.meshes)
+      meshes.push_back({{"name", m.name},
+                        {"first_triangle", m.first},
+                        {"triangles", m.count},
+                        {"material", m.material}});
     nlohmann::json j = {{"scene", s.path},
                         {"triangles", s.triangles.size()},
                         {"degenerate_triangles", s.degenerate_triangles},
+                        {"meshes", meshes},
                         {"bounds",
                          {{"min", {s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z}},
                           {"max", {s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z}}}},
-                        {"camera", c.source},
-                        {"lights", s.lights.size()},
+                        {"camera",
+                         {{"source", c.source},
+                          {"eye", vec(c.eye)},
+                          {"target", vec(c.target)},
+                          {"up", vec(c.up)},
+                          {"fov_y_deg", c.fov_y_deg},
+                          {"aspect", c.aspect},
+                          {"image", {c.width, c.height}}}},
+                        {"lights", lights},
                         {"emissive_triangles", s.emissive_triangles().size()},
-                        {"materials", s.materials.size()},
+                        {"materials", materials},
                         {"bvh", bvh_json(bvh)}};
+    j["bvh"]["bins"] = bvh.options.bins;
     j["tool"] = tool_json();
     if (!write_json_file(json_path, j)) return 2;
   }

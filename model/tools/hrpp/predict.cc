@@ -20,6 +20,7 @@
 #include "hrpp/scene/scene.h"
 #include "hrpp/timing/cost_model.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/util/progress.h"
 #include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
@@ -137,19 +138,14 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
   const char* unit = stream ? "stream rays" : "camera samples";
   uint64_t done = 0;
   auto t0 = std::chrono::steady_clock::now();
-  auto last = t0;
+  Progress progress(stderr, "predict", unit, expected, t0);  // hrpp/util/progress.h
   const bool keep = a.t.timing == "simulate";
   auto process = [&](const RayRecord& r) {
     if (keep) run.rays.push_back(r);
     const std::optional<RayResult> res = pred.push(r);
     if (spec_image && res) spec_image->add(r, *res);
-    if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFFF)) return;
-    auto now = std::chrono::steady_clock::now();
-    if (now - last < std::chrono::seconds(2)) return;
-    last = now;
-    double secs = std::chrono::duration<double>(now - t0).count();
-    std::fprintf(stderr, "predict: %5.1f%% of %llu %s, %.2f M %s/s\n", 100.0 * done / expected,
-                 (unsigned long long)expected, unit, done / secs / 1e6, unit);
+    if ((!stream && r.kind != RayKind::kPrimary) || (++done & 0xFFF)) return;
+    progress.update(done);
   };
   if (stream) {
     RayRecord r;
@@ -158,6 +154,7 @@ PredictRun run_predict(PredictSetup& s, const PredictArgs& a, TiledPredictor& pr
     generate_rays(s.scene, s.bvh, wo, [&](const RayRecord& r, const Hit*) { process(r); });
   }
   pred.finish();
+  progress.finish();
   run.secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;
 }

@@ -18,6 +18,7 @@
 #include "hrpp/scene/scene.h"
 #include "hrpp/sim/simulator.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/util/progress.h"
 #include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
@@ -340,8 +341,8 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
   return j;
 }
 
-void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
-                    const SimulateArgs& a, double secs) {
+/// The report's head, printed before the runs: the rays, the GPU, the predictor.
+void print_simulate_head(const SimulateSetup& s, const SimulateArgs& a) {
   const sim::GpuConfig& g = s.gpu;
   if (!a.stream.empty())
     std::printf("simulate %s: %zu rays from %s (kinds %s)\n", s.scene.path.c_str(), s.rays.size(),
@@ -360,6 +361,19 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
   if (s.preset != "none" && s.preset != "oracle")
     std::printf("  predictor %s: %s\n    timing: %s\n", s.preset.c_str(), s.predictor_line.c_str(),
                 s.runs[s.main].timing.c_str());
+  std::fflush(stdout);  // before the runs, also when piped
+}
+
+void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
+                    const SimulateArgs& a, double secs) {
+  const sim::GpuConfig& g = s.gpu;
+  // The time figure first: the preset's speed-up over no predictor, in words.
+  if (s.preset != "none" && st.size() > 1) {
+    const uint64_t b = st.front().cycles, c = st[s.main].cycles;
+    std::printf("  time: %s on %s: %llu -> %llu cycles, speed-up %.3fx: %s\n", s.preset.c_str(),
+                g.name.c_str(), (unsigned long long)b, (unsigned long long)c, speedup(b, c),
+                time_words(speedup(b, c)).c_str());
+  }
   std::printf("  %-20s %11s %8s %9s %9s %9s %7s %7s %9s %6s %11s %11s\n", "run", "cycles",
               "speed-up", "rays/kcyc", "latency", "in flight", "L1 hit", "L2 hit", "DRAM KB",
               "SIMD", "node fetch", "tri fetch");
@@ -451,23 +465,17 @@ int cmd_simulate(const SimulateArgs& a) {
     s.table_bytes = shown.table.unbounded ? 0 : (shown.table.total_bits() + 7) / 8;
     s.predictor_line = predictor_line(a.p, shown, s.table_bytes, kUnknownEntries);
   }
+  print_simulate_head(s, a);
   const auto t0 = std::chrono::steady_clock::now();
   // Every run on a set of rays, with a progress line every 2 s.
   bool rtl_failed = false;
   auto run_all = [&](const std::vector<RayRecord>& rays, const std::string& label) {
     std::vector<sim::SimStats> out;
     for (RunSpec& r : s.runs) {
-      auto last = std::chrono::steady_clock::now();
       sim::SimOptions o = r.opt;
       *s.rtl_run = r.name + label;
-      o.progress = [&](const sim::SimProgress& p) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last < std::chrono::seconds(2)) return;
-        last = now;
-        std::fprintf(stderr, "simulate %s%s: %5.1f%% of %llu rays, cycle %llu\n", r.name.c_str(),
-                     label.c_str(), 100.0 * p.finished / std::max<uint64_t>(1, p.rays),
-                     (unsigned long long)p.rays, (unsigned long long)p.cycle);
-      };
+      Progress progress(stderr, "simulate " + r.name + label, "rays", rays.size(), t0);
+      o.progress = [&](const sim::SimProgress& p) { progress.update(p.finished); };
       try {
         out.push_back(sim::simulate(s.bvh, rays, o));
       } catch (const std::exception& e) {
