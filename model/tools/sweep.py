@@ -924,7 +924,7 @@ def plot_all(rows, outdir):
         vals = [[100 * by[(s, c)]["saved_cycles"] if (s, c) in by else math.nan
                  for s in scenes] for c in cfgs]
         lim = max([abs(v) for row in vals for v in row if not math.isnan(v)] + [0.1])
-        im = ax.imshow(vals, cmap="RdBu", vmin=-lim, vmax=lim, aspect="auto")
+        im = ax.imshow(vals, cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
         for i, row in enumerate(vals):
             for j, v in enumerate(row):
                 if not math.isnan(v):
@@ -936,8 +936,8 @@ def plot_all(rows, outdir):
         ax.set_xlabel("scene", fontsize=8)
         ax.set_ylabel("configuration (best on average first)", fontsize=8)
         cb = fig.colorbar(im, ax=ax, shrink=0.8)
-        cb.set_label(f"cycles saved, % of the baseline walk's ({time_axis(gpu)}); red: costs "
-                     "time", fontsize=7)
+        cb.set_label(f"cycles saved, % of the baseline walk's ({time_axis(gpu)}); blue: costs "
+                     "time, red: saves (as in hrpp render's net_cycles.png)", fontsize=7)
         cb.ax.tick_params(labelsize=7)
         title(fig, f"time: cycles saved per configuration, all rays ({time_axis(gpu)})",
               scenes, (pi, len(cfg_pages)))
