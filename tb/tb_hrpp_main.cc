@@ -8,13 +8,18 @@
 // The coordinator: the options (tb_options.h), the configuration (tb_config.h; the Verilated
 // models tb_dut.h), the rays (tb_rays.h), the runs (tb_run.h; --latency: tb_latency_check.h) and
 // the report (tb_report.h).
+#include <unistd.h>
+
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <exception>
 #include <filesystem>
 
 #include "hrpp/hardware/rtl_config.h"
+#include "hrpp/util/atomic_file.h"
 #include "stress.h"
 #include "tb_config.h"
 #include "tb_latency_check.h"
@@ -61,7 +66,27 @@ int main_impl(int argc, char** argv) {
 }  // namespace
 }  // namespace hrpp::tb
 
+namespace {
+
+/// SIGINT / SIGTERM: removes the waveform being written, says so in one line and exits
+/// 128 + signal (async-signal-safe calls only), as hrpp does.
+extern "C" void on_interrupt(int sig) {
+  hrpp::remove_open_temporaries();
+  const char* line = sig == SIGINT ? "tb_hrpp: interrupted (SIGINT): unfinished outputs removed\n"
+                                   : "tb_hrpp: terminated (SIGTERM): unfinished outputs removed\n";
+  ssize_t ignored = ::write(STDERR_FILENO, line, std::strlen(line));
+  (void)ignored;
+  ::_exit(128 + sig);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   try {
     return hrpp::tb::main_impl(argc, argv);
   } catch (const std::exception& e) {

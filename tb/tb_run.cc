@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hrpp/util/atomic_file.h"
 #include "hrpp/util/progress.h"
 #include "tb_dut.h"
 
@@ -28,13 +29,20 @@ class Waveform {
  public:
   explicit Waveform(const std::string& path) : path_(path), vcd_(!ends_with_fst(path)) {
     fst_path_ = vcd_ ? path + ".tmp.fst" : path;
+    hier_path_ = fst_path_ + ".hier";  // the FST writer's own temporary file
   }
   ~Waveform() {
     if (fst_.isOpen()) fst_.close();  // a run that threw: the FST as far as it got
+    untrack_unfinished_output(fst_path_.c_str());
+    untrack_unfinished_output(hier_path_.c_str());
+    untrack_unfinished_output(path_.c_str());
   }
   template <typename M>
   void open(M* dut) {
     dut->trace(&fst_, 99);
+    // Removed by an interruption (SIGINT / SIGTERM: tb_hrpp_main.cc) until the run ends.
+    track_unfinished_output(fst_path_.c_str());
+    track_unfinished_output(hier_path_.c_str());
     fst_.open(fst_path_.c_str());
     // Checked before the run too (tb_options.cc); a waveform that cannot be written fails the run.
     if (!fst_.isOpen())
@@ -43,7 +51,13 @@ class Waveform {
   void dump(uint64_t time) { fst_.dump(time); }
   void close() {
     fst_.close();
-    if (vcd_) fst_to_vcd();
+    if (vcd_) {
+      track_unfinished_output(path_.c_str());
+      fst_to_vcd();
+      untrack_unfinished_output(path_.c_str());
+    }
+    untrack_unfinished_output(fst_path_.c_str());
+    untrack_unfinished_output(hier_path_.c_str());
   }
 
  private:
@@ -69,7 +83,7 @@ class Waveform {
     std::remove(fst_path_.c_str());
   }
 
-  std::string path_, fst_path_;
+  std::string path_, fst_path_, hier_path_;
   bool vcd_;
   VerilatedFstC fst_;
 };

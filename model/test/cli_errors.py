@@ -544,6 +544,40 @@ def main():
         print("FAIL %s: %s" % (name, "; ".join(problems)))
     else:
         print("ok   %s" % name)
+    # tb_hrpp interrupted while writing a waveform: the waveform (and the FST writer's own
+    # temporary file) removed, one line, exit 130 / 143.
+    for sig, code, word in ((signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143,
+                                                                  "terminated")):
+        name = "tb_hrpp --trace interrupted by %s" % sig.name
+        sub = os.path.join(tmp, "tb_sig_%s" % sig.name)
+        os.makedirs(sub)
+        p = subprocess.Popen([tb_hrpp, "--scene", scene, "--rays", "2000000", "--trace",
+                              os.path.join(sub, "w.vcd")], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        while not os.listdir(sub) and p.poll() is None and time.monotonic() - t0 < 30:
+            time.sleep(0.05)
+        time.sleep(0.5)
+        started = p.poll() is None and bool(os.listdir(sub))
+        p.send_signal(sig)
+        try:
+            _, stderr = p.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            _, stderr = p.communicate()
+        problems = [] if started else ["the run ended (or wrote nothing) before the signal"]
+        if p.returncode != code:
+            problems.append("exit %d, expected %d" % (p.returncode, code))
+        want = "tb_hrpp: %s (%s): unfinished outputs removed\n" % (word, sig.name)
+        if not stderr.endswith(want):
+            problems.append("stderr %r, expected the line %r" % (stderr[-300:], want))
+        if os.listdir(sub):
+            problems.append("left %s" % os.listdir(sub))
+        if problems:
+            failures += 1
+            print("FAIL %s: %s" % (name, "; ".join(problems)))
+        else:
+            print("ok   %s" % name)
     run([tb_hrpp, "--scene", scene, "--rays", "10", "--config", "rtl-defualt"], 2,
         r"did you mean|rtl-default", name="tb_hrpp --config misspelt")
 

@@ -237,8 +237,12 @@ CrossCheckResult cross_check(const Scene& scene, const Bvh& bvh, const CrossChec
   res.width = wo.width;
   res.height = wo.height;
   Comparer cmp(scene, bvh, embree, res, opt.max_examples);
+  const uint64_t samples = uint64_t(wo.width) * wo.height * wo.spp;
+  uint64_t done = 0;
   generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) {
     if (want[static_cast<int>(r.kind)]) cmp.compare(r.ray, r.kind);
+    if (opt.progress && r.kind == RayKind::kPrimary && (++done & 0xFFF) == 0)
+      opt.progress(done, samples);
   });
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

@@ -33,6 +33,9 @@ void untrack(const char* tmp) {
 
 }  // namespace
 
+void track_unfinished_output(const char* path) noexcept { track(path); }
+void untrack_unfinished_output(const char* path) noexcept { untrack(path); }
+
 int remove_open_temporaries() noexcept {
   int removed = 0;
   for (std::atomic<const char*>& slot : open_tmp)

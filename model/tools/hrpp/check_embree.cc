@@ -8,6 +8,7 @@
 #include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
 #include "hrpp/trace/ray.h"
+#include "hrpp/util/progress.h"
 #include "subcommands.h"
 
 namespace hrpp::cli {
@@ -29,7 +30,14 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
     parse_ray_kind(kind, &k);  // validated by CLI11
     opt.kinds = {k};
   }
+  std::unique_ptr<Progress> progress;
+  opt.progress = [&](uint64_t done, uint64_t total) {
+    if (!progress)
+      progress = std::make_unique<Progress>(stderr, "check-embree", "camera samples", total);
+    progress->update(done);
+  };
   CrossCheckResult r = cross_check(s, bvh, opt);
+  progress.reset();
   std::printf("check-embree %s: %s\n", s.path.c_str(), r.embree.c_str());
   std::printf("  %dx%d camera samples, %.2f s\n", r.width, r.height, r.seconds);
   std::printf("  %-8s %9s %8s %8s %9s %13s %8s %7s %6s %6s %6s\n", "kind", "rays", "invalid",

@@ -8,6 +8,7 @@
 #include "common.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/util/progress.h"
 #include "hrpp/workload/ray_stream.h"
 #include "hrpp/workload/workload.h"
 #include "subcommands.h"
@@ -42,10 +43,14 @@ int cmd_trace(const TraceArgs& a) {
   auto t0 = std::chrono::steady_clock::now();
   RayStreamWriter writer(a.out, header);
   std::array<uint64_t, kNumRayKinds> by_kind{};
+  Progress progress(stderr, "trace", "camera samples", uint64_t(wo.width) * wo.height * wo.spp, t0);
+  uint64_t samples = 0;
   generate_rays(scene, bvh, wo, [&](const RayRecord& r, const Hit*) {
     writer.write(r);
     by_kind[static_cast<int>(r.kind)]++;
+    if (r.kind == RayKind::kPrimary && (++samples & 0xFFF) == 0) progress.update(samples);
   });
+  progress.finish();
   writer.close();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::string counts;

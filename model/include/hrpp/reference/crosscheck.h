@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -44,6 +45,8 @@ struct CrossCheckOptions {
   uint64_t seed = 1;
   std::string embree_config = kEmbreeReferenceConfig;
   size_t max_examples = 8;
+  /// Called with the camera samples done of width x height, every 4096 (progress).
+  std::function<void(uint64_t done, uint64_t total)> progress;
 };
 
 struct CrossCheckResult {

@@ -55,4 +55,9 @@ void write_file_atomic(const std::string& path, std::string_view bytes);
 /// interrupted run leaves no PATH.tmp behind.
 int remove_open_temporaries() noexcept;
 
+/// Tracks (untracks) an output that is not an AtomicFile while it is being written, e.g. a
+/// waveform: remove_open_temporaries removes it too. PATH must outlive the tracking.
+void track_unfinished_output(const char* path) noexcept;
+void untrack_unfinished_output(const char* path) noexcept;
+
 }  // namespace hrpp
