@@ -129,7 +129,14 @@ def main():
                     ("--table", r"--table TEXT=unbounded"),
                     ("--mode", r"--mode TEXT:\{[^}]*\}=closest-exact"),
                     ("--go-up", r"--go-up UINT:[^\n]*=0"),
-                    ("--nodes-per-entry", r"--nodes-per-entry UINT:[^\n]*=1"))
+                    ("--nodes-per-entry", r"--nodes-per-entry UINT:[^\n]*=1"),
+                    ("--spp", r"--spp INT:[^\n]*=1"),
+                    ("--seed", r"--seed UINT=1"),
+                    ("--preset", r"--preset TEXT:\{[^}]*rtl-default[^}]*\}\|FILE\.json\s+[^\n]*"
+                                 r"Default: rtl-default unless a hash or table option is given")) +
+                    ((("--timing", r"--timing TEXT:\{simulate,cost-model\}=simulate"),
+                      ("--gpu", r"--gpu TEXT=mobile")) if sub != "simulate" else ()) +
+                    ((("--update-delay", r"--update-delay UINT=0"),) if sub == "predict" else ())
                 if not re.search(rx, p.stdout)])
 
     # --ao-distance inf: unbounded AO rays (tfar = +inf) are valid, recorded as "inf" in the JSON,

@@ -186,7 +186,9 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
                               "diffuse, auto (docs/workloads.md)")
                   ->capture_default_str());
   o.push_back(app->add_option("--res", a.res, "image resolution WxH (default: the camera's)"));
-  o.push_back(app->add_option("--spp", a.spp, "samples per pixel")->check(CLI::Range(1, 4096)));
+  o.push_back(app->add_option("--spp", a.spp, "samples per pixel")
+                  ->check(CLI::Range(1, 4096))
+                  ->capture_default_str());
   o.push_back(app->add_option("--order", a.order, "ray issue order")
                   ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
                   ->capture_default_str());
@@ -197,7 +199,8 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
       app->add_option("--depth", a.depth, "generations of reflection / refraction / diffuse rays")
           ->check(CLI::Range(0, 16))
           ->capture_default_str());
-  o.push_back(app->add_option("--seed", a.seed, "random seed of the ray generator"));
+  o.push_back(
+      app->add_option("--seed", a.seed, "random seed of the ray generator")->capture_default_str());
   o.push_back(app->add_option("--ao-distance", a.ao_distance,
                               "AO ray length (default or 0: 5% of the scene diagonal; 'inf': "
                               "unbounded, as in the MICRO 2021 study)")
