@@ -1187,7 +1187,9 @@ def report(rows, plots, path, command):
     lines = [f"# HRPP sweep report", "",
              f"Regenerate with `{command}`.", "",
              time_is + " Accuracy: the share "
-             "of correct answers (only closest-spec can be wrong), prediction precision and recall, "
+             "of correct answers (closest-spec answers that are not the closest hit, and in any-hit "
+             "mode closest-hit rays answered with another hit, are wrong), prediction precision and "
+             "recall, "
              "net skipped interior-node tests. Swept: " + (", ".join(varied) or "nothing") + ".", ""]
     lines += time_section(rows, varied, gpu)
     for p in plots:
