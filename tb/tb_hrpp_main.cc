@@ -8,12 +8,8 @@
 // The coordinator: the options (tb_options.h), the configuration (tb_config.h; the Verilated
 // models tb_dut.h), the rays (tb_rays.h), the runs (tb_run.h; --latency: tb_latency_check.h) and
 // the report (tb_report.h).
-#include <unistd.h>
-
 #include <chrono>
-#include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <exception>
 #include <filesystem>
@@ -66,27 +62,9 @@ int main_impl(int argc, char** argv) {
 }  // namespace
 }  // namespace hrpp::tb
 
-namespace {
-
-/// SIGINT / SIGTERM: removes the waveform being written, says so in one line and exits
-/// 128 + signal (async-signal-safe calls only), as hrpp does.
-extern "C" void on_interrupt(int sig) {
-  hrpp::remove_open_temporaries();
-  const char* line = sig == SIGINT ? "tb_hrpp: interrupted (SIGINT): unfinished outputs removed\n"
-                                   : "tb_hrpp: terminated (SIGTERM): unfinished outputs removed\n";
-  ssize_t ignored = ::write(STDERR_FILENO, line, std::strlen(line));
-  (void)ignored;
-  ::_exit(128 + sig);
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  struct sigaction sa {};
-  sa.sa_handler = on_interrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // SIGINT / SIGTERM: the waveform being written is removed (tb_run.cc), as hrpp does.
+  hrpp::remove_unfinished_outputs_on_interrupt("tb_hrpp");
   try {
     return hrpp::tb::main_impl(argc, argv);
   } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 
 namespace hrpp {
@@ -32,6 +33,33 @@ void untrack(const char* tmp) {
 }
 
 }  // namespace
+
+namespace {
+
+const char* interrupted_tool = "hrpp";
+
+/// Async-signal-safe calls only.
+extern "C" void on_interrupt(int sig) {
+  remove_open_temporaries();
+  const char* what = sig == SIGINT ? ": interrupted (SIGINT): unfinished outputs removed\n"
+                                   : ": terminated (SIGTERM): unfinished outputs removed\n";
+  for (const char* part : {interrupted_tool, what}) {
+    ssize_t ignored = ::write(STDERR_FILENO, part, std::strlen(part));
+    (void)ignored;
+  }
+  ::_exit(128 + sig);
+}
+
+}  // namespace
+
+void remove_unfinished_outputs_on_interrupt(const char* tool) {
+  interrupted_tool = tool;
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
 
 void track_unfinished_output(const char* path) noexcept { track(path); }
 void untrack_unfinished_output(const char* path) noexcept { untrack(path); }

@@ -5,12 +5,8 @@
 // Exit codes: 0 success; 1 a check failed (e.g. check-embree found mismatches); 2 bad input
 // (bad option, unreadable or malformed scene or ray stream, unwritable output); 130 / 143
 // interrupted by SIGINT / SIGTERM (unfinished outputs removed).
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
-#include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -21,30 +17,6 @@
 #include "hrpp/util/cli.h"
 #include "hrpp/workload/ray_stream.h"
 #include "subcommands.h"
-
-namespace {
-
-/// SIGINT / SIGTERM: removes the temporary files of the outputs being written (nothing that
-/// looks complete is left, and no PATH.tmp either), says so in one line and exits 128 + signal.
-/// Async-signal-safe calls only.
-extern "C" void on_interrupt(int sig) {
-  hrpp::remove_open_temporaries();
-  const char* line = sig == SIGINT ? "hrpp: interrupted (SIGINT): unfinished outputs removed\n"
-                                   : "hrpp: terminated (SIGTERM): unfinished outputs removed\n";
-  ssize_t ignored = ::write(STDERR_FILENO, line, std::strlen(line));
-  (void)ignored;
-  ::_exit(128 + sig);
-}
-
-void handle_interrupts() {
-  struct sigaction sa {};
-  sa.sa_handler = on_interrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace hrpp;
@@ -64,7 +36,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return usage_exit(app, e);  // 0 after --help or --version, 2 for a usage error
   }
-  handle_interrupts();  // `hrpp sweep` execs Python: its handlers are reset to the default
+  // SIGINT / SIGTERM: unfinished outputs removed, one line, exit 130 / 143 (`hrpp sweep` execs
+  // Python: its handlers are reset to the default).
+  remove_unfinished_outputs_on_interrupt("hrpp");
   try {
     for (const Subcommand& s : subcommands)
       if (*s.app) return s.run();

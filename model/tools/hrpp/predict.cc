@@ -327,7 +327,7 @@ Subcommand add_predict(CLI::App& app) {
   auto* delay_opt = pr->add_option("--update-delay", pa->update_delay,
                                    "rays looked up between a ray's lookup and its table write "
                                    "(0: the untimed model; docs/cost_model.md)")
-                       ->capture_default_str();
+                        ->capture_default_str();
   pr->add_option("--pipeline-latency", pa->pipeline_latency,
                  "traversal-engine walk latency in cycles: the update delay is the RTL's, from "
                  "the cycle model (docs/cost_model.md); default: none, the update delay's")

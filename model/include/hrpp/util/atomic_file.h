@@ -55,6 +55,12 @@ void write_file_atomic(const std::string& path, std::string_view bytes);
 /// interrupted run leaves no PATH.tmp behind.
 int remove_open_temporaries() noexcept;
 
+/// Installs the SIGINT / SIGTERM handler of the tools: removes the unfinished outputs
+/// (remove_open_temporaries), prints "TOOL: interrupted (SIGINT): unfinished outputs removed"
+/// (or "terminated (SIGTERM)") on standard error and exits 128 + signal. TOOL must be a string
+/// literal (or outlive the process).
+void remove_unfinished_outputs_on_interrupt(const char* tool);
+
 /// Tracks (untracks) an output that is not an AtomicFile while it is being written, e.g. a
 /// waveform: remove_open_temporaries removes it too. PATH must outlive the tracking.
 void track_unfinished_output(const char* path) noexcept;
