@@ -450,6 +450,48 @@ def main():
     # left behind).
     import shutil
     import signal
+
+    def report(name, problems):
+        nonlocal failures
+        if problems:
+            failures += 1
+            print("FAIL %s: %s" % (name, "; ".join(problems)))
+        else:
+            print("ok   %s" % name)
+
+    def signal_and_wait(p, sig):
+        """Sends SIG to the process P and returns its standard output and error."""
+        p.send_signal(sig)
+        try:
+            return p.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            return p.communicate()
+
+    def first_progress_line(argv, sub):
+        """Starts ARGV with standard output to a file and standard error piped; returns its first
+        standard-error line, the seconds it took, and what standard output held by then. The
+        run is then killed (SIGINT)."""
+        os.makedirs(sub, exist_ok=True)
+        out_path = os.path.join(sub, "stdout.txt")
+        with open(out_path, "w") as out_f:
+            p = subprocess.Popen(argv, stdout=out_f, stderr=subprocess.PIPE, text=True)
+            t0 = time.monotonic()
+            line = p.stderr.readline()
+            dt = time.monotonic() - t0
+            stdout_then = open(out_path).read()
+            signal_and_wait(p, signal.SIGINT)
+        shutil.rmtree(sub, ignore_errors=True)
+        return line, dt, stdout_then
+
+    def progress_problems(label, unit, line, dt):
+        """A progress line "LABEL: 42.0% of N UNIT, RATE UNIT/s, T left" after about 2 s."""
+        if not re.fullmatch(r"%s: +\d+\.\d%% of \d+ %s, [\d.]+ (M )?\S.*/s, "
+                            r"(\d+ s|\d+ min \d+ s|\d+ h \d+ min) left\n" % (label, unit), line):
+            return ["first stderr line %r is not a progress line" % line]
+        if dt < 1.5:
+            return ["a progress line after %.1f s (expected none in the first 2 s)" % dt]
+        return []
     for cmd, sig, code, word in (("trace", signal.SIGINT, 130, "interrupted"),
                                  ("trace", signal.SIGTERM, 143, "terminated"),
                                  ("predict", signal.SIGINT, 130, "interrupted")):
@@ -467,12 +509,7 @@ def main():
                 time.sleep(0.05)
         time.sleep(0.3 if cmd == "trace" else 2.0)  # well into the run
         started = p.poll() is None and (cmd != "trace" or os.path.exists(out + ".tmp"))
-        p.send_signal(sig)
-        try:
-            stdout, stderr = p.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            stdout, stderr = p.communicate()
+        stdout, stderr = signal_and_wait(p, sig)
         problems = [] if started else ["the run ended (or wrote no %s.tmp) before the signal" % out]
         if p.returncode != code:
             problems.append("exit %d, expected %d" % (p.returncode, code))
@@ -484,73 +521,32 @@ def main():
         if cmd == "predict" and "predictor rtl-default:" not in stdout:
             problems.append("the configuration was not printed before the run")
         shutil.rmtree(sub, ignore_errors=True)  # hundreds of MB when the .tmp is left
-        if problems:
-            failures += 1
-            print("FAIL %s: %s" % (name, "; ".join(problems)))
-        else:
-            print("ok   %s" % name)
+        report(name, problems)
 
     # render's progress (issue 20): the configuration (scene, workload, predictor) on standard
     # output before the run, then, piped, a progress line every few seconds on standard error
     # with the share done, the rate and the time left (before: silence until the end).
     name = "render: configuration first, then progress lines when piped"
-    sub = os.path.join(tmp, "render_progress")
-    os.makedirs(sub)
-    with open(os.path.join(sub, "stdout.txt"), "w") as out_f:
-        p = subprocess.Popen([hrpp, "render", scene, "--res", "2048x2048", "--spp", "2",
-                              "--preset", "rtl-default", "--out", os.path.join(sub, "r")],
-                             stdout=out_f, stderr=subprocess.PIPE, text=True)
-        t0 = time.monotonic()
-        line = p.stderr.readline()  # the first progress line (after about 2 s)
-        dt = time.monotonic() - t0
-        stdout_then = open(os.path.join(sub, "stdout.txt")).read()
-        p.send_signal(signal.SIGINT)
-        try:
-            p.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            p.communicate()
-    problems = []
-    if not re.fullmatch(r"render: (shading|predictor): +\d+\.\d% of \d+ (pixels|camera samples), "
-                        r"[\d.]+ (M )?\S.*/s, (\d+ s|\d+ min \d+ s) left\n", line):
-        problems.append("first stderr line %r is not a progress line" % line)
-    elif dt < 1.5:
-        problems.append("a progress line after %.1f s (expected none in the first 2 s)" % dt)
+    line, dt, stdout_then = first_progress_line(
+        [hrpp, "render", scene, "--res", "2048x2048", "--spp", "2", "--preset", "rtl-default",
+         "--out", os.path.join(tmp, "render_progress", "r")], os.path.join(tmp, "render_progress"))
+    problems = progress_problems("render: (shading|predictor)", "(pixels|camera samples)", line,
+                                 dt)
     if not re.search(r"render \S*spd_balls\.glb: 2048x2048, 2 spp.*\n(.*\n)*  preset rtl-default: "
                      r"hash improved .*table 128x8", stdout_then):
         problems.append("the configuration was not printed before the run: %r" % stdout_then[-400:])
-    shutil.rmtree(sub, ignore_errors=True)
-    if problems:
-        failures += 1
-        print("FAIL %s: %s" % (name, "; ".join(problems)))
-    else:
-        print("ok   %s" % name)
+    report(name, problems)
 
     # tb_hrpp: --config takes the RTL configurations by their preset names too; the configuration
     # first, then (piped) progress lines on standard error after about 2 s.
     name = "tb_hrpp --config rtl-default: configuration first, then progress lines when piped"
-    with open(os.path.join(tmp, "tb_stdout.txt"), "w") as out_f:
-        p = subprocess.Popen([tb_hrpp, "--scene", scene, "--rays", "4000000", "--config",
-                              "rtl-default"], stdout=out_f, stderr=subprocess.PIPE, text=True)
-        t0 = time.monotonic()
-        line = p.stderr.readline()
-        dt = time.monotonic() - t0
-        stdout_then = open(os.path.join(tmp, "tb_stdout.txt")).read()
-        p.kill()
-        p.communicate()
-    problems = []
-    if not re.fullmatch(r"tb_hrpp: +\d+\.\d% of \d+ rays, [\d.]+ (M |k )?rays/s, "
-                        r"(\d+ s|\d+ min \d+ s|\d+ h \d+ min) left\n", line):
-        problems.append("first stderr line %r is not a progress line" % line)
-    elif dt < 1.5:
-        problems.append("a progress line after %.1f s (expected none in the first 2 s)" % dt)
+    line, dt, stdout_then = first_progress_line(
+        [tb_hrpp, "--scene", scene, "--rays", "4000000", "--config", "rtl-default"],
+        os.path.join(tmp, "tb_progress"))
+    problems = progress_problems("tb_hrpp", "rays", line, dt)
     if not stdout_then.startswith("tb_hrpp: config default (improved hash, 128 sets x 8 ways"):
         problems.append("the configuration was not printed before the run: %r" % stdout_then[:300])
-    if problems:
-        failures += 1
-        print("FAIL %s: %s" % (name, "; ".join(problems)))
-    else:
-        print("ok   %s" % name)
+    report(name, problems)
     # tb_hrpp interrupted while writing a waveform: the waveform (and the FST writer's own
     # temporary file) removed, one line, exit 130 / 143.
     for sig, code, word in ((signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143,
@@ -566,12 +562,7 @@ def main():
             time.sleep(0.05)
         time.sleep(0.5)
         started = p.poll() is None and bool(os.listdir(sub))
-        p.send_signal(sig)
-        try:
-            _, stderr = p.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            _, stderr = p.communicate()
+        _, stderr = signal_and_wait(p, sig)
         problems = [] if started else ["the run ended (or wrote nothing) before the signal"]
         if p.returncode != code:
             problems.append("exit %d, expected %d" % (p.returncode, code))
@@ -580,11 +571,7 @@ def main():
             problems.append("stderr %r, expected the line %r" % (stderr[-300:], want))
         if os.listdir(sub):
             problems.append("left %s" % os.listdir(sub))
-        if problems:
-            failures += 1
-            print("FAIL %s: %s" % (name, "; ".join(problems)))
-        else:
-            print("ok   %s" % name)
+        report(name, problems)
     run([tb_hrpp, "--scene", scene, "--rays", "10", "--config", "rtl-defualt"], 2,
         r"did you mean|rtl-default", name="tb_hrpp --config misspelt")
 
