@@ -293,6 +293,8 @@ int cmd_predict(const PredictArgs& a) {
   const CostModel cost;
   const nlohmann::json j = predict_json(s, a, pred, run, cost);
   print_report(s.cfg, pred, j, cost, run);
+  // The report is written either way (it counts exact_mismatches); the exit code says which.
+  if (!a.json_path.empty() && !write_json_file(a.json_path, j)) return 2;
   if (pred.total().exact_mismatches) {
     std::fprintf(
         stderr,
@@ -300,7 +302,6 @@ int cmd_predict(const PredictArgs& a) {
         (unsigned long long)pred.total().exact_mismatches);
     return 1;
   }
-  if (!a.json_path.empty() && !write_json_file(a.json_path, j)) return 2;
   return 0;
 }
 
