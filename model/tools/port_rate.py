@@ -1,0 +1,134 @@
+#!/usr/bin/env python3
+"""How many lookups and updates per cycle an RT unit needs from its predictor (issue 18;
+docs/results.md, "Lookups per cycle the RT units need").
+
+  make port-rate [SIM_RES=256x256] [JOBS=2]
+  model/tools/port_rate.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
+      [--gpu mobile,desktop] [--rates 1,2,4,32] [--doc docs/results.md]
+
+`hrpp simulate` with the golden predictor holding the RTL default configuration's hash and table
+(rtl-default with `--hash improved` given, so the golden model behind the RTL's latencies:
+prediction 10 cycles, decision 2), unlimited ray ids (`--credits 0`: the port rate alone limits
+it), and N lookups and N updates per cycle (`--lookups-per-cycle N --updates-per-cycle N`), for N
+in --rates, on every shared scene x ray kind (primary; shadow where the scene has lights; AO as
+MICRO 2021 runs it: cosine hemisphere, unbounded) x GPU. A unit needs N lookups per cycle when N
+gives the speed-up of the largest rate within 1% on every scene (the geometric mean is reported
+too). Writes OUT/GPU/SCENE-KIND-N.json and the block port-rate of --doc.
+"""
+import argparse
+import json
+import math
+import pathlib
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp.docs import update_blocks  # noqa: E402
+
+KINDS = {
+    "primary": ["--kinds", "primary"],
+    "shadow": ["--kinds", "shadow"],
+    "ao": ["--kinds", "ao", "--effects", "ao", "--ao-distance", "inf"],
+}
+TOLERANCE = 0.01  # a rate is enough when its speed-up is within 1% of the largest rate's
+
+
+def run(task):
+    key, cmd, path = task
+    t0 = time.time()
+    p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    if p.returncode != 0:
+        if "no rays of the kinds" in p.stderr:  # e.g. shadow rays of a scene without lights
+            return key, None, time.time() - t0
+        raise SystemExit(f"port_rate: {' '.join(map(str, cmd))} exited {p.returncode}:\n"
+                         f"{p.stderr[-2000:]}")
+    return key, json.loads(path.read_text()), time.time() - t0
+
+
+def geomean(xs):
+    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
+
+
+def table(results, gpus, scenes, rates):
+    lines = [
+        "Regenerate with `make port-rate`. Speed-up over no predictor (geometric mean over the "
+        "scenes), with the golden predictor holding the RTL default configuration's hash and "
+        "table, the RTL's latencies and unlimited ray ids, at N lookups and N updates per cycle; "
+        "'needs' is the smallest N within 1% of the largest rate's speed-up on every scene, and "
+        "'stall' the largest share of unit cycles in which a ray waited for the port at N = 1.",
+        "",
+        "| GPU | rays | " + " | ".join(f"N = {n}" for n in rates) + " | needs | stall at N = 1 |",
+        "|---|---|" + "---|" * len(rates) + "---|---|",
+    ]
+    for gpu in gpus:
+        for kind in KINDS:
+            per_rate = {n: [] for n in rates}
+            need, stall = 1, 0.0
+            for s in scenes:
+                runs = {n: results.get((gpu, s, kind, n)) for n in rates}
+                if any(r is None for r in runs.values()):
+                    continue
+                best = runs[rates[-1]]["speedup"]
+                for n in rates:
+                    per_rate[n].append(runs[n]["speedup"])
+                enough = next(n for n in rates if runs[n]["speedup"] >= best * (1 - TOLERANCE))
+                need = max(need, enough)
+                p = runs[rates[0]]["predictor"]
+                cycles = runs[rates[0]]["cycles"] * runs[rates[0]]["units"]
+                stall = max(stall, p.get("stall_cycles", 0) / cycles if cycles else 0.0)
+            if not per_rate[rates[0]]:
+                continue
+            cells = " | ".join(f"{geomean(per_rate[n]):.3f}x" for n in rates)
+            lines.append(f"| {gpu} | {kind} | {cells} | {need} | {100 * stall:.1f}% |")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"))
+    ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
+    ap.add_argument("--res", default="256x256")
+    ap.add_argument("--gpu", default="mobile,desktop")
+    ap.add_argument("--rates", default="1,2,4,32")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--out", default=str(ROOT / "out" / "port_rate"))
+    ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"))
+    args = ap.parse_args()
+    scenes = sorted(pathlib.Path(args.shared, "scenes").glob("*.glb"))
+    if not scenes:
+        sys.exit(f"port_rate: no scenes in {args.shared}/scenes (the shared folder is needed)")
+    rates = sorted(int(n) for n in args.rates.split(","))
+    gpus = args.gpu.split(",")
+    out = pathlib.Path(args.out)
+    tasks = []
+    for gpu in gpus:
+        (out / gpu).mkdir(parents=True, exist_ok=True)
+        for s in scenes:
+            for kind, kopts in KINDS.items():
+                for n in rates:
+                    path = out / gpu / f"{s.stem}-{kind}-{n}.json"
+                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
+                           "--preset", "rtl-default", "--hash", "improved", "--credits", "0",
+                           "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
+                           "--no-per-kind", "--json", path] + kopts
+                    tasks.append(((gpu, s.stem, kind, n), cmd, path))
+    results, t0 = {}, time.time()
+    with ThreadPoolExecutor(max_workers=args.jobs) as ex:
+        for i, f in enumerate(as_completed([ex.submit(run, t) for t in tasks]), 1):
+            key, data, secs = f.result()
+            results[key] = data
+            sp = f"{data['speedup']:.3f}x" if data else "no rays"
+            print(f"port_rate: [{i}/{len(tasks)}] {' '.join(map(str, key))}: {sp} ({secs:.1f} s; "
+                  f"total {time.time() - t0:.0f} s)", flush=True)
+    block = table(results, gpus, [s.stem for s in scenes], rates)
+    print(block)
+    if args.doc:
+        update_blocks(pathlib.Path(args.doc), {"port-rate": block})
+        print(f"port_rate: updated {args.doc}")
+
+
+if __name__ == "__main__":
+    main()
