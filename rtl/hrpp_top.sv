@@ -190,10 +190,11 @@ module hrpp_top
   logic [IdxWidth-1:0]                       tbl_wr_idx;
   logic [TagWidth-1:0]                       tbl_wr_tag;
   logic [NodeIdWidth-1:0]                    tbl_wr_node;
-  logic                                      sc_tbl_wr_valid, uq_full, uq_empty;
-  logic [IdxWidth-1:0]                       sc_tbl_wr_idx;
-  logic [TagWidth-1:0]                       sc_tbl_wr_tag;
-  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node;
+  logic                                      sc_tbl_wr_valid, sc_tbl_wr2_valid;
+  logic [IdxWidth-1:0]                       sc_tbl_wr_idx, sc_tbl_wr2_idx;
+  logic [TagWidth-1:0]                       sc_tbl_wr_tag, sc_tbl_wr2_tag;
+  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node, sc_tbl_wr2_node;
+  logic                                      uq_room1, uq_room2;
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
@@ -206,15 +207,63 @@ module hrpp_top
     .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node)
   );
 
-  // Update queue (two entries): the skip controller sees only whether it is full, so its
-  // handshake does not wait for the table's same-set interlock, which looks at the queue's head.
-  hrpp_fifo #(.Depth(2), .Width(IdxWidth + TagWidth + NodeIdWidth)) u_update_fifo (
-    .clk_i, .rst_ni,
-    .push_i(sc_tbl_wr_valid && !uq_full), .data_i({sc_tbl_wr_idx, sc_tbl_wr_tag, sc_tbl_wr_node}),
-    .pop_i(tbl_wr_valid && tbl_wr_ready), .data_o({tbl_wr_idx, tbl_wr_tag, tbl_wr_node}),
-    .empty_o(uq_empty), .full_o(uq_full), .count_o()
-  );
-  assign tbl_wr_valid = !uq_empty;
+  // Update queue (UpdateQueueDepth entries, registers): takes up to two requests per cycle (a
+  // final outcome's and a predicted-walk result's, in that order) and gives the table one. The
+  // skip controller sees only whether it has room for one and for two (from the count register),
+  // so its handshake does not wait for the table's same-set interlock, which looks at the
+  // queue's head. A request identical (set, tag and node) to the one taken just before it is
+  // taken and dropped: with no update between them it changes nothing (the first left its tag's
+  // way the most recently used, holding the node first; docs/microarchitecture.md).
+  localparam int unsigned UpdateQueueDepth = 8;
+  localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
+  localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
+  typedef struct packed {
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+  } uq_req_t;
+  uq_req_t                 uq_mem_q[UpdateQueueDepth];
+  uq_req_t                 uq_req1, uq_req2, uq_last_q;
+  logic                    uq_last_valid_q;
+  logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
+  logic [UqCountWidth-1:0] uq_count_q;
+  logic                    uq_take1, uq_take2, uq_keep1, uq_keep2, uq_pop;
+
+  assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
+  assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
+  assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node};
+  assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node};
+  // Taken (the skip controller's messages advance), and kept (not identical to the one before).
+  assign uq_take1 = sc_tbl_wr_valid && uq_room1;
+  assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
+  assign uq_keep1 = uq_take1 && !(uq_last_valid_q && uq_req1 == uq_last_q);
+  assign uq_keep2 = uq_take2 && uq_req2 != uq_req1;
+  assign uq_pop   = tbl_wr_valid && tbl_wr_ready;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      uq_rd_q         <= '0;
+      uq_wr_q         <= '0;
+      uq_count_q      <= '0;
+      uq_last_valid_q <= 1'b0;
+      uq_last_q       <= '0;
+    end else begin
+      uq_rd_q    <= uq_rd_q + UqPtrWidth'(uq_pop);
+      uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_keep1) + UqPtrWidth'(uq_keep2);
+      uq_count_q <= uq_count_q + UqCountWidth'(uq_keep1) + UqCountWidth'(uq_keep2) -
+                    UqCountWidth'(uq_pop);
+      if (uq_take1) begin
+        uq_last_valid_q <= 1'b1;
+        uq_last_q       <= uq_take2 ? uq_req2 : uq_req1;
+      end
+    end
+  end
+  always_ff @(posedge clk_i) begin
+    if (uq_keep1) uq_mem_q[uq_wr_q] <= uq_req1;
+    if (uq_keep2) uq_mem_q[uq_wr_q + UqPtrWidth'(uq_keep1)] <= uq_req2;
+  end
+  assign tbl_wr_valid = uq_count_q != '0;
+  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node} = uq_mem_q[uq_rd_q];
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
   logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
@@ -271,8 +320,11 @@ module hrpp_top
     .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
     .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
-    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(!uq_full), .tbl_wr_idx_o(sc_tbl_wr_idx),
+    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_tbl_wr_idx),
     .tbl_wr_tag_o(sc_tbl_wr_tag), .tbl_wr_node_o(sc_tbl_wr_node),
+    .tbl_wr2_valid_o(sc_tbl_wr2_valid), .tbl_wr2_ready_i(uq_room2),
+    .tbl_wr2_idx_o(sc_tbl_wr2_idx), .tbl_wr2_tag_o(sc_tbl_wr2_tag),
+    .tbl_wr2_node_o(sc_tbl_wr2_node),
     .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
   );
 
@@ -297,6 +349,9 @@ module hrpp_top
   PredStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       pred_valid_o && !pred_ready_i |=> pred_valid_o &&
       $stable({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
+  // The update queue never overflows nor underflows.
+  UpdateQueueBounds_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      uq_count_q <= UqCountWidth'(UpdateQueueDepth) && (!uq_pop || uq_count_q != '0));
   ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
 `endif
