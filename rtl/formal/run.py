@@ -69,6 +69,11 @@ PLANTED = [
             "assign p_req          = p0_valid_q && p_needs && !fifo_full;",
             "assign p_req          = p0_valid_q && !fifo_full;",
             ("WriteOnlySkip_A",), "every predicted-walk result writes the table"),
+    Planted("skip_second", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
+            "(!p_needs || (f_req ? tbl_wr2_ready_i : tbl_wr_ready_i));",
+            "(!p_needs || tbl_wr_ready_i);",
+            ("SkipWrites_A",), "a predicted-walk result behind a final outcome's request "
+            "advances without room for its own: its table update is lost"),
     Planted("skip_deadlock", "skip_ctrl", "rtl/hrpp_skip_ctrl.sv",
             "assign skip_valid_o  = !fifo_empty;", "assign skip_valid_o  = fifo_full;",
             ("Bounded_A",), "decisions leave only when the skip FIFO is full", "quick_live"),
