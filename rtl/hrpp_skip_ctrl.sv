@@ -88,13 +88,13 @@ module hrpp_skip_ctrl
   end
 
   // The table's request ports: a final outcome first, a predicted-walk result behind it.
-  assign p_needs         = action == ActSkip;
-  assign f_req           = f0_valid_q && f0_hit_q;
-  assign p_req           = p0_valid_q && p_needs && !fifo_full;
-  assign tbl_wr_valid_o  = f_req || p_req;
-  assign tbl_wr_idx_o    = f_req ? f0_idx_q : p0_idx_q;
-  assign tbl_wr_tag_o    = f_req ? f0_tag_q : p0_tag_q;
-  assign tbl_wr_node_o   = f_req ? f0_node_q : p0_node_q;
+  assign p_needs        = action == ActSkip;
+  assign f_req          = f0_valid_q && f0_hit_q;
+  assign p_req          = p0_valid_q && p_needs && !fifo_full;
+  assign tbl_wr_valid_o = f_req || p_req;
+  assign tbl_wr_idx_o   = f_req ? f0_idx_q : p0_idx_q;
+  assign tbl_wr_tag_o   = f_req ? f0_tag_q : p0_tag_q;
+  assign tbl_wr_node_o  = f_req ? f0_node_q : p0_node_q;
   assign tbl_wr2_valid_o = f_req && p_req;
   assign tbl_wr2_idx_o   = p0_idx_q;
   assign tbl_wr2_tag_o   = p0_tag_q;
