@@ -82,9 +82,8 @@ int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec, Str
       "table: %llu updates, %llu identical updates dropped, %llu evictions, %llu cycles of "
       "same-set interlock, %llu of %u entries valid at the end\n",
       (unsigned long long)r.table.updates, (unsigned long long)r.table.dropped,
-      (unsigned long long)r.table.evictions,
-      (unsigned long long)r.table.interlock_cycles, (unsigned long long)r.table_used,
-      spec.table.sets * spec.table.ways);
+      (unsigned long long)r.table.evictions, (unsigned long long)r.table.interlock_cycles,
+      (unsigned long long)r.table_used, spec.table.sets * spec.table.ways);
   // Every ray of the stream got exactly one final result, resets or not.
   if (!r.exactly_once.empty()) {
     std::printf("FAIL: not every ray got exactly one final result: %s\n", r.exactly_once.c_str());
@@ -140,8 +139,8 @@ int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, c
       "  throughput: %.3f rays per cycle after the reset clear (%.3f over all %llu cycles, the "
       "clear's %llu included); pipeline latency costs %.2f points of skipped interior tests "
       "against the untimed model\n",
-      throughput, double(finished) / std::max<uint64_t>(1, r.cycles),
-      (unsigned long long)r.cycles, (unsigned long long)clear_cycles,
+      throughput, double(finished) / std::max<uint64_t>(1, r.cycles), (unsigned long long)r.cycles,
+      (unsigned long long)clear_cycles,
       100 * (untimed.skipped_interior_fraction() - r.stats.skipped_interior_fraction()));
   if (!m.ok || !same_stats(r.stats, m.stats) || m.cycles != r.cycles || m.resets != r.resets ||
       m.dropped != r.dropped || !m.exactly_once.empty()) {

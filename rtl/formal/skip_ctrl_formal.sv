@@ -7,16 +7,16 @@
 // and the action of the rule (ActSkip only for a hit of an any-hit query or in closest-spec mode,
 // ActShrink for another hit, ActFull without one); only an ActSkip result writes the table (its
 // node, set and tag, on the first request port, or on the second behind a final outcome's
-// request in the same cycle). Every decision belongs to an accepted result: the results accepted minus
-// the decisions taken equal P0 plus the FIFO's entries.
+// request in the same cycle). Every decision belongs to an accepted result: the results
+// accepted minus the decisions taken equal P0 plus the FIFO's entries.
 //
 // The update queue's room for two requests (tbl_wr2_ready_i) implies room for one.
 //
 // With LIVE defined, the downstream is always ready (skip_ready_i, tbl_wr_ready_i,
-// tbl_wr2_ready_i) and final
-// outcomes come only for rays whose decision was taken and was not ActSkip, once each (the
-// interface's id contract): then the tracked result's decision is taken at most Bound cycles
-// after its acceptance, and every final outcome's update is taken in the cycle after it.
+// tbl_wr2_ready_i) and final outcomes come only for rays whose decision was taken and was not
+// ActSkip, once each (the interface's id contract): then the tracked result's decision is taken
+// at most Bound cycles after its acceptance, and every final outcome's update is taken in the
+// cycle after it.
 module skip_ctrl_formal
   import hrpp_pkg::*;
 #(

@@ -195,9 +195,7 @@ void CycleModel::tick(const DutIn& in) {
     const Op& head = update_queue_.front();
     const std::optional<Op>& t0 = up_[0];
     const std::optional<Op>& t1 = up_[1];
-    const Op* newer = t0 && t0->idx == head.idx   ? &*t0
-                      : t1 && t1->idx == head.idx ? &*t1
-                                                  : nullptr;
+    const Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
     if (!newer) {
       issued = head;
       update_queue_.pop_front();
