@@ -30,6 +30,7 @@ module hrpp_top
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
+  parameter int unsigned UpdateQueueDepth = 8,  /// update queue entries, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
@@ -214,7 +215,6 @@ module hrpp_top
   // queue's head. A request identical (set, tag and node) to the one taken just before it is
   // taken and dropped: with no update between them it changes nothing (the first left its tag's
   // way the most recently used, holding the node first; docs/microarchitecture.md).
-  localparam int unsigned UpdateQueueDepth = 8;
   localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
   localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
   typedef struct packed {
@@ -337,6 +337,10 @@ module hrpp_top
   if (Stages != PredictionLatency) begin : gen_latency_check
     $error("hrpp_top predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
            PredictionLatency);
+  end
+  if (UpdateQueueDepth < 2 || (UpdateQueueDepth & (UpdateQueueDepth - 1)) != 0)
+  begin : gen_update_queue_check
+    $error("UpdateQueueDepth %0d is not a power of two >= 2", UpdateQueueDepth);
   end
 
 `ifndef SYNTHESIS
