@@ -212,9 +212,7 @@ module hrpp_top
   // final outcome's and a predicted-walk result's, in that order) and gives the table one. The
   // skip controller sees only whether it has room for one and for two (from the count register),
   // so its handshake does not wait for the table's same-set interlock, which looks at the
-  // queue's head. A request identical (set, tag and node) to the one taken just before it is
-  // taken and dropped: with no update between them it changes nothing (the first left its tag's
-  // way the most recently used, holding the node first; docs/microarchitecture.md).
+  // queue's head (and drops a head identical to the newer same-set update in T0/T1).
   localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
   localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
   typedef struct packed {
@@ -223,47 +221,52 @@ module hrpp_top
     logic [NodeIdWidth-1:0] node;
   } uq_req_t;
   uq_req_t                 uq_mem_q[UpdateQueueDepth];
-  uq_req_t                 uq_req1, uq_req2, uq_last_q;
-  logic                    uq_last_valid_q;
+  uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
   logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
   logic [UqCountWidth-1:0] uq_count_q;
-  logic                    uq_take1, uq_take2, uq_keep1, uq_keep2, uq_pop;
+  logic                    uq_take1, uq_take2, uq_pop;
 
   assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
   assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
   assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node};
   assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node};
-  // Taken (the skip controller's messages advance), and kept (not identical to the one before).
+  // Taken: the skip controller's messages advance.
   assign uq_take1 = sc_tbl_wr_valid && uq_room1;
   assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
-  assign uq_keep1 = uq_take1 && !(uq_last_valid_q && uq_req1 == uq_last_q);
-  assign uq_keep2 = uq_take2 && uq_req2 != uq_req1;
   assign uq_pop   = tbl_wr_valid && tbl_wr_ready;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      uq_rd_q         <= '0;
-      uq_wr_q         <= '0;
-      uq_count_q      <= '0;
-      uq_last_valid_q <= 1'b0;
-      uq_last_q       <= '0;
+      uq_rd_q    <= '0;
+      uq_wr_q    <= '0;
+      uq_count_q <= '0;
     end else begin
       uq_rd_q    <= uq_rd_q + UqPtrWidth'(uq_pop);
-      uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_keep1) + UqPtrWidth'(uq_keep2);
-      uq_count_q <= uq_count_q + UqCountWidth'(uq_keep1) + UqCountWidth'(uq_keep2) -
+      uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_take1) + UqPtrWidth'(uq_take2);
+      uq_count_q <= uq_count_q + UqCountWidth'(uq_take1) + UqCountWidth'(uq_take2) -
                     UqCountWidth'(uq_pop);
-      if (uq_take1) begin
-        uq_last_valid_q <= 1'b1;
-        uq_last_q       <= uq_take2 ? uq_req2 : uq_req1;
-      end
     end
   end
   always_ff @(posedge clk_i) begin
-    if (uq_keep1) uq_mem_q[uq_wr_q] <= uq_req1;
-    if (uq_keep2) uq_mem_q[uq_wr_q + UqPtrWidth'(uq_keep1)] <= uq_req2;
+    if (uq_take1) uq_mem_q[uq_wr_q] <= uq_req1;
+    if (uq_take2) uq_mem_q[uq_wr_q + 1'b1] <= uq_req2;  // behind the first, taken too
+  end
+  // The head, registered (a copy of uq_mem_q[uq_rd_q]): the table's interlock compares it with
+  // T0 and T1 and pops it in the same cycle, so no read multiplexer sits in front of that. Its
+  // next value: the entry at the next read pointer after this cycle's writes.
+  function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
+    if (uq_take1 && uq_wr_q == i) return uq_req1;
+    if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
+    return stored;
+  endfunction
+  assign uq_head_d = uq_pop ? uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1])
+                            : uq_entry_after_writes(uq_rd_q, uq_head_q);
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) uq_head_q <= '0;
+    else uq_head_q <= uq_head_d;
   end
   assign tbl_wr_valid = uq_count_q != '0;
-  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node} = uq_mem_q[uq_rd_q];
+  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node} = uq_head_q;
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
   logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
@@ -356,6 +359,11 @@ module hrpp_top
   // The update queue never overflows nor underflows.
   UpdateQueueBounds_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       uq_count_q <= UqCountWidth'(UpdateQueueDepth) && (!uq_pop || uq_count_q != '0));
+  // The registered head is the head entry.
+  uq_req_t uq_head_stored;
+  assign uq_head_stored = uq_mem_q[uq_rd_q];
+  UpdateQueueHead_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      uq_count_q != '0 |-> uq_head_q == uq_head_stored);
   ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
 `endif

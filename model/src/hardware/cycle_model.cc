@@ -35,7 +35,6 @@ void CycleModel::reset() {
   for (auto& d : d_) d.reset();
   pred_fifo_.clear();
   update_queue_.clear();
-  last_taken_.reset();
   requests_.clear();
   requested_.clear();
   key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
@@ -78,29 +77,21 @@ CycleModel::Decision CycleModel::decide() const {
 
 void CycleModel::take_request(Op op) {
   op.seq = next_seq_++;
-  const bool keep = !(last_taken_ && last_taken_->same_update(op));
-  if (keep)
-    update_queue_.push_back(op);
-  else
-    stats_.dropped++;
-  requests_.emplace_back(op, keep);
-  last_taken_ = op;
+  update_queue_.push_back(op);
+  requests_.push_back(op);
 }
 
 void CycleModel::drop_queue_head() {
-  const uint64_t seq = update_queue_.front().seq;
-  update_queue_.pop_front();
+  update_queue_.pop_front();  // it stays in requests_: applied to requested_ all the same
   stats_.dropped++;
-  for (auto& [op, kept] : requests_)
-    if (op.seq == seq) kept = false;
 }
 
 void CycleModel::check_against_requests(const Op& written) {
   // Apply every request up to the one written (the dropped ones before it too) to requested_;
   // each set they touch must then be the table's.
   std::vector<uint32_t> sets;
-  while (!requests_.empty() && requests_.front().first.seq <= written.seq) {
-    const Op& op = requests_.front().first;
+  while (!requests_.empty() && requests_.front().seq <= written.seq) {
+    const Op& op = requests_.front();
     requested_.update(op.idx, op.tag, 0, op.node);
     sets.push_back(op.idx);
     requests_.pop_front();
@@ -206,8 +197,7 @@ void CycleModel::tick(const DutIn& in) {
     }
   }
 
-  // Skip controller: the update queue takes the requests of the messages that advance; one
-  // identical to the request taken just before it is dropped.
+  // Skip controller: the update queue takes the requests of the messages that advance.
   if (dec.update && dec.room1) {
     take_request(*dec.update);
     if (dec.update2 && dec.room2) take_request(*dec.update2);

@@ -68,8 +68,8 @@ struct CycleStats {
   uint64_t updates = 0;           // rows written by updates (W)
   uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
   uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
-  uint64_t dropped = 0;           // requests dropped as identical to the one before (no write)
-  uint64_t resets = 0;            // reset() calls after construction (cycles in reset)
+  uint64_t dropped = 0;  // requests dropped as identical to the newer same-set one in T0/T1
+  uint64_t resets = 0;   // reset() calls after construction (cycles in reset)
 };
 
 class CycleModel {
@@ -163,11 +163,10 @@ class CycleModel {
   Msg p0_, f0_;
   static constexpr size_t kUpdateQueueDepth = 8;
   std::deque<Op> update_queue_;
-  std::optional<Op> last_taken_;  // the request the queue took last (kept or dropped)
-  // Every request taken, in order, each with whether it was kept (written) or dropped, until the
-  // write of a kept one applies it (and the dropped ones before it) to requested_: the golden
-  // model's table with every request applied, which the table must equal.
-  std::deque<std::pair<Op, bool>> requests_;
+  // Every request the queue took, in order, until a write applies it (and the dropped ones before
+  // it) to requested_: the golden model's table with every request applied, which the table must
+  // equal.
+  std::deque<Op> requests_;
   PredTable requested_;
   uint64_t next_seq_ = 0;
   static constexpr int kUpdateStages = rtl::kUpdateStages;
