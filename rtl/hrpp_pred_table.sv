@@ -10,7 +10,10 @@
 //           C2 select the way | C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
-// low); every other hazard is forwarded, so one lookup and one update per cycle are sustained.
+// low), unless it is identical (set, tag and node) to the newer of those two: then it changes
+// nothing (that update left its tag's way the most recently used, holding the node first) and is
+// taken and dropped at once. Every other hazard is forwarded, so one lookup and one update per
+// cycle are sustained.
 // After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
 module hrpp_pred_table
   import hrpp_pkg::*;
@@ -260,9 +263,17 @@ module hrpp_pred_table
   row_t h2_row_q;
 
   // An update waits while the update accepted in either of the two previous cycles has its set:
-  // C1 needs that update's new row, which leaves C3 only two cycles after its own C1.
-  assign tbl_wr_ready_o = !clearing_q && !(t0_q.valid && t0_q.idx == tbl_wr_idx_i) &&
-                          !(t1_q.valid && t1_q.idx == tbl_wr_idx_i);
+  // C1 needs that update's new row, which leaves C3 only two cycles after its own C1. An update
+  // identical to the newer of those of its set (T0's if T0 has the set, else T1's) is dropped
+  // instead: with no update of the set between them it would rewrite the row unchanged (the way
+  // of its tag is already the youngest, with the node first; docs/microarchitecture.md).
+  logic wr_same_t0, wr_same_t1, wr_drop;
+  assign wr_same_t0     = t0_q.valid && t0_q.idx == tbl_wr_idx_i;
+  assign wr_same_t1     = t1_q.valid && t1_q.idx == tbl_wr_idx_i;
+  assign wr_drop        = wr_same_t0 ? t0_q.tag == tbl_wr_tag_i && t0_q.node == tbl_wr_node_i
+                                     : wr_same_t1 && t1_q.tag == tbl_wr_tag_i &&
+                                       t1_q.node == tbl_wr_node_i;
+  assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
 
@@ -280,7 +291,7 @@ module hrpp_pred_table
       h1_q         <= '0;
       h2_row_q     <= '0;
     end else begin
-      t0_q.valid <= tbl_wr_valid_i && tbl_wr_ready_o;
+      t0_q.valid <= tbl_wr_valid_i && tbl_wr_ready_o && !wr_drop;
       t0_q.idx   <= tbl_wr_idx_i;
       t0_q.tag   <= tbl_wr_tag_i;
       t0_q.node  <= tbl_wr_node_i;

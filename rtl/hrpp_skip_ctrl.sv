@@ -10,9 +10,11 @@
 //     ActFull without a hit. Every ray gets exactly one.
 //   final outcomes (outcome_*): the walk from the root is done; hit_i = write node_i to the table
 //     (the verified predicted node, or the hit leaf's go-up ancestor); 0 = nothing to write.
-// The table takes one update per cycle: a final outcome goes first, a predicted-walk result
-// that needs the port then waits. A message leaves its register when its decision fits in the
-// output FIFO and the table accepts its update.
+// Up to two update requests per cycle, in this order: a final outcome's on the first port
+// (tbl_wr_*, else the predicted-walk result's there), and a predicted-walk result's behind it on
+// the second (tbl_wr2_*, only with a final outcome's on the first). tbl_wr_ready_i: room for
+// one request; tbl_wr2_ready_i: room for two (it implies tbl_wr_ready_i). A message leaves its
+// register when its decision fits in the output FIFO and its update is taken.
 module hrpp_skip_ctrl
   import hrpp_pkg::*;
 #(
@@ -52,6 +54,11 @@ module hrpp_skip_ctrl
   output logic [IdxWidth-1:0]    tbl_wr_idx_o,
   output logic [TagWidth-1:0]    tbl_wr_tag_o,
   output logic [NodeIdWidth-1:0] tbl_wr_node_o,
+  output logic                   tbl_wr2_valid_o,  /// a second request, behind the first
+  input  logic                   tbl_wr2_ready_i,  /// room for both requests
+  output logic [IdxWidth-1:0]    tbl_wr2_idx_o,
+  output logic [TagWidth-1:0]    tbl_wr2_tag_o,
+  output logic [NodeIdWidth-1:0] tbl_wr2_node_o,
   // Skip decisions
   output logic                   skip_valid_o,
   input  logic                   skip_ready_i,
@@ -80,7 +87,7 @@ module hrpp_skip_ctrl
     end
   end
 
-  // The table port: a final outcome first.
+  // The table's request ports: a final outcome first, a predicted-walk result behind it.
   assign p_needs        = action == ActSkip;
   assign f_req          = f0_valid_q && f0_hit_q;
   assign p_req          = p0_valid_q && p_needs && !fifo_full;
@@ -88,9 +95,14 @@ module hrpp_skip_ctrl
   assign tbl_wr_idx_o   = f_req ? f0_idx_q : p0_idx_q;
   assign tbl_wr_tag_o   = f_req ? f0_tag_q : p0_tag_q;
   assign tbl_wr_node_o  = f_req ? f0_node_q : p0_node_q;
+  assign tbl_wr2_valid_o = f_req && p_req;
+  assign tbl_wr2_idx_o   = p0_idx_q;
+  assign tbl_wr2_tag_o   = p0_tag_q;
+  assign tbl_wr2_node_o  = p0_node_q;
 
   assign f_advance       = f0_valid_q && (!f0_hit_q || tbl_wr_ready_i);
-  assign p_advance       = p0_valid_q && !fifo_full && (!p_needs || (tbl_wr_ready_i && !f_req));
+  assign p_advance       = p0_valid_q && !fifo_full &&
+                           (!p_needs || (f_req ? tbl_wr2_ready_i : tbl_wr_ready_i));
   assign pw_ready_o      = enable_i && (!p0_valid_q || p_advance);
   assign outcome_ready_o = enable_i && (!f0_valid_q || f_advance);
 
@@ -158,6 +170,9 @@ module hrpp_skip_ctrl
   // A message that needs the table port is never dropped: it advances only when accepted.
   NoDroppedUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       (f_advance && f0_hit_q) |-> tbl_wr_valid_o && tbl_wr_ready_i);
+  NoDroppedRefresh_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      (p_advance && p_needs) |-> (f_req ? tbl_wr2_valid_o && tbl_wr2_ready_i && tbl_wr_ready_i
+                                        : tbl_wr_valid_o && tbl_wr_ready_i));
 `endif
 
 endmodule

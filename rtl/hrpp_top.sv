@@ -30,6 +30,7 @@ module hrpp_top
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
+  parameter int unsigned UpdateQueueDepth = 8,  /// update queue entries, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
@@ -190,10 +191,11 @@ module hrpp_top
   logic [IdxWidth-1:0]                       tbl_wr_idx;
   logic [TagWidth-1:0]                       tbl_wr_tag;
   logic [NodeIdWidth-1:0]                    tbl_wr_node;
-  logic                                      sc_tbl_wr_valid, uq_full, uq_empty;
-  logic [IdxWidth-1:0]                       sc_tbl_wr_idx;
-  logic [TagWidth-1:0]                       sc_tbl_wr_tag;
-  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node;
+  logic                                      sc_tbl_wr_valid, sc_tbl_wr2_valid;
+  logic [IdxWidth-1:0]                       sc_tbl_wr_idx, sc_tbl_wr2_idx;
+  logic [TagWidth-1:0]                       sc_tbl_wr_tag, sc_tbl_wr2_tag;
+  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node, sc_tbl_wr2_node;
+  logic                                      uq_room1, uq_room2;
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
@@ -206,15 +208,65 @@ module hrpp_top
     .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node)
   );
 
-  // Update queue (two entries): the skip controller sees only whether it is full, so its
-  // handshake does not wait for the table's same-set interlock, which looks at the queue's head.
-  hrpp_fifo #(.Depth(2), .Width(IdxWidth + TagWidth + NodeIdWidth)) u_update_fifo (
-    .clk_i, .rst_ni,
-    .push_i(sc_tbl_wr_valid && !uq_full), .data_i({sc_tbl_wr_idx, sc_tbl_wr_tag, sc_tbl_wr_node}),
-    .pop_i(tbl_wr_valid && tbl_wr_ready), .data_o({tbl_wr_idx, tbl_wr_tag, tbl_wr_node}),
-    .empty_o(uq_empty), .full_o(uq_full), .count_o()
-  );
-  assign tbl_wr_valid = !uq_empty;
+  // Update queue (UpdateQueueDepth entries, registers): takes up to two requests per cycle (a
+  // final outcome's and a predicted-walk result's, in that order) and gives the table one. The
+  // skip controller sees only whether it has room for one and for two (from the count register),
+  // so its handshake does not wait for the table's same-set interlock, which looks at the
+  // queue's head (and drops a head identical to the newer same-set update in T0/T1).
+  localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
+  localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
+  typedef struct packed {
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+  } uq_req_t;
+  uq_req_t                 uq_mem_q[UpdateQueueDepth];
+  uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
+  logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
+  logic [UqCountWidth-1:0] uq_count_q;
+  logic                    uq_take1, uq_take2, uq_pop;
+
+  assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
+  assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
+  assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node};
+  assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node};
+  // Taken: the skip controller's messages advance.
+  assign uq_take1 = sc_tbl_wr_valid && uq_room1;
+  assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
+  assign uq_pop   = tbl_wr_valid && tbl_wr_ready;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      uq_rd_q    <= '0;
+      uq_wr_q    <= '0;
+      uq_count_q <= '0;
+    end else begin
+      uq_rd_q    <= uq_rd_q + UqPtrWidth'(uq_pop);
+      uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_take1) + UqPtrWidth'(uq_take2);
+      uq_count_q <= uq_count_q + UqCountWidth'(uq_take1) + UqCountWidth'(uq_take2) -
+                    UqCountWidth'(uq_pop);
+    end
+  end
+  always_ff @(posedge clk_i) begin
+    if (uq_take1) uq_mem_q[uq_wr_q] <= uq_req1;
+    if (uq_take2) uq_mem_q[uq_wr_q + 1'b1] <= uq_req2;  // behind the first, taken too
+  end
+  // The head, registered (a copy of uq_mem_q[uq_rd_q]): the table's interlock compares it with
+  // T0 and T1 and pops it in the same cycle, so no read multiplexer sits in front of that. Its
+  // next value: the entry at the next read pointer after this cycle's writes.
+  function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
+    if (uq_take1 && uq_wr_q == i) return uq_req1;
+    if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
+    return stored;
+  endfunction
+  assign uq_head_d = uq_pop ? uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1])
+                            : uq_entry_after_writes(uq_rd_q, uq_head_q);
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) uq_head_q <= '0;
+    else uq_head_q <= uq_head_d;
+  end
+  assign tbl_wr_valid = uq_count_q != '0;
+  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node} = uq_head_q;
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
   logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
@@ -271,8 +323,11 @@ module hrpp_top
     .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
     .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
-    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(!uq_full), .tbl_wr_idx_o(sc_tbl_wr_idx),
+    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_tbl_wr_idx),
     .tbl_wr_tag_o(sc_tbl_wr_tag), .tbl_wr_node_o(sc_tbl_wr_node),
+    .tbl_wr2_valid_o(sc_tbl_wr2_valid), .tbl_wr2_ready_i(uq_room2),
+    .tbl_wr2_idx_o(sc_tbl_wr2_idx), .tbl_wr2_tag_o(sc_tbl_wr2_tag),
+    .tbl_wr2_node_o(sc_tbl_wr2_node),
     .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
   );
 
@@ -286,6 +341,10 @@ module hrpp_top
     $error("hrpp_top predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
            PredictionLatency);
   end
+  if (UpdateQueueDepth < 2 || (UpdateQueueDepth & (UpdateQueueDepth - 1)) != 0)
+  begin : gen_update_queue_check
+    $error("UpdateQueueDepth %0d is not a power of two >= 2", UpdateQueueDepth);
+  end
 
 `ifndef SYNTHESIS
   // The table answers exactly when the id pipeline says it should.
@@ -297,6 +356,14 @@ module hrpp_top
   PredStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       pred_valid_o && !pred_ready_i |=> pred_valid_o &&
       $stable({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
+  // The update queue never overflows nor underflows.
+  UpdateQueueBounds_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      uq_count_q <= UqCountWidth'(UpdateQueueDepth) && (!uq_pop || uq_count_q != '0));
+  // The registered head is the head entry.
+  uq_req_t uq_head_stored;
+  assign uq_head_stored = uq_mem_q[uq_rd_q];
+  UpdateQueueHead_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      uq_count_q != '0 |-> uq_head_q == uq_head_stored);
   ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
 `endif

@@ -23,7 +23,8 @@ from pyhrpp.files import write_json_atomic  # noqa: E402
 PARITY = re.compile(r"^parity: (\d+) rays, (\d+) cycles, (\d+) mismatches", re.M)
 RESETS = re.compile(r"^resets: (\d+) \((\d+) cycles in reset\), (\d+) hit rays in flight: (\d+) rays", re.M)
 STALLS = re.compile(r"^stalls .*?:(.*)$", re.M)
-TABLE = re.compile(r"^table: (\d+) updates, (\d+) evictions, (\d+) cycles of same-set interlock", re.M)
+TABLE = re.compile(r"^table: (\d+) updates, (\d+) identical updates dropped, (\d+) evictions, "
+                   r"(\d+) cycles of same-set interlock", re.M)
 
 
 def runs(shared, own):
@@ -79,7 +80,12 @@ def run_one(tb, group, name, args):
         ports = [x.split() for x in m[1].split(";")]
         r["stalls"] = {x[0]: [int(v.strip(",")) for v in x[1:]] for x in ports}
     if m := TABLE.search(p.stdout):
-        r.update(updates=int(m[1]), evictions=int(m[2]), interlock_cycles=int(m[3]))
+        r.update(updates=int(m[1]), dropped_updates=int(m[2]), evictions=int(m[3]),
+                 interlock_cycles=int(m[4]))
+    elif r["pass"]:  # the totals would silently miss this run's table statistics
+        r["pass"] = False
+        p = subprocess.CompletedProcess(p.args, p.returncode, "no 'table:' line in:\n" + p.stdout,
+                                        p.stderr)
     if not r["pass"]:
         r["output"] = (p.stdout + p.stderr)[-3000:]
     return r
@@ -107,7 +113,7 @@ def main():
     tot = {"runs": len(results), "failed": sum(not r["pass"] for r in results),
            "wall_seconds": round(time.time() - t0, 1)}
     for key in ("rays", "cycles", "mismatches", "resets", "reset_cycles", "rays_dropped",
-                "updates", "evictions", "interlock_cycles"):
+                "updates", "dropped_updates", "evictions", "interlock_cycles"):
         tot[key] = sum(r.get(key, 0) for r in results)
     stalls = [s for r in results for s in r.get("stalls", {}).values()]
     tot["stalls"] = sum(s[0] for s in stalls)

@@ -56,7 +56,7 @@ int main_impl(int argc, char** argv) {
   // The same closed loop with the cycle model alone must give the same statistics.
   const Run m = run_model(cc, rays.bvh, rays.rays, o.eo, o.ro);
   const PredictStats untimed = run_untimed(cc, rays.bvh, rays.rays, o.go_up, o.eo.mode);
-  return report_statistics(r, m, untimed, o);
+  return report_statistics(r, m, untimed, o, cc.table.sets);  // the clear: a set per cycle
 }
 
 }  // namespace

@@ -32,8 +32,10 @@ int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec, Str
                     size_t nrays);
 
 /// The statistics of the DUT run `r`, the cycle model alone `m` and the untimed model; the cycle
-/// model alone must agree with the DUT run, the throughput reach --min-throughput, exact modes
-/// give the baseline's answers. Returns 0 after printing PASS, or 1 after printing FAIL.
-int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, const TbOptions& o);
+/// model alone must agree with the DUT run, the throughput (rays per cycle after the table's
+/// reset clear of `clear_cycles` cycles) reach --min-throughput, exact modes give the baseline's
+/// answers. Returns 0 after printing PASS, or 1 after printing FAIL.
+int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, const TbOptions& o,
+                      uint64_t clear_cycles);
 
 }  // namespace hrpp::tb

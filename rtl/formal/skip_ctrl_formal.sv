@@ -6,13 +6,17 @@
 // through P0 and the skip FIFO: it must leave as exactly one decision, at its turn, with its id
 // and the action of the rule (ActSkip only for a hit of an any-hit query or in closest-spec mode,
 // ActShrink for another hit, ActFull without one); only an ActSkip result writes the table (its
-// node, set and tag). Every decision belongs to an accepted result: the results accepted minus
-// the decisions taken equal P0 plus the FIFO's entries.
+// node, set and tag, on the first request port, or on the second behind a final outcome's
+// request in the same cycle). Every decision belongs to an accepted result: the results
+// accepted minus the decisions taken equal P0 plus the FIFO's entries.
 //
-// With LIVE defined, the downstream is always ready (skip_ready_i, tbl_wr_ready_i) and final
-// outcomes come only for rays whose decision was taken and was not ActSkip, once each (the
-// interface's id contract): then the tracked result's decision is taken at most Bound cycles
-// after its acceptance, and every final outcome's update is taken in the cycle after it.
+// The update queue's room for two requests (tbl_wr2_ready_i) implies room for one.
+//
+// With LIVE defined, the downstream is always ready (skip_ready_i, tbl_wr_ready_i,
+// tbl_wr2_ready_i) and final outcomes come only for rays whose decision was taken and was not
+// ActSkip, once each (the interface's id contract): then the tracked result's decision is taken
+// at most Bound cycles after its acceptance, and every final outcome's update is taken in the
+// cycle after it.
 module skip_ctrl_formal
   import hrpp_pkg::*;
 #(
@@ -41,6 +45,7 @@ module skip_ctrl_formal
   input logic [IdxWidth-1:0]    ksf_idx_i,
   input logic [TagWidth-1:0]    ksf_tag_i,
   input logic                   tbl_wr_ready_i,
+  input logic                   tbl_wr2_ready_i,
   input logic                   skip_ready_i,
   input logic                   track_i
 );
@@ -66,11 +71,12 @@ module skip_ctrl_formal
     else if (enable_rise_i) enable_i <= 1'b1;
   end
 
-  logic                   pw_ready_o, outcome_ready_o, tbl_wr_valid_o, skip_valid_o;
+  logic                   pw_ready_o, outcome_ready_o, tbl_wr_valid_o, tbl_wr2_valid_o;
+  logic                   skip_valid_o;
   logic [IdWidth-1:0]     ksp_id_o, ksf_id_o, skip_id_o;
-  logic [IdxWidth-1:0]    tbl_wr_idx_o;
-  logic [TagWidth-1:0]    tbl_wr_tag_o;
-  logic [NodeIdWidth-1:0] tbl_wr_node_o;
+  logic [IdxWidth-1:0]    tbl_wr_idx_o, tbl_wr2_idx_o;
+  logic [TagWidth-1:0]    tbl_wr_tag_o, tbl_wr2_tag_o;
+  logic [NodeIdWidth-1:0] tbl_wr_node_o, tbl_wr2_node_o;
   action_e                skip_action_o;
 
   hrpp_skip_ctrl #(
@@ -78,11 +84,16 @@ module skip_ctrl_formal
     .FifoDepth(FifoDepth)
   ) dut (.*);
 
-  logic pw_acc, outcome_acc, skip_acc, tbl_acc;
+  always_comb assume (!tbl_wr2_ready_i || tbl_wr_ready_i);
+
+  logic pw_acc, outcome_acc, skip_acc, tbl_acc, tbl2_acc, p_write;
   assign pw_acc      = pw_valid_i && pw_ready_o;
   assign outcome_acc = outcome_valid_i && outcome_ready_o;
   assign skip_acc    = skip_valid_o && skip_ready_i;
   assign tbl_acc     = tbl_wr_valid_o && tbl_wr_ready_i;
+  assign tbl2_acc    = tbl_wr2_valid_o && tbl_wr2_ready_i;
+  // P0's request taken: alone on the first port, or on the second behind a final outcome's.
+  assign p_write     = (tbl_acc && !dut.f_req) || (tbl2_acc && tbl_acc);
 
   function automatic action_e rule(logic hit, logic any_hit, mode_e mode);
     if (!hit) return ActFull;
@@ -158,15 +169,23 @@ module skip_ctrl_formal
       end
       // Only an ActSkip result writes the table, with its node, set and tag, before it leaves P0.
       if (phase_q == 2'd1) begin
-        if (tbl_acc && !dut.f_req) begin
+        if (p_write) begin
           WriteOnlySkip_A: assert (t_action == ActSkip);
+        end
+        if (tbl_acc && !dut.f_req) begin
           WriteData_A: assert (tbl_wr_node_o == t_node_q && tbl_wr_idx_o == t_idx_q &&
                                tbl_wr_tag_o == t_tag_q);
         end
+        if (tbl2_acc) begin
+          Write2Data_A: assert (tbl_acc && dut.f_req && tbl_wr2_node_o == t_node_q &&
+                                tbl_wr2_idx_o == t_idx_q && tbl_wr2_tag_o == t_tag_q);
+        end
         if (dut.p_advance && t_action == ActSkip) begin
-          SkipWrites_A: assert (tbl_acc && !dut.f_req);
+          SkipWrites_A: assert (p_write);
         end
       end
+      // The second port carries a request only behind a final outcome's on the first.
+      Write2Behind_A: assert (!tbl_wr2_valid_o || (tbl_wr_valid_o && dut.f_req));
       // Induction strengthening: where the tracked result is.
       if (phase_q == 2'd1) begin
         InP0_A: assert (dut.p0_valid_q && dut.p0_id_q == t_id_q && dut.p0_hit_q == t_hit_q &&
@@ -196,7 +215,7 @@ module skip_ctrl_formal
     end
   end
   always_comb begin
-    assume (skip_ready_i && tbl_wr_ready_i);
+    assume (skip_ready_i && tbl_wr_ready_i && tbl_wr2_ready_i);
     if (rst_ni) assume (!outcome_valid_i || waiting_q[outcome_id_i]);
   end
   always_comb begin

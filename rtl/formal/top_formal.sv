@@ -1,7 +1,7 @@
 `default_nettype none
 // Formal harness of hrpp_top's credits and handshakes (docs/verification.md), on a small
 // configuration (faithful hash of 1 exponent and 1 mantissa bit, 2 sets x 2 ways, one node per
-// entry, 4 ray ids) with the default prediction FIFO of 16 entries.
+// entry, 4 ray ids, an update queue of 2 entries) with the default prediction FIFO of 16 entries.
 //
 // Credits: the rays accepted and not yet taken as predictions (counted at the ports) equal the
 // rays in flight in the pipeline (A, the hash stages, B, the lookup stages) plus the prediction
@@ -76,7 +76,7 @@ module top_formal
   hrpp_top #(
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2)
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2)
   ) dut (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
@@ -130,7 +130,7 @@ module top_formal
   hrpp_top #(
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2)
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2)
   ) dut_b (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i(d ? b_ray_valid_i : ray_valid_i), .ray_ready_o(b_ray_ready_o),

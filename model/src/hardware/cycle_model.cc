@@ -18,7 +18,7 @@ std::string CycleConfig::validate() const {
 }
 
 CycleModel::CycleModel(const CycleConfig& cfg)
-    : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits) {
+    : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits), requested_(cfg.table) {
   reset();
   stats_ = CycleStats{};
 }
@@ -35,6 +35,8 @@ void CycleModel::reset() {
   for (auto& d : d_) d.reset();
   pred_fifo_.clear();
   update_queue_.clear();
+  requests_.clear();
+  requested_.clear();
   key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
   p0_ = Msg{};
   f0_ = Msg{};
@@ -57,18 +59,56 @@ CycleModel::Decision CycleModel::decide() const {
   d.action = skip_action(p0_.hit, kp.any_hit, cfg_.mode);
   const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
   const bool p_needs = d.action == Action::kSkip;
-  // The table port: a final outcome first.
+  // The request ports: a final outcome's first, a predicted-walk result's behind it.
   d.f_req = f0_.valid && f0_.hit;
   d.p_req = p0_.valid && p_needs && !fifo_full;
   if (d.f_req)
     d.update = Op{kf.idx, kf.tag, f0_.node};
   else if (d.p_req)
     d.update = Op{kp.idx, kp.tag, p0_.node};
-  // The update queue takes a request while it has room.
-  d.up_ready = update_queue_.size() < kUpdateQueueDepth;
-  d.f_advance = f0_.valid && (!f0_.hit || d.up_ready);
-  d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.up_ready && !d.f_req));
+  if (d.f_req && d.p_req) d.update2 = Op{kp.idx, kp.tag, p0_.node};
+  // The update queue's room, from its count alone.
+  d.room1 = update_queue_.size() + 1 <= kUpdateQueueDepth;
+  d.room2 = update_queue_.size() + 2 <= kUpdateQueueDepth;
+  d.f_advance = f0_.valid && (!f0_.hit || d.room1);
+  d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
   return d;
+}
+
+void CycleModel::take_request(Op op) {
+  op.seq = next_seq_++;
+  update_queue_.push_back(op);
+  requests_.push_back(op);
+}
+
+void CycleModel::drop_queue_head() {
+  update_queue_.pop_front();  // it stays in requests_: applied to requested_ all the same
+  stats_.dropped++;
+}
+
+void CycleModel::check_against_requests(const Op& written) {
+  // Apply every request up to the one written (the dropped ones before it too) to requested_;
+  // each set they touch must then be the table's.
+  std::vector<uint32_t> sets;
+  while (!requests_.empty() && requests_.front().seq <= written.seq) {
+    const Op& op = requests_.front();
+    requested_.update(op.idx, op.tag, 0, op.node);
+    sets.push_back(op.idx);
+    requests_.pop_front();
+  }
+  for (const uint32_t s : sets)
+    for (uint32_t i = 0; i < cfg_.table.ways; ++i) {
+      const Way& a = table_.way(s, i);
+      const Way& b = requested_.way(s, i);
+      bool same = a.valid == b.valid && table_.age(s, i) == requested_.age(s, i);
+      if (a.valid && same) {
+        same = a.tag == b.tag && a.count == b.count;
+        for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
+      }
+      if (!same && error_.empty())
+        error_ = "the table's set " + std::to_string(s) + " differs from the golden model's " +
+                 "with every update request applied (a dropped request changed the table)";
+    }
 }
 
 DutOut CycleModel::outputs() const {
@@ -119,6 +159,7 @@ void CycleModel::tick(const DutIn& in) {
     stats_.updates++;
     stats_.evictions += !hit && full;
     table_.update(w.idx, w.tag, 0, w.node);
+    check_against_requests(w);
   }
   std::optional<Pred> looked_up;
   if (b_) {
@@ -138,20 +179,29 @@ void CycleModel::tick(const DutIn& in) {
   if (d_[kLookupLatency - 1]) pred_fifo_.push_back(*d_[kLookupLatency - 1]);
 
   // The table takes the update queue's head unless it is of the set of an update accepted in
-  // either of the two previous cycles (T0, T1: the same-set interlock).
+  // either of the two previous cycles (T0, T1: the same-set interlock); if it is identical to
+  // the newer of those of its set, it is taken and dropped (it would change nothing).
   std::optional<Op> issued;
   if (!clearing_ && !update_queue_.empty()) {
-    const uint32_t idx = update_queue_.front().idx;
-    if (!(up_[0] && up_[0]->idx == idx) && !(up_[1] && up_[1]->idx == idx)) {
-      issued = update_queue_.front();
+    const Op& head = update_queue_.front();
+    const std::optional<Op>& t0 = up_[0];
+    const std::optional<Op>& t1 = up_[1];
+    const Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
+    if (!newer) {
+      issued = head;
       update_queue_.pop_front();
+    } else if (newer->same_update(head)) {
+      drop_queue_head();
     } else {
       stats_.interlock_cycles++;
     }
   }
 
-  // Skip controller.
-  if (dec.update && dec.up_ready) update_queue_.push_back(*dec.update);
+  // Skip controller: the update queue takes the requests of the messages that advance.
+  if (dec.update && dec.room1) {
+    take_request(*dec.update);
+    if (dec.update2 && dec.room2) take_request(*dec.update2);
+  }
   if (o.skip_valid && in.skip_ready) skip_fifo_.pop_front();
   if (dec.p_advance) skip_fifo_.emplace_back(p0_.id, dec.action);
   auto check_key = [&](bool valid, uint32_t id, const char* what) {

@@ -68,7 +68,8 @@ struct CycleStats {
   uint64_t updates = 0;           // rows written by updates (W)
   uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
   uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
-  uint64_t resets = 0;            // reset() calls after construction (cycles in reset)
+  uint64_t dropped = 0;  // requests dropped as identical to the newer same-set one in T0/T1
+  uint64_t resets = 0;   // reset() calls after construction (cycles in reset)
 };
 
 class CycleModel {
@@ -81,6 +82,8 @@ class CycleModel {
   void reset();
   /// A protocol violation seen: a predicted-walk result or final outcome accepted for a ray id
   /// whose key-store entry was not written since the last reset (it would read stale contents).
+  /// Also set if the table ever differs from the golden model's table with every update request
+  /// taken applied in order, the dropped ones too (a dropped request that was not a no-op).
   const std::string& error() const { return error_; }
   const CycleStats& stats() const { return stats_; }
   DutOut outputs() const;
@@ -100,6 +103,8 @@ class CycleModel {
     uint32_t idx = 0;
     uint64_t tag = 0;
     uint32_t node = 0;
+    uint64_t seq = 0;  // the request's number in the order the update queue took them
+    bool same_update(const Op& o) const { return idx == o.idx && tag == o.tag && node == o.node; }
   };
   struct KeyEntry {
     uint32_t idx = 0;
@@ -115,9 +120,14 @@ class CycleModel {
   };
   struct Decision {  // what P0 and F0 do this cycle (combinational in the RTL)
     Action action = Action::kFull;
-    bool f_req = false, p_req = false, up_ready = false, p_advance = false, f_advance = false;
-    std::optional<Op> update;  // the request on the table's update port
+    bool f_req = false, p_req = false, p_advance = false, f_advance = false;
+    std::optional<Op> update;   // the first request to the update queue (a final outcome's first)
+    std::optional<Op> update2;  // the second, behind it (a predicted-walk result's)
+    bool room1 = false, room2 = false;  // the update queue has room for one, for two requests
   };
+  void take_request(Op op);
+  void drop_queue_head();
+  void check_against_requests(const Op& written);
   Decision decide() const;
   DutOut outputs(const Decision& d) const;
   int in_flight() const;
@@ -151,8 +161,14 @@ class CycleModel {
   CycleStats stats_;
   // Update path: P0 and F0, the update queue (U), then T0, T1, T2, C1, C2, C3, W.
   Msg p0_, f0_;
-  static constexpr size_t kUpdateQueueDepth = 2;
+  static constexpr size_t kUpdateQueueDepth = 8;
   std::deque<Op> update_queue_;
+  // Every request the queue took, in order, until a write applies it (and the dropped ones before
+  // it) to requested_: the golden model's table with every request applied, which the table must
+  // equal.
+  std::deque<Op> requests_;
+  PredTable requested_;
+  uint64_t next_seq_ = 0;
   static constexpr int kUpdateStages = rtl::kUpdateStages;
   std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [6] = W
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
