@@ -685,6 +685,10 @@ def run_tasks(args, tasks, progress):
             # group, and only this driver handles it (shutting the workers down), not each worker
             # with its own traceback. (The hrpp runs set their own handlers.)
             handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            # The scheduler's HTTP server (even without a dashboard) moves to a free port when
+            # another cluster holds 8787, and says so on stderr: no news for a sweep.
+            import warnings
+            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
             try:
                 cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
                                        processes=True, dashboard_address=None)
