@@ -493,24 +493,20 @@ nlohmann::json preset_json(const PredictorArgs& a) {
   return {{"name", a.label}, {"base", or_null(a.preset)}, {"file", or_null(a.preset_file)}};
 }
 
+bool table_option_set(const PredictorArgs& a) {
+  for (const auto& [name, opt] : a.given)
+    if (is_table_option(name) && option_given(a, name)) return true;
+  return false;
+}
+
 bool resolve_preset(const char* cmd, PredictorArgs& a, const std::string& default_preset) {
-  if (a.preset.empty() && !default_preset.empty()) {
-    bool table_given = false;
-    for (const auto& [name, opt] : a.given)
-      table_given = table_given || (opt->count() > 0 && is_table_option(name));
-    if (!table_given) a.preset = default_preset;
-  }
-  if (a.preset.ends_with(".json")) {
+  if (a.preset.ends_with(".json")) {  // its "preset", if any, becomes a.preset
     a.preset_file = a.preset;
     a.preset.clear();
     if (!read_preset_file(cmd, a, &a.preset)) return false;
-    // A file with no "preset" starts from the default preset unless it or the command line
-    // sets a hash or table option, as the command line does.
-    bool table_set = false;
-    for (const auto& [name, opt] : a.given)
-      table_set = table_set || (option_given(a, name) && is_table_option(name));
-    if (a.preset.empty() && !table_set) a.preset = default_preset;
   }
+  // No named preset and no hash or table option (command line or file): the default preset.
+  if (a.preset.empty() && !table_option_set(a)) a.preset = default_preset;
   if (!a.preset.empty() && a.preset != "none" && a.preset != "oracle")
     apply_named_preset(a, a.preset);
   if (a.label.empty()) a.label = a.preset.empty() ? "custom" : a.preset;
@@ -519,15 +515,13 @@ bool resolve_preset(const char* cmd, PredictorArgs& a, const std::string& defaul
 
 namespace {
 
-bool given(const PredictorArgs& a, const char* opt) { return option_given(a, opt); }
-
 /// Where a value came from: "--hash improved", "--preset micro21 (hash micro21)" or "the default
 /// hash faithful".
 std::string origin_of(const PredictorArgs& a, const char* opt, const char* what,
                       const std::string& value) {
   if (a.from_file.contains(opt))
     return std::string(opt) + " " + value + " (--preset " + a.preset_file + ")";
-  if (given(a, opt)) return std::string(opt) + " " + value;
+  if (option_given(a, opt)) return std::string(opt) + " " + value;
   if (!a.preset.empty()) return "--preset " + a.preset + " (" + what + " " + value + ")";
   return std::string("the default ") + what + " " + value;
 }
@@ -555,7 +549,7 @@ bool check_applicable(const char* cmd, const PredictorArgs& a) {
        "--table", a.table},
   };
   for (const Rule& r : rules)
-    if (!r.applies && given(a, r.opt)) {
+    if (!r.applies && option_given(a, r.opt)) {
       const std::string opt = a.from_file.contains(r.opt)
                                   ? std::string(r.opt) + " (--preset " + a.preset_file + ")"
                                   : std::string(r.opt);

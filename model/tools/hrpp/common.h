@@ -109,6 +109,9 @@ nlohmann::json preset_json(const PredictorArgs& a);
 /// Whether OPTION ("--hash") was set by the user: on the command line or in a preset file.
 bool option_given(const PredictorArgs& a, const std::string& option);
 
+/// Whether a hash or table option (is_table_option) was set, on the command line or in a file.
+bool table_option_set(const PredictorArgs& a);
+
 /// The options that choose the hash and the table (an RTL configuration fixes them; go-up, mode
 /// and the ray kinds that use the predictor are the traversal engine's choices).
 bool is_table_option(const std::string& option);

@@ -45,10 +45,7 @@ bool predictor_sim_options(const char* cmd, const PredictorArgs& p, const Predic
                            std::string* timing, std::string* rtl_name) {
   opt->pred = cfg;
   opt->any_hit_only = cfg.any_hit_only;
-  bool overridden = false;
-  for (const auto& [name, o] : p.given)
-    overridden = overridden || (option_given(p, name) && is_table_option(name));
-  if (p.preset.starts_with("rtl-") && !overridden) {
+  if (p.preset.starts_with("rtl-") && !table_option_set(p)) {
     const RtlConfig rc = rtl_config(p.preset.substr(4));
     CycleConfig cc;
     const std::string err = rc.cycle_for_scene(cfg.mode, scene, bvh, &cc);
