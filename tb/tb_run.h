@@ -27,6 +27,7 @@ struct Run {
   std::array<StallStats, kNumStallPorts> stalls{};
   CycleStats table;         // the cycle model's table statistics
   uint64_t table_used = 0;  // valid entries at the end
+  uint64_t max_in_flight = 0;  // the most rays in flight at once (Engine::max_in_flight)
 };
 
 struct RunOptions {
