@@ -90,7 +90,7 @@ test: build
 # Longer RTL parity runs than the test suite's: every configuration and mode on every shared
 # scene, 1,000,000 rays each (about 6 s per run).
 sim-long: build
-	@set -o pipefail; for s in $(SHARED)/scenes/*.glb; do for c in small default large; do \
+	@set -o pipefail; for s in $(SHARED)/scenes/*.glb; do for c in small default large mobile; do \
 	  for m in anyhit closest-exact closest-spec; do \
 	    $(BUILD)/tb_hrpp --scene $$s --rays 1000000 --config $$c --mode $$m --go-up 1 --seed 11 \
 	      | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
