@@ -169,8 +169,8 @@ def gpu_block(res, gpu, scenes, args):
     parts = [f"GPU configuration `{gpu}` (model/gpu/{gpu}.json), {args.res}, 1 spp; speed-up = "
              "cycles with no predictor / cycles with the preset, each ray kind simulated alone "
              "(an empty table at the start). Stall cycles: unit cycles in which a ray waited to "
-             "enter the RTL predictor and none was taken (its ray ids are all in use: 64 in "
-             "rtl-default, 1,024 in rtl-mobile)."]
+             "enter the RTL predictor and none was taken (its ray ids all in use: 64 in "
+             "rtl-default, 1,024 in rtl-mobile; or its input pipeline full)."]
     means = {}
     for kind in KINDS:
         table, g = kind_table(res, gpu, scenes, kind)
