@@ -228,8 +228,7 @@ void CycleModel::tick(const DutIn& in) {
     if (dec.p_take) p0_ = kp_;
     if (dec.f_take) f0_ = kf_;
   }
-  if (o.pw_ready)
-    pw_to = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
+  if (o.pw_ready) pw_to = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
   if (o.outcome_ready)
     outcome_to = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
                      key_store_[in.outcome_id]};

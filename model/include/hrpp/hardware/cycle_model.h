@@ -126,7 +126,7 @@ class CycleModel {
     bool f_req = false, p_req = false, p_advance = false, f_advance = false;
     std::optional<Op> update;   // the first request to the update queue (a final outcome's first)
     std::optional<Op> update2;  // the second, behind it (a predicted-walk result's)
-    bool room1 = false, room2 = false;  // the update queue has room for one, for two requests
+    bool room1 = false, room2 = false;    // the update queue has room for one, for two requests
     bool p_take = false, f_take = false;  // P0, F0 take a message (the port's, or K's)
   };
   void take_request(Op op);

@@ -30,7 +30,7 @@ struct RtlConfig {
   int id_width = 0;       // IdWidth: ray ids
   int pred_fifo_depth = 0, skip_fifo_depth = 0;
   bool key_store_bram = false;  // KeyStoreBram: one cycle more of decision and update latency
-  bool inject_fault = false;  // test only (the "mutant" configuration)
+  bool inject_fault = false;    // test only (the "mutant" configuration)
 
   /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
   /// the declared ones, and one cycle more with the key store in block RAM (its registered read).
