@@ -88,12 +88,17 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # Longer RTL parity runs than the test suite's: every configuration and mode on every shared
-# scene, 1,000,000 rays each (about 6 s per run).
+# scene, 1,000,000 rays each (about 6 s per run). A configuration whose node ids cannot name the
+# scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only mobile's 21 bits do) is
+# skipped with the reason; any other failure stops the target.
 sim-long: build
-	@set -o pipefail; for s in $(SHARED)/scenes/*.glb; do for c in small default large; do \
+	@for s in $(SHARED)/scenes/*.glb; do for c in small default large mobile; do \
 	  for m in anyhit closest-exact closest-spec; do \
-	    $(BUILD)/tb_hrpp --scene $$s --rays 1000000 --config $$c --mode $$m --go-up 1 --seed 11 \
-	      | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
+	    out=$$($(BUILD)/tb_hrpp --scene $$s --rays 1000000 --config $$c --mode $$m --go-up 1 \
+	           --seed 11 2>&1); rc=$$?; \
+	    if [ $$rc = 2 ] && echo "$$out" | grep -q 'node ids name at most'; then \
+	      echo "skipped: $$(echo "$$out" | tail -1)"; continue; fi; \
+	    echo "$$out" | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; [ $$rc = 0 ] || exit 1; \
 	  done; done; done
 
 # Long hardware reliability runs of tb_hrpp (tb/stress_runs.py; docs/results.md, "Reliability"):

@@ -26,7 +26,8 @@ PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpB
           ("sets", "NumSets"), ("ways", "NumWays"), ("nodes_per_entry", "NodesPerEntry"),
           ("node_id_width", "NodeIdWidth"), ("tag_bits", "TagWidth"), ("id_width", "IdWidth"),
           ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
-          ("inject_fault", "InjectFault")]
+          ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault")]
+BOOLS = ("key_store_bram", "inject_fault")
 FIELDS = [f for f, _ in PARAMS]
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
@@ -48,10 +49,11 @@ def _check(name: str, c: dict) -> None:
         raise ConfigError(f"configuration {name}: variant must be one of {list(VARIANTS)}")
     if c["combine"] not in COMBINES:
         raise ConfigError(f"configuration {name}: combine must be one of {list(COMBINES)}")
-    if not isinstance(c["inject_fault"], bool):
-        raise ConfigError(f"configuration {name}: inject_fault must be true or false")
+    for f in BOOLS:
+        if not isinstance(c[f], bool):
+            raise ConfigError(f"configuration {name}: {f} must be true or false")
     for f in FIELDS:
-        if f not in ("variant", "combine", "inject_fault") and (
+        if f not in ("variant", "combine", *BOOLS) and (
                 not isinstance(c[f], int) or isinstance(c[f], bool) or c[f] < 0):
             raise ConfigError(f"configuration {name}: {f} must be a non-negative integer")
     for f in ("sets", "pred_fifo_depth", "skip_fifo_depth"):
@@ -94,6 +96,17 @@ def load(path: Path = JSON_PATH) -> dict:
     return {"latencies": lat, "configurations": cfgs}
 
 
+def latencies(c: dict, data: dict | None = None) -> dict:
+    """The latencies of configuration c: the declared ones, and with a key store in block RAM
+    (key_store_bram) one cycle more of decision, update write and update landing latency (its
+    registered read: docs/microarchitecture.md, "Key store")."""
+    lat = dict((data or load())["latencies"])
+    k = int(c["key_store_bram"])
+    for n in ("decision_latency", "update_write_latency", "update_landing"):
+        lat[n] += k
+    return lat
+
+
 def config(name: str, data: dict | None = None) -> dict:
     cfgs = (data or load())["configurations"]
     if name not in cfgs:
@@ -111,7 +124,7 @@ def hrpp_top_params(c: dict, enums: str = "name") -> dict[str, int | str]:
         if f in ("variant", "combine"):
             sv, code, _ = (VARIANTS if f == "variant" else COMBINES)[v]
             out[p] = f"hrpp_pkg::{sv}" if enums == "name" else f"1'b{code}"
-        elif f == "inject_fault":
+        elif f in BOOLS:
             out[p] = f"1'b{int(v)}"
         else:
             out[p] = int(v)

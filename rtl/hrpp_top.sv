@@ -28,6 +28,7 @@ module hrpp_top
   parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits (<= full tag)
   // Interfaces
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
+  parameter bit KeyStoreBram = DefaultKeyStoreBram,  /// key store in block RAM (+1 cycle)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
   parameter int unsigned UpdateQueueDepth = 8,  /// update queue entries, a power of two >= 2
@@ -162,22 +163,93 @@ module hrpp_top
     end
   end
 
-  // Key store: each in-flight ray's set, tag and query type, by id. Distributed RAM: it is read
-  // combinationally as a message is accepted (in block RAM, the skip controller's registers
-  // would become the RAM's output registers and its slow clock-to-output would start the
-  // handshake paths).
+  // Key store: each in-flight ray's set, tag and query type, by id, written in B. KeyStoreBram
+  // = 0: distributed RAM, read combinationally as a predicted-walk result or final outcome is
+  // accepted, into the skip controller's P0 / F0 registers. KeyStoreBram = 1 (many ray ids): two
+  // block-RAM copies (one per read port), read as the message is accepted into a register stage
+  // in front of the skip controller (K: the message, and the RAM's output register); the RAM's
+  // data goes straight into P0 / F0 one cycle later. The block RAM's slow clock-to-output thus
+  // starts no logic (the handshake paths start at P0 / F0 as before), at one cycle more of
+  // decision and update latency (docs/microarchitecture.md, "Key store").
   localparam int unsigned KsWidth = IdxWidth + TagWidth + 1;
-  (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
-  logic [IdWidth-1:0]  ksp_id, ksf_id;  // the ids of the messages being accepted
+  logic [IdWidth-1:0]  ksp_id, ksf_id;  // the skip controller's read addresses (distributed RAM)
   logic [IdxWidth-1:0] ksp_idx, ksf_idx;
   logic [TagWidth-1:0] ksp_tag, ksf_tag;
   logic                ksp_any_hit, ksf_any_hit_unused;
+  logic [KsWidth-1:0]  ks_wdata;
+  assign ks_wdata = {b_idx_q, b_tag_q, b_any_hit_q};
+  // The skip controller's message inputs: the ports (distributed RAM) or K (block RAM).
+  logic                   sc_pw_valid, sc_pw_ready, sc_pw_hit;
+  logic                   sc_outcome_valid, sc_outcome_ready, sc_outcome_hit;
+  logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
+  logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
 
-  always_ff @(posedge clk_i) begin
-    if (b_valid_q) ks_mem_q[b_id_q] <= {b_idx_q, b_tag_q, b_any_hit_q};
+  if (!KeyStoreBram) begin : gen_ks_distributed
+    (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
+    always_ff @(posedge clk_i) begin
+      if (b_valid_q) ks_mem_q[b_id_q] <= ks_wdata;
+    end
+    assign {ksp_idx, ksp_tag, ksp_any_hit} = ks_mem_q[ksp_id];
+    assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = ks_mem_q[ksf_id];
+    assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {pw_valid_i, pw_id_i, pw_hit_i,
+                                                             pw_node_i};
+    assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
+        {outcome_valid_i, outcome_id_i, outcome_hit_i, outcome_node_i};
+    assign pw_ready_o      = sc_pw_ready;
+    assign outcome_ready_o = sc_outcome_ready;
+  end else begin : gen_ks_bram
+    // K: a message waits here while its ray's key is read; it moves on to P0 / F0 when the skip
+    // controller takes it, and K takes the next (the RAM reads only then: its output holds).
+    logic                   kp_valid_q, kp_hit_q, kf_valid_q, kf_hit_q, kp_load, kf_load;
+    logic [IdWidth-1:0]     kp_id_q, kf_id_q;
+    logic [NodeIdWidth-1:0] kp_node_q, kf_node_q;
+    logic [IdWidth-1:0]     ks_unused;  // the skip controller's read addresses
+    assign ks_unused = ksp_id ^ ksf_id;
+    assign kp_load = init_done && (!kp_valid_q || sc_pw_ready);
+    assign kf_load = init_done && (!kf_valid_q || sc_outcome_ready);
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        kp_valid_q <= 1'b0;
+        kp_id_q    <= '0;
+        kp_hit_q   <= 1'b0;
+        kp_node_q  <= '0;
+        kf_valid_q <= 1'b0;
+        kf_id_q    <= '0;
+        kf_hit_q   <= 1'b0;
+        kf_node_q  <= '0;
+      end else begin
+        if (kp_load) begin
+          kp_valid_q <= pw_valid_i;
+          kp_id_q    <= pw_id_i;
+          kp_hit_q   <= pw_hit_i;
+          kp_node_q  <= pw_node_i;
+        end
+        if (kf_load) begin
+          kf_valid_q <= outcome_valid_i;
+          kf_id_q    <= outcome_id_i;
+          kf_hit_q   <= outcome_hit_i;
+          kf_node_q  <= outcome_node_i;
+        end
+      end
+    end
+    // An entry is never read in the cycle it is written: a ray's result arrives after its
+    // prediction left, and an id is reused only after its ray finished.
+    hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_pw (
+      .clk_i, .re_i(kp_load), .raddr_i(pw_id_i), .rdata_o({ksp_idx, ksp_tag, ksp_any_hit}),
+      .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
+    );
+    hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_outcome (
+      .clk_i, .re_i(kf_load), .raddr_i(outcome_id_i),
+      .rdata_o({ksf_idx, ksf_tag, ksf_any_hit_unused}),
+      .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
+    );
+    assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {kp_valid_q, kp_id_q, kp_hit_q,
+                                                             kp_node_q};
+    assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
+        {kf_valid_q, kf_id_q, kf_hit_q, kf_node_q};
+    assign pw_ready_o      = kp_load;
+    assign outcome_ready_o = kf_load;
   end
-  assign {ksp_idx, ksp_tag, ksp_any_hit} = ks_mem_q[ksp_id];
-  assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = ks_mem_q[ksf_id];
 
   // ---------------------------------------------------------------------------------------------
   // Table
@@ -319,8 +391,11 @@ module hrpp_top
     .FifoDepth(SkipFifoDepth)
   ) u_skip (
     .clk_i, .rst_ni, .enable_i(init_done), .cfg_mode_i,
-    .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
-    .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
+    .pw_valid_i(sc_pw_valid), .pw_ready_o(sc_pw_ready), .pw_id_i(sc_pw_id),
+    .pw_hit_i(sc_pw_hit), .pw_node_i(sc_pw_node),
+    .outcome_valid_i(sc_outcome_valid), .outcome_ready_o(sc_outcome_ready),
+    .outcome_id_i(sc_outcome_id), .outcome_hit_i(sc_outcome_hit),
+    .outcome_node_i(sc_outcome_node),
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
     .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
     .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_tbl_wr_idx),

@@ -53,6 +53,7 @@ uint64_t Engine::reset() {
   redo_.assign(dropped.begin(), dropped.end());
   free_ids_.clear();
   for (uint32_t i = 0; i < by_id_.size(); ++i) free_ids_.push_back(i);
+  in_flight_ = 0;
   for (Port* p : {&pw_, &upd_}) {
     p->pending.clear();
     p->offered.reset();
@@ -154,6 +155,7 @@ void Engine::observe(uint64_t cycle, const DutIn& in, const DutOut& out) {
     f.ray = ray;
     set_query(rays_[ray].kind, opt_.mode, &f.er);
     by_id_[id] = f;  // the baseline walk is made with the skip decision
+    max_in_flight_ = std::max(max_in_flight_, ++in_flight_);
   }
 
   if (out.pred_valid && in.pred_ready) {
@@ -219,6 +221,7 @@ void Engine::report(uint32_t id) {
   by_id_[id].reset();
   free_ids_.push_back(id);
   ++finished_;
+  --in_flight_;
 }
 
 }  // namespace hrpp::tb

@@ -81,6 +81,8 @@ class Engine {
   const StallStats& stall_stats(int port) const { return stall_[port]; }
   const PredictStats& stats() const { return stats_; }
   uint64_t rays_finished() const { return finished_; }
+  /// The most rays in flight at once (accepted by the DUT, final result not yet reported).
+  uint64_t max_in_flight() const { return max_in_flight_; }
   /// A protocol violation seen (an output the engine cannot make sense of), or empty.
   const std::string& error() const { return error_; }
 
@@ -116,6 +118,7 @@ class Engine {
   size_t next_ray_ = 0;
   std::deque<size_t> redo_;  // rays dropped by a reset, to be offered again
   uint64_t finished_ = 0;
+  uint64_t in_flight_ = 0, max_in_flight_ = 0;
   uint64_t reoffered_ = 0;
   std::vector<uint32_t> reports_;  // per ray of the stream: final results reported
   std::mt19937_64 stall_rng_;

@@ -26,6 +26,7 @@ module hrpp_tb_top
   parameter int unsigned IdWidth = DefaultIdWidth,
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,
+  parameter bit KeyStoreBram = DefaultKeyStoreBram,
   parameter bit InjectFault = DefaultInjectFault,
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
@@ -74,7 +75,8 @@ module hrpp_tb_top
     .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
     .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth), .InjectFault(InjectFault)
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+    .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault)
   ) u_dut (
     .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
     .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,

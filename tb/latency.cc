@@ -7,8 +7,8 @@
 
 namespace hrpp::tb {
 
-Latencies declared_latencies() {
-  return {rtl::kPredictionLatency, rtl::kDecisionLatency, rtl::kUpdateLanding};
+Latencies declared_latencies(const RtlConfig& rc) {
+  return {rtl::kPredictionLatency, rc.decision_latency(), rc.update_landing()};
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "hrpp/hardware/cycle_model.h"
+#include "hrpp/hardware/rtl_config.h"
 
 namespace hrpp::tb {
 
@@ -17,8 +18,9 @@ struct Latencies {
   int landing = -1;     // final outcome accepted -> the first ray accepted whose lookup sees it
 };
 
-/// The declared ones.
-Latencies declared_latencies();
+/// The declared ones of a configuration (one cycle more of decision and update landing with the
+/// key store in block RAM: RtlConfig::decision_latency() ...).
+Latencies declared_latencies(const RtlConfig& rc);
 
 /// One clock cycle of a DUT out of reset: drives `in` with the clock low, returns the outputs
 /// of that cycle, then the rising edge.

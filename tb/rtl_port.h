@@ -17,7 +17,7 @@ namespace hrpp::tb {
 /// Called once per port model, at its first mismatching cycle, with "cycle N: signal ...".
 using MismatchSink = std::function<void(const std::string&)>;
 
-/// The RTL port model of configuration `config` ("small", "default", "large", "mutant": the
+/// The RTL port model of configuration `config` (each of rtl/config/hrpp_configs.json: the
 /// Verilated models built into hrpp_rtl) with the cycle configuration `cc` (the configuration's,
 /// resolved for the scene). The DUT is reset as tb_hrpp resets it (tb_dut.h, reset_dut); the
 /// cycle model starts with it, and both count the same cycles. outputs() returns the DUT's

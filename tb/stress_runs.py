@@ -33,8 +33,9 @@ def runs(shared, own):
     scene = big if os.path.exists(big) else os.path.join(own, "spd_balls.glb")
     glass = os.path.join(own, "glass_spheres.glb")
     balls = os.path.join(own, "spd_balls.glb")
-    modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec"}
-    every = {"small": 4000, "default": 5000, "large": 20000}
+    modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec",
+             "mobile": "anyhit"}
+    every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000}
     out = []
     for cfg, mode in modes.items():
         for seed in (1, 2):

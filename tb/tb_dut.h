@@ -13,6 +13,7 @@
 
 #include "Vhrpp_default.h"
 #include "Vhrpp_large.h"
+#include "Vhrpp_mobile.h"
 #include "Vhrpp_mutant.h"
 #include "Vhrpp_small.h"
 #include "hrpp/hardware/cycle_model.h"
@@ -130,6 +131,7 @@ template <typename F>
 auto with_model(const std::string& name, F&& f) {
   if (name == "small") return f.template operator()<Vhrpp_small>();
   if (name == "large") return f.template operator()<Vhrpp_large>();
+  if (name == "mobile") return f.template operator()<Vhrpp_mobile>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
   throw std::invalid_argument("no Verilated model of RTL configuration " + name);

@@ -1,7 +1,8 @@
 // tb_hrpp: the RTL parity testbench (tb/README.md). The golden model generates real ray streams
 // and plays the traversal engine; every cycle every DUT output is compared with the cycle model.
 //
-//   tb_hrpp --scene SCENE|--stream FILE|--latency [--rays N] [--config small|default|large|mutant]
+//   tb_hrpp --scene SCENE|--stream FILE|--latency [--rays N]
+//           [--config small|default|large|mobile|mutant]
 //           [--mode anyhit|closest-exact|closest-spec] [--seed S] [--trace FILE.fst|.vcd]
 //           [--reset-every N] [--stall-gap G --stall-max M] [--stress KIND] [+verilator+...]
 //

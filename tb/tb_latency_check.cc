@@ -48,7 +48,7 @@ int check_latencies(const RtlConfig& rc, PredictMode mode) {
   };
   Latencies model;
   model_error = measure_latencies(model_cycle, cc.id_bits, cc.table.sets, &model);
-  const Latencies declared = declared_latencies();
+  const Latencies declared = declared_latencies(rc);
   std::printf(
       "latency: config %s (cycles: ray accepted to pred_valid_o, predicted-walk result "
       "accepted to skip_valid_o, final outcome accepted to the first ray seeing its "

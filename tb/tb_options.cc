@@ -50,6 +50,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
   app.add_option("--min-throughput", o->min_throughput,
                  "fail unless at least this many rays finish per cycle")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--min-in-flight", o->min_in_flight,
+                 "fail unless at some cycle at least this many rays were in flight at once");
   app.add_flag("--skip-missing", o->skip_missing,
                "exit 77 (skipped) when the scene file does not exist (for ctest)");
   RunOptions& ro = o->ro;

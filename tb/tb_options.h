@@ -19,6 +19,7 @@ struct TbOptions {
   uint64_t nrays = 100000, seed = 1;
   uint32_t go_up = 0;
   double min_throughput = 0;
+  uint64_t min_in_flight = 0;
   bool skip_missing = false;
   std::string stress;  // "" or a StressKind's name (tb/stress.h)
   EngineOptions eo;    // mode, seed, go-up and p_skip_ready set from the options above

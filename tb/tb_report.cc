@@ -149,9 +149,16 @@ int report_statistics(const Run& r, const Run& m, const PredictStats& untimed, c
         (unsigned long long)m.cycles);
     return 1;
   }
+  std::printf("  rays in flight: at most %llu at once (accepted, final result not yet reported)\n",
+              (unsigned long long)r.max_in_flight);
   if (throughput < o.min_throughput) {
     std::printf("FAIL: %.3f rays per cycle, below the required %.3f\n", throughput,
                 o.min_throughput);
+    return 1;
+  }
+  if (r.max_in_flight < o.min_in_flight) {
+    std::printf("FAIL: at most %llu rays in flight, below the required %llu\n",
+                (unsigned long long)r.max_in_flight, (unsigned long long)o.min_in_flight);
     return 1;
   }
   if (r.stats.exact_mismatches) {

@@ -133,7 +133,8 @@ class ResetSchedule {
 uint64_t cycle_limit(const CycleConfig& cc, size_t rays, const Run& run, const EngineOptions& eo,
                      uint64_t reset_max_len) {
   return cc.table.sets + kMaxCyclesPerRay * (rays + 10 + run.dropped) +
-         run.resets * (cc.table.sets + reset_max_len) + 8 * eo.stall_max;
+         run.resets * (cc.table.sets + reset_max_len) + 8 * eo.stall_max +
+         4 * uint64_t(eo.max_latency);
 }
 
 // DUT and cycle model in lockstep.
@@ -228,6 +229,7 @@ Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>&
   if (wave) wave->close();
   run.stats = eng.stats();
   run.exactly_once = eng.check_exactly_once();
+  run.max_in_flight = eng.max_in_flight();
   for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = eng.stall_stats(p);
   run.table = model.stats();
   run.table_used = model.table().entries_used();

@@ -25,8 +25,9 @@ struct Run {
   uint64_t resets_with_rays = 0;  // resets that hit at least one ray in flight
   std::string exactly_once;       // Engine::check_exactly_once()
   std::array<StallStats, kNumStallPorts> stalls{};
-  CycleStats table;         // the cycle model's table statistics
-  uint64_t table_used = 0;  // valid entries at the end
+  CycleStats table;            // the cycle model's table statistics
+  uint64_t table_used = 0;     // valid entries at the end
+  uint64_t max_in_flight = 0;  // the most rays in flight at once (Engine::max_in_flight)
 };
 
 struct RunOptions {

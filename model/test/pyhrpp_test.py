@@ -98,7 +98,7 @@ class RtlConfig(unittest.TestCase):
     BASE = {"variant": "improved", "precision": 6, "exp_bits": 3, "origin_bits": 5,
             "dir_bits": 3, "combine": "concat", "sets": 128, "ways": 8, "nodes_per_entry": 2,
             "node_id_width": 20, "tag_bits": 8, "id_width": 16, "pred_fifo_depth": 16,
-            "skip_fifo_depth": 8, "inject_fault": False}
+            "skip_fifo_depth": 8, "key_store_bram": False, "inject_fault": False}
 
     def load(self, configs, latencies=None):
         with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
@@ -122,12 +122,21 @@ class RtlConfig(unittest.TestCase):
         self.assertEqual(rtl_config.predict_args(small, ("hash",)),
                          ["--hash", "faithful", "--precision", "6", "--exp-bits", "3",
                           "--combine", "concat"])
+        # A key store in block RAM: one cycle more of decision and update latency.
+        bram = dict(small, key_store_bram=True)
+        self.assertEqual(rtl_config.hrpp_top_params(bram)["KeyStoreBram"], "1'b1")
+        lb = rtl_config.latencies(bram, data)
+        self.assertEqual((lb["prediction_latency"], lb["decision_latency"],
+                          lb["update_write_latency"], lb["update_landing"]), (10, 3, 12, 7))
+        self.assertEqual(rtl_config.latencies(small, data)["decision_latency"], 2)
 
     def test_errors(self):
         bad = [({"small": self.BASE}, "no configuration named default"),
                ({"default": {**self.BASE, "sets": 100}}, "sets must be a power of two"),
                ({"default": {**self.BASE, "colour": 1}}, "unknown ['colour']"),
                ({"default": {**self.BASE, "variant": "x"}}, "variant must be one of"),
+               ({"default": {**self.BASE, "key_store_bram": 1}},
+                "key_store_bram must be true or false"),
                ({"a": {"base": "default"}, "default": self.BASE}, "base default is not defined")]
         for configs, message in bad:
             with self.assertRaises(rtl_config.ConfigError) as e:

@@ -8,9 +8,9 @@ scene x ray kind x preset x GPU configuration, and the tables of docs/results.md
 
 Ray kinds, each simulated alone (`--kinds`, an empty table per run): primary; shadow (scenes
 with lights); ao: MICRO 2021's ambient occlusion (cosine hemisphere, unbounded, 1 spp); ao-short:
-the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-default; every
-`hrpp simulate` run also simulates `none` (the baseline) and the first of a group the `oracle`.
-AO runs of micro21 and rtl-default add `--repack`. Per scene on `mobile`: one mixed run of all
+the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-default, rtl-mobile
+(1,024 ray ids); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
+group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of all
 kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
 
 Writes OUT/GPU/SCENE-KIND-PRESET.json (kept with --resume), OUT/summary.json and the blocks
@@ -42,7 +42,9 @@ KIND_TITLES = {
     "ao": "ambient occlusion as MICRO 2021 (cosine hemisphere, unbounded length, 1 spp)",
     "ao-short": "short ambient occlusion (5% of the scene diagonal)",
 }
-PRESETS = ["study2019", "micro21", "rtl-default"]
+PRESETS = ["study2019", "micro21", "rtl-default", "rtl-mobile"]
+RTL_PRESETS = [p for p in PRESETS if p.startswith("rtl-")]  # the RTL's cycle model: ray ids
+REPACK = ["micro21"] + RTL_PRESETS  # AO runs with --repack too
 MICRO21_AO_GAIN = 0.26  # MICRO 2021's geometric-mean AO speed-up (Liu et al., abstract)
 
 
@@ -77,7 +79,7 @@ def tasks_for(args, scenes, out):
                            "--preset", preset, "--json", str(path)] + kopts
                     if i > 0:
                         cmd.append("--no-oracle")  # the group's first run has it
-                    if kind in ("ao", "ao-short") and preset in ("micro21", "rtl-default"):
+                    if kind in ("ao", "ao-short") and preset in REPACK:
                         cmd.append("--repack")
                     tasks.append(((gpu, where, scene.stem, kind, preset), cmd, path))
             if gpu == "mobile":  # the cost model beside the simulator, all kinds mixed
@@ -124,10 +126,11 @@ def pct(x):
 
 def kind_table(res, gpu, scenes, kind):
     """One ray kind on one GPU: per scene the speed-up of each preset and the oracle."""
-    rows = ["| scene | rays | cycles, none | study2019 | micro21 | rtl-default | oracle | "
-            "gain as % of the oracle's: study2019 / micro21 / rtl-default | "
-            "rtl-default: stall cycles |",
-            "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    rows = ["| scene | rays | cycles, none | " + " | ".join(PRESETS) + " | oracle | "
+            "gain as % of the oracle's: " + " / ".join(PRESETS) + " | stall cycles: "
+            + " / ".join(RTL_PRESETS) + " |",
+            "| --- | ---: | ---: | " + "---: | " * (len(PRESETS) + 3)]
+    rows[1] = rows[1].rstrip()
     cols = {p: [] for p in PRESETS + ["oracle"]}
     notes = set()
     for where, scene in scenes:
@@ -139,17 +142,17 @@ def kind_table(res, gpu, scenes, kind):
         sp["oracle"] = first["oracle"]["speedup"] if "oracle" in first else None
         for p, v in sp.items():
             cols[p].append(v)
-        rd = runs["rtl-default"]
-        if rd and "unsupported" in rd:
-            notes.add(f"{label(where, scene)}: {rd['unsupported'].replace('hrpp simulate: ', '')}")
-            rd = None
+        for p in RTL_PRESETS:
+            if runs[p] and "unsupported" in runs[p]:
+                notes.add(f"{p}: {label(where, scene)}: "
+                          f"{runs[p]['unsupported'].replace('hrpp simulate: ', '')}")
         # Each preset's gain (speed-up - 1) as a fraction of the oracle's, when the oracle gains.
         fracs = " / ".join(
             pct((sp[p] - 1) / (sp["oracle"] - 1)) if sp[p] and sp["oracle"] and sp["oracle"] > 1
             else "-" for p in PRESETS)
-        stall = ""
-        if rd:
-            stall = pct(rd["predictor"]["stall_cycles"] / max(1, rd["cycles"] * rd["units"]))
+        stall = " / ".join(
+            pct(r["predictor"]["stall_cycles"] / max(1, r["cycles"] * r["units"]))
+            if r and "unsupported" not in r else "-" for r in (runs[p] for p in RTL_PRESETS))
         rows.append(f"| {label(where, scene)} | {first['rays']:,} | {first['baseline_cycles']:,} | "
                     + " | ".join(fx(sp[p]) for p in PRESETS + ["oracle"])
                     + f" | {fracs} | {stall} |")
@@ -157,8 +160,8 @@ def kind_table(res, gpu, scenes, kind):
     rows.append("| **geometric mean** | | | " + " | ".join(f"**{fx(g[p])}**" for p in PRESETS
                                                          + ["oracle"]) + " | | |")
     for n in sorted(notes):
-        rows.append(f"\nNot simulated with rtl-default: {n}; its geometric mean leaves the "
-                    "scene out.")
+        p, n = n.split(": ", 1)
+        rows.append(f"\nNot simulated with {p}: {n}; its geometric mean leaves the scene out.")
     return "\n".join(rows), g
 
 
@@ -166,7 +169,8 @@ def gpu_block(res, gpu, scenes, args):
     parts = [f"GPU configuration `{gpu}` (model/gpu/{gpu}.json), {args.res}, 1 spp; speed-up = "
              "cycles with no predictor / cycles with the preset, each ray kind simulated alone "
              "(an empty table at the start). Stall cycles: unit cycles in which a ray waited to "
-             "enter the RTL predictor and none was taken (its 64 ray ids are all in use)."]
+             "enter the RTL predictor and none was taken (its ray ids all in use: 64 in "
+             "rtl-default, 1,024 in rtl-mobile; or its input pipeline full)."]
     means = {}
     for kind in KINDS:
         table, g = kind_table(res, gpu, scenes, kind)
@@ -211,7 +215,7 @@ def repack_block(res, gpus, scenes):
             "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |"]
     for gpu in gpus:
         for where, scene in scenes:
-            for preset in ("micro21", "rtl-default"):
+            for preset in REPACK:
                 r = res.get((gpu, where, scene.stem, "ao", preset))
                 if not r or "repacked" not in r or "unsupported" in r:
                     continue

@@ -72,7 +72,7 @@ def sv_block(data: dict) -> str:
             lines.append(f"  localparam hash_variant_e Default{p} = {VARIANTS[v][0]};")
         elif f == "combine":
             lines.append(f"  localparam combine_e Default{p} = {COMBINES[v][0]};")
-        elif f == "inject_fault":
+        elif f in ("key_store_bram", "inject_fault"):
             lines.append(f"  localparam bit Default{p} = 1'b{int(v)};")
         else:
             lines.append(f"  localparam int unsigned Default{p} = {v};")
@@ -110,6 +110,7 @@ def cpp_header(data: dict) -> str:
             "  int precision, exp_bits, origin_bits, dir_bits;", "  CombineMode combine;",
             "  uint32_t sets, ways, nodes_per_entry;",
             "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth;",
+            "  bool key_store_bram;  // +1 cycle of decision and update latency",
             "  bool inject_fault;", "};", "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
     for name, c in cfgs.items():
@@ -118,7 +119,8 @@ def cpp_header(data: dict) -> str:
             f"{c['origin_bits']}, {c['dir_bits']}, {COMBINES[c['combine']][2]},\n"
             f"     {c['sets']}, {c['ways']}, {c['nodes_per_entry']}, {c['tag_bits']}, "
             f"{c['node_id_width']}, {c['id_width']}, {c['pred_fifo_depth']}, "
-            f"{c['skip_fifo_depth']}, {'true' if c['inject_fault'] else 'false'}}},")
+            f"{c['skip_fifo_depth']}, {'true' if c['key_store_bram'] else 'false'}, "
+            f"{'true' if c['inject_fault'] else 'false'}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]

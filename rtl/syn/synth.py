@@ -167,7 +167,7 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--configs", default="small,default,large")
+    ap.add_argument("--configs", default="small,default,large,mobile")
     ap.add_argument("--sweep", action="store_true", help="also the scaling sweep (slow)")
     ap.add_argument("--sweep-only", action="store_true",
                     help="only the sweep; keep report's configs")

@@ -38,6 +38,8 @@ void CycleModel::reset() {
   requests_.clear();
   requested_.clear();
   key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
+  kp_ = Msg{};
+  kf_ = Msg{};
   p0_ = Msg{};
   f0_ = Msg{};
   for (auto& u : up_) u.reset();
@@ -72,6 +74,8 @@ CycleModel::Decision CycleModel::decide() const {
   d.room2 = update_queue_.size() + 2 <= kUpdateQueueDepth;
   d.f_advance = f0_.valid && (!f0_.hit || d.room1);
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
+  d.p_take = !clearing_ && (!p0_.valid || d.p_advance);
+  d.f_take = !clearing_ && (!f0_.valid || d.f_advance);
   return d;
 }
 
@@ -131,8 +135,13 @@ DutOut CycleModel::outputs(const Decision& d) const {
     o.pred_count = p.count;
     o.pred_nodes = p.nodes;
   }
-  o.pw_ready = !clearing_ && (!p0_.valid || d.p_advance);
-  o.outcome_ready = !clearing_ && (!f0_.valid || d.f_advance);
+  if (cfg_.key_store_bram) {  // K takes a message when empty or when it moves on
+    o.pw_ready = !clearing_ && (!kp_.valid || d.p_take);
+    o.outcome_ready = !clearing_ && (!kf_.valid || d.f_take);
+  } else {
+    o.pw_ready = d.p_take;
+    o.outcome_ready = d.f_take;
+  }
   if (!skip_fifo_.empty()) {
     o.skip_valid = true;
     o.skip_id = skip_fifo_.front().first;
@@ -211,10 +220,18 @@ void CycleModel::tick(const DutIn& in) {
   };
   if (o.pw_ready) check_key(in.pw_valid, in.pw_id, "predicted-walk result accepted");
   if (o.outcome_ready) check_key(in.outcome_valid, in.outcome_id, "final outcome accepted");
-  if (o.pw_ready) p0_ = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
+  // The key is read as the message is accepted: into P0 / F0 (distributed RAM), or into K, whose
+  // message and key move on to P0 / F0 when those take it (block RAM: the RAM's output holds).
+  Msg& pw_to = cfg_.key_store_bram ? kp_ : p0_;
+  Msg& outcome_to = cfg_.key_store_bram ? kf_ : f0_;
+  if (cfg_.key_store_bram) {
+    if (dec.p_take) p0_ = kp_;
+    if (dec.f_take) f0_ = kf_;
+  }
+  if (o.pw_ready) pw_to = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
   if (o.outcome_ready)
-    f0_ = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
-              key_store_[in.outcome_id]};
+    outcome_to = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
+                     key_store_[in.outcome_id]};
 
   // Key store write (B), after U0's read above.
   if (b_) {

@@ -146,9 +146,14 @@ TimedConfig preset_timing(const std::string& preset) {
     t.credits = 0;
     return t;
   }
+  // An RTL configuration's latencies (a key store in block RAM adds a cycle to the decision and
+  // the update: rtl_config.h); any other preset, the default configuration's.
+  bool bram = false;
+  for (const rtl::ConfigData& c : rtl::kConfigs)
+    if (preset == std::string("rtl-") + c.name) bram = c.key_store_bram;
   t.lookup_latency = rtl::kPredictionLatency;
-  t.decision_latency = rtl::kDecisionLatency;
-  t.update_latency = rtl::kUpdateLanding;
+  t.decision_latency = rtl::kDecisionLatency + int(bram);
+  t.update_latency = rtl::kUpdateLanding + int(bram);
   t.lookups_per_cycle = 1;
   t.updates_per_cycle = 1;
   t.credits = 0;

@@ -239,7 +239,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
                  ") at its ports, compared with its cycle model on every cycle (" +
                  std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
                  std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
-                 std::to_string(rtl::kDecisionLatency) + ")";
+                 std::to_string(rtl::kDecisionLatency + int(cc.key_store_bram)) + ")";
 #else
       std::fprintf(stderr,
                    "hrpp simulate: --rtl: this hrpp was built without the Verilated RTL "

@@ -27,6 +27,9 @@ struct CycleConfig {
   int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
   int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
   int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
+  // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
+  // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
+  bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
   std::string validate() const;
 };
 
@@ -111,7 +114,7 @@ class CycleModel {
     uint64_t tag = 0;
     bool any_hit = false;
   };
-  struct Msg {  // P0 or F0, with the ray's key read from the key store at acceptance
+  struct Msg {  // K, P0 or F0, with the ray's key read from the key store at acceptance
     bool valid = false;
     uint32_t id = 0;
     bool hit = false;
@@ -123,7 +126,8 @@ class CycleModel {
     bool f_req = false, p_req = false, p_advance = false, f_advance = false;
     std::optional<Op> update;   // the first request to the update queue (a final outcome's first)
     std::optional<Op> update2;  // the second, behind it (a predicted-walk result's)
-    bool room1 = false, room2 = false;  // the update queue has room for one, for two requests
+    bool room1 = false, room2 = false;    // the update queue has room for one, for two requests
+    bool p_take = false, f_take = false;  // P0, F0 take a message (the port's, or K's)
   };
   void take_request(Op op);
   void drop_queue_head();
@@ -159,8 +163,9 @@ class CycleModel {
   std::vector<bool> key_store_written_;  // since the last reset
   std::string error_;
   CycleStats stats_;
-  // Update path: P0 and F0, the update queue (U), then T0, T1, T2, C1, C2, C3, W.
-  Msg p0_, f0_;
+  // Update path: (K: kp_, kf_ with the key store in block RAM) P0 and F0, the update queue (U),
+  // then T0, T1, T2, C1, C2, C3, W.
+  Msg kp_, kf_, p0_, f0_;
   static constexpr size_t kUpdateQueueDepth = 8;
   std::deque<Op> update_queue_;
   // Every request the queue took, in order, until a write applies it (and the dropped ones before

@@ -29,7 +29,14 @@ struct RtlConfig {
   int node_id_width = 0;  // NodeIdWidth
   int id_width = 0;       // IdWidth: ray ids
   int pred_fifo_depth = 0, skip_fifo_depth = 0;
-  bool inject_fault = false;  // test only (the "mutant" configuration)
+  bool key_store_bram = false;  // KeyStoreBram: one cycle more of decision and update latency
+  bool inject_fault = false;    // test only (the "mutant" configuration)
+
+  /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
+  /// the declared ones, and one cycle more with the key store in block RAM (its registered read).
+  int decision_latency() const { return rtl::kDecisionLatency + int(key_store_bram); }
+  int update_write_latency() const { return rtl::kUpdateWriteLatency + int(key_store_bram); }
+  int update_landing() const { return rtl::kUpdateLanding + int(key_store_bram); }
 
   /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3").
   std::string describe() const {
@@ -59,6 +66,7 @@ struct RtlConfig {
     c.id_bits = id_width;
     c.pred_fifo_depth = pred_fifo_depth;
     c.skip_fifo_depth = skip_fifo_depth;
+    c.key_store_bram = key_store_bram;
     return c;
   }
   /// The cycle model of this configuration in `mode` for a scene: the scene's cell exponent, and
@@ -93,6 +101,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.id_width = d.id_width;
   c.pred_fifo_depth = d.pred_fifo_depth;
   c.skip_fifo_depth = d.skip_fifo_depth;
+  c.key_store_bram = d.key_store_bram;
   c.inject_fault = d.inject_fault;
   return c;
 }
@@ -104,7 +113,7 @@ inline std::vector<std::string> rtl_config_names() {
   return names;
 }
 
-/// The named RTL configuration ("small", "default", "large", "mutant"); throws
+/// The named RTL configuration ("small", "default", "large", "mobile", "mutant"); throws
 /// std::invalid_argument naming the known ones.
 inline RtlConfig rtl_config(std::string_view name) {
   for (const rtl::ConfigData& d : rtl::kConfigs)
