@@ -27,6 +27,9 @@ struct CycleConfig {
   int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
   int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
   int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
+  /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
+  /// cycle_model_lanes.h).
+  int lanes = 1;
   std::string validate() const;
 };
 
@@ -74,6 +77,7 @@ struct CycleStats {
 
 class CycleModel {
  public:
+  /// One lane (cfg.lanes == 1; more lanes: LanesCycleModel); throws std::invalid_argument else.
   explicit CycleModel(const CycleConfig& cfg);
   /// rst_ni low for one cycle (call once per clock cycle of the reset): every register and FIFO
   /// is cleared and the table clear starts again (the table's contents are lost). The key store

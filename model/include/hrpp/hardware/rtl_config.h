@@ -30,6 +30,7 @@ struct RtlConfig {
   int id_width = 0;       // IdWidth: ray ids
   int pred_fifo_depth = 0, skip_fifo_depth = 0;
   bool inject_fault = false;  // test only (the "mutant" configuration)
+  int lanes = 1;              // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
 
   /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3").
   std::string describe() const {
@@ -41,7 +42,8 @@ struct RtlConfig {
     return h + (hash.combine == CombineMode::kConcat ? " concat, " : " xor, ") +
            std::to_string(table.sets) + "x" + std::to_string(table.ways) +
            " table, K=" + std::to_string(table.nodes_per_entry) + ", " +
-           std::to_string(table.tag_bits) + "-bit tags";
+           std::to_string(table.tag_bits) + "-bit tags" +
+           (lanes > 1 ? ", " + std::to_string(lanes) + " lanes" : "");
   }
   /// The predictor of this configuration (go-up 0, closest-exact mode).
   PredictorConfig predictor() const {
@@ -59,6 +61,7 @@ struct RtlConfig {
     c.id_bits = id_width;
     c.pred_fifo_depth = pred_fifo_depth;
     c.skip_fifo_depth = skip_fifo_depth;
+    c.lanes = lanes;
     return c;
   }
   /// The cycle model of this configuration in `mode` for a scene: the scene's cell exponent, and
@@ -94,6 +97,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.pred_fifo_depth = d.pred_fifo_depth;
   c.skip_fifo_depth = d.skip_fifo_depth;
   c.inject_fault = d.inject_fault;
+  c.lanes = int(d.lanes);
   return c;
 }
 
