@@ -67,8 +67,9 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
       ->check(CLI::Range(0, 2));
   app.add_option("--stress", o->stress,
                  "synthetic rays of the scene instead of its camera rays: set-burst (bursts of one "
-                 "table set), one-key (every ray one key), evict (many keys: continuous eviction)")
-      ->check(CLI::IsMember({"set-burst", "one-key", "evict"}));
+                 "table set), one-key (every ray one key), evict (many keys: continuous eviction), "
+                 "spread (ray i of a set s with s mod 4 = i mod 4: each lane its own bank)")
+      ->check(CLI::IsMember({"set-burst", "one-key", "evict", "spread"}));
   // +verilator+... arguments go to the VerilatedContext, the rest to the options above.
   std::vector<char*> cli_args;
   for (int i = 0; i < argc; ++i) {
