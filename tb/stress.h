@@ -24,11 +24,11 @@ struct StressStream {
   uint64_t distinct_rays = 0;  // distinct (origin, direction) bit patterns
   uint64_t distinct_keys = 0;
   uint64_t distinct_sets = 0;
-  uint32_t target_set = 0;       // set-burst: the set of the bursts
-  uint64_t target_set_rays = 0;  // ... rays of that set
-  uint64_t target_set_keys = 0;  // ... distinct keys among them
-  uint64_t longest_set_run = 0;  // longest run of consecutive rays of one set
-  uint64_t spread_misplaced = 0; // rays i whose set mod 4 is not i mod 4 (spread: none)
+  uint32_t target_set = 0;        // set-burst: the set of the bursts
+  uint64_t target_set_rays = 0;   // ... rays of that set
+  uint64_t target_set_keys = 0;   // ... distinct keys among them
+  uint64_t longest_set_run = 0;   // longest run of consecutive rays of one set
+  uint64_t spread_misplaced = 0;  // rays i whose set mod 4 is not i mod 4 (spread: none)
 };
 
 /// n rays aimed at random points of the scene's triangles from random origins in (1.5 times)

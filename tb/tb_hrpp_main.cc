@@ -63,13 +63,12 @@ int main_impl(int argc, char** argv) {
                              : run_lockstep(o.config, cc, rays.bvh, rays.rays, o.eo, o.ro, o.trace);
   print_parity(r, t_sim, cpu_sim);
   if (cc.lanes > 1)
-    std::printf("lanes: %d; lookups %llu, lookup-queue heads waiting for their bank %llu "
-                "lane-cycles (longest queue %llu), update-queue heads waiting for another "
-                "lane's %llu lane-cycles\n",
-                cc.lanes, (unsigned long long)r.lanes.lookups,
-                (unsigned long long)r.lanes.lookup_waits,
-                (unsigned long long)r.lanes.max_lookup_queue,
-                (unsigned long long)r.lanes.update_waits);
+    std::printf(
+        "lanes: %d; lookups %llu, lookup-queue heads waiting for their bank %llu "
+        "lane-cycles (longest queue %llu), update-queue heads waiting for another "
+        "lane's %llu lane-cycles\n",
+        cc.lanes, (unsigned long long)r.lanes.lookups, (unsigned long long)r.lanes.lookup_waits,
+        (unsigned long long)r.lanes.max_lookup_queue, (unsigned long long)r.lanes.update_waits);
   if (const int rc = report_lockstep(r, o, spec, stress_kind, rays.rays.size())) return rc;
 
   // The same closed loop with the cycle model alone must give the same statistics.

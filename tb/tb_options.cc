@@ -48,8 +48,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
                  "write a waveform to this file: FST if its name ends in .fst, VCD otherwise (its "
                  "folder must exist and be writable)");
   app.add_option("--min-throughput", o->min_throughput,
-                 "fail unless at least this many rays finish per cycle")
-      ->check(CLI::Range(0.0, 1.0));
+                 "fail unless at least this many rays finish per cycle (all lanes together)")
+      ->check(CLI::Range(0.0, 4.0));
   app.add_flag("--skip-missing", o->skip_missing,
                "exit 77 (skipped) when the scene file does not exist (for ctest)");
   RunOptions& ro = o->ro;

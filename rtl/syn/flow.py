@@ -183,7 +183,8 @@ def analyse_design(info: dict, ylog: Path) -> dict:
     # sets / Lanes sets each.
     lanes = info.get("params", {}).get("Lanes", 1)
     bank_of = (lambda b: "u_table.") if lanes == 1 else (lambda b: f"gen_bank[{b}].u_table.")
-    want = sorted(f"{bank_of(b)}u_{r}_ram.mem_q" for b in range(lanes) for r in ("lookup", "update"))
+    want = sorted(f"{bank_of(b)}u_{r}_ram.mem_q" for b in range(lanes)
+                  for r in ("lookup", "update"))
     table = {k: v for k, v in mems.items() if "u_table." in k}
     if sorted(table) != want:
         raise FlowError(f"{name}: expected the table RAMs {want}, found {sorted(table)}")

@@ -218,8 +218,9 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
     Op head_op = *uq_head[*sel];
     const std::optional<Op>& t0 = bank.up[0];
     const std::optional<Op>& t1 = bank.up[1];
-    const Op* newer =
-        t0 && t0->idx == head_op.idx ? &*t0 : t1 && t1->idx == head_op.idx ? &*t1 : nullptr;
+    const Op* newer = t0 && t0->idx == head_op.idx   ? &*t0
+                      : t1 && t1->idx == head_op.idx ? &*t1
+                                                     : nullptr;
     if (newer && !newer->same_update(head_op)) {
       stats_.interlock_cycles++;
       continue;
@@ -253,8 +254,8 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
     if (out[i].outcome_ready)
       check_key(in[i].outcome_valid, in[i].outcome_id, "final outcome accepted");
     if (out[i].pw_ready)
-      l.p0 = Msg{in[i].pw_valid, in[i].pw_id, in[i].pw_hit, in[i].pw_node,
-                 l.key_store[in[i].pw_id]};
+      l.p0 =
+          Msg{in[i].pw_valid, in[i].pw_id, in[i].pw_hit, in[i].pw_node, l.key_store[in[i].pw_id]};
     if (out[i].outcome_ready)
       l.f0 = Msg{in[i].outcome_valid, in[i].outcome_id, in[i].outcome_hit, in[i].outcome_node,
                  l.key_store[in[i].outcome_id]};

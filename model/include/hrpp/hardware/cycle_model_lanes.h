@@ -20,10 +20,10 @@ namespace hrpp {
 
 /// What the crossbars saw (cumulative over resets).
 struct LanesStats {
-  uint64_t lookups = 0;          // lookups issued to the banks
-  uint64_t lookup_waits = 0;     // lane-cycles a lookup-queue head waited for its bank
-  uint64_t max_lookup_queue = 0; // the longest lookup queue seen
-  uint64_t update_waits = 0;     // lane-cycles an update-queue head waited for another lane's
+  uint64_t lookups = 0;           // lookups issued to the banks
+  uint64_t lookup_waits = 0;      // lane-cycles a lookup-queue head waited for its bank
+  uint64_t max_lookup_queue = 0;  // the longest lookup queue seen
+  uint64_t update_waits = 0;      // lane-cycles an update-queue head waited for another lane's
 };
 
 class LanesCycleModel {
