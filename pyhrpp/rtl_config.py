@@ -29,6 +29,9 @@ PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpB
           ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault")]
 BOOLS = ("key_store_bram", "inject_fault")
 FIELDS = [f for f, _ in PARAMS]
+# Lookups and updates per cycle (docs/microarchitecture.md, "Lanes"): optional, 1 when absent.
+# One lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which has hrpp_top's parameters and Lanes.
+OPTIONAL_FIELDS = {"lanes": 1}
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
 
@@ -42,7 +45,7 @@ def _pow2(n: int) -> bool:
 
 def _check(name: str, c: dict) -> None:
     missing = [f for f in FIELDS if f not in c]
-    extra = [f for f in c if f not in FIELDS]
+    extra = [f for f in c if f not in FIELDS and f not in OPTIONAL_FIELDS]
     if missing or extra:
         raise ConfigError(f"configuration {name}: missing {missing}, unknown {extra}")
     if c["variant"] not in VARIANTS:
@@ -59,6 +62,13 @@ def _check(name: str, c: dict) -> None:
     for f in ("sets", "pred_fifo_depth", "skip_fifo_depth"):
         if not _pow2(c[f]) or c[f] < 2:
             raise ConfigError(f"configuration {name}: {f} must be a power of two >= 2")
+    if c["lanes"] not in (1, 2, 4) or isinstance(c["lanes"], bool):
+        raise ConfigError(f"configuration {name}: lanes must be 1, 2 or 4")
+    if c["sets"] // c["lanes"] < 2:
+        raise ConfigError(f"configuration {name}: sets / lanes must be at least 2 (sets per bank)")
+    if c["lanes"] != 1 and c["key_store_bram"]:
+        raise ConfigError(f"configuration {name}: key_store_bram is not available with lanes > 1 "
+                          "(hrpp_lanes keeps each lane's key store in distributed RAM)")
 
 
 def load(path: Path = JSON_PATH) -> dict:
@@ -89,6 +99,7 @@ def load(path: Path = JSON_PATH) -> dict:
             if c["base"] not in cfgs:
                 raise ConfigError(f"configuration {name}: base {c['base']} is not defined above it")
             c = {**cfgs[c["base"]], **{k: v for k, v in c.items() if k != "base"}}
+        c = {**OPTIONAL_FIELDS, **c}
         _check(name, c)
         cfgs[name] = c
     if "default" not in cfgs:
@@ -131,6 +142,20 @@ def hrpp_top_params(c: dict, enums: str = "name") -> dict[str, int | str]:
     return out
 
 
+def top_module(c: dict) -> str:
+    """The RTL top of a configuration: hrpp_top (one lane) or hrpp_lanes (2 or 4 lanes)."""
+    return "hrpp_top" if c["lanes"] == 1 else "hrpp_lanes"
+
+
+def top_params(c: dict, enums: str = "name") -> dict[str, int | str]:
+    """The parameters of top_module(c) (and of tb/hrpp_tb_top.sv): hrpp_top's, and Lanes for more
+    than one lane."""
+    out = hrpp_top_params(c, enums)
+    if c["lanes"] != 1:
+        out["Lanes"] = int(c["lanes"])
+    return out
+
+
 def predict_options(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> dict[str, str]:
     """The `hrpp predict` options (without --) of a configuration's hash and/or table."""
     o: dict[str, str] = {}
@@ -155,5 +180,6 @@ def predict_args(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> list[st
 def describe(c: dict) -> str:
     h = (f"improved o{c['origin_bits']}/d{c['dir_bits']}" if c["variant"] == "improved"
          else f"faithful P={c['precision']} E={c['exp_bits']}")
+    lanes = f", {c['lanes']} lanes" if c.get("lanes", 1) != 1 else ""
     return (f"{c['sets']}x{c['ways']}x{c['nodes_per_entry']}, tag {c['tag_bits']}, {h} "
-            f"{c['combine']}")
+            f"{c['combine']}{lanes}")

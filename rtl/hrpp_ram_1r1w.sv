@@ -17,7 +17,11 @@ module hrpp_ram_1r1w #(
   input  logic [Width-1:0]     wdata_i   /// write data
 );
 
-  (* no_rw_check *) logic [Width-1:0] mem_q[Depth];
+  // Block RAM also when shallow: a bank of the multi-lane table (rtl/hrpp_lanes.sv) has NumSets /
+  // Lanes sets, which Yosys would otherwise put in distributed RAM (the default's 4 lanes: 32
+  // sets x 432 bits, about 1,700 DPR16X4 for the eight copies); the pipeline is built around the
+  // block RAM's registered read (docs/microarchitecture.md).
+  (* no_rw_check, ram_style = "block" *) logic [Width-1:0] mem_q[Depth];
 
   always_ff @(posedge clk_i) begin
     if (we_i) mem_q[waddr_i] <= wdata_i;

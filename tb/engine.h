@@ -83,6 +83,7 @@ class Engine {
   uint64_t rays_finished() const { return finished_; }
   /// The most rays in flight at once (accepted by the DUT, final result not yet reported).
   uint64_t max_in_flight() const { return max_in_flight_; }
+  uint64_t in_flight() const { return in_flight_; }
   /// A protocol violation seen (an output the engine cannot make sense of), or empty.
   const std::string& error() const { return error_; }
 

@@ -9,6 +9,8 @@
 // (docs/results.md, "Performance"). Ports and parameters are hrpp_top's, except that Variant and
 // Combine are their enumerations' encodings: Verilator's -G cannot set an enum-typed parameter
 // (the Verilator builds and lints take this top; rtl/config/hrpp_config.py writes their -G flags).
+// Lanes > 1 (rtl/hrpp_lanes.sv): every interface is an array of Lanes; with one lane the arrays
+// have one element and the top is hrpp_top as before (the same ports, bit for bit).
 module hrpp_tb_top
   import hrpp_pkg::*;
 #(
@@ -28,38 +30,39 @@ module hrpp_tb_top
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,
   parameter bit KeyStoreBram = DefaultKeyStoreBram,
   parameter bit InjectFault = DefaultInjectFault,
+  parameter int unsigned Lanes = 1,  /// 1: hrpp_top; 2 or 4: hrpp_lanes (ports per lane)
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
-  input  logic                                      clk_i,
-  input  logic                                      rst_ni,
-  input  mode_e                                     cfg_mode_i,
-  input  logic signed [8:0]                         cfg_cell_exp_i,
-  input  logic                                      ray_valid_i,
-  output logic                                      ray_ready_o,
-  input  logic [IdWidth-1:0]                        ray_id_i,
-  input  logic [2:0]                                ray_kind_i,
-  input  logic [2:0][31:0]                          ray_org_i,
-  input  logic [2:0][31:0]                          ray_dir_i,
-  output logic                                      pred_valid_o,
-  input  logic                                      pred_ready_i,
-  output logic [IdWidth-1:0]                        pred_id_o,
-  output logic                                      pred_invalid_o,
-  output logic [CountWidth-1:0]                     pred_count_o,
-  output logic [NodesPerEntry-1:0][NodeIdWidth-1:0] pred_nodes_o,
-  input  logic                                      pw_valid_i,
-  output logic                                      pw_ready_o,
-  input  logic [IdWidth-1:0]                        pw_id_i,
-  input  logic                                      pw_hit_i,
-  input  logic [NodeIdWidth-1:0]                    pw_node_i,
-  input  logic                                      outcome_valid_i,
-  output logic                                      outcome_ready_o,
-  input  logic [IdWidth-1:0]                        outcome_id_i,
-  input  logic                                      outcome_hit_i,
-  input  logic [NodeIdWidth-1:0]                    outcome_node_i,
-  output logic                                      skip_valid_o,
-  input  logic                                      skip_ready_i,
-  output logic [IdWidth-1:0]                        skip_id_o,
-  output action_e                                   skip_action_o
+  input  logic                                                 clk_i,
+  input  logic                                                 rst_ni,
+  input  mode_e                                                cfg_mode_i,
+  input  logic signed [8:0]                                    cfg_cell_exp_i,
+  input  logic [Lanes-1:0]                                     ray_valid_i,
+  output logic [Lanes-1:0]                                     ray_ready_o,
+  input  logic [Lanes-1:0][IdWidth-1:0]                        ray_id_i,
+  input  logic [Lanes-1:0][2:0]                                ray_kind_i,
+  input  logic [Lanes-1:0][2:0][31:0]                          ray_org_i,
+  input  logic [Lanes-1:0][2:0][31:0]                          ray_dir_i,
+  output logic [Lanes-1:0]                                     pred_valid_o,
+  input  logic [Lanes-1:0]                                     pred_ready_i,
+  output logic [Lanes-1:0][IdWidth-1:0]                        pred_id_o,
+  output logic [Lanes-1:0]                                     pred_invalid_o,
+  output logic [Lanes-1:0][CountWidth-1:0]                     pred_count_o,
+  output logic [Lanes-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] pred_nodes_o,
+  input  logic [Lanes-1:0]                                     pw_valid_i,
+  output logic [Lanes-1:0]                                     pw_ready_o,
+  input  logic [Lanes-1:0][IdWidth-1:0]                        pw_id_i,
+  input  logic [Lanes-1:0]                                     pw_hit_i,
+  input  logic [Lanes-1:0][NodeIdWidth-1:0]                    pw_node_i,
+  input  logic [Lanes-1:0]                                     outcome_valid_i,
+  output logic [Lanes-1:0]                                     outcome_ready_o,
+  input  logic [Lanes-1:0][IdWidth-1:0]                        outcome_id_i,
+  input  logic [Lanes-1:0]                                     outcome_hit_i,
+  input  logic [Lanes-1:0][NodeIdWidth-1:0]                    outcome_node_i,
+  output logic [Lanes-1:0]                                     skip_valid_o,
+  input  logic [Lanes-1:0]                                     skip_ready_i,
+  output logic [Lanes-1:0][IdWidth-1:0]                        skip_id_o,
+  output action_e [Lanes-1:0]                                  skip_action_o
 );
 
   // Loaded on every clock edge, in reset too (tb_hrpp clocks twice in its initial reset).
@@ -70,21 +73,46 @@ module hrpp_tb_top
     cfg_cell_exp_q <= cfg_cell_exp_i;
   end
 
-  hrpp_top #(
-    .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
-    .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
-    .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
-    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
-    .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault)
-  ) u_dut (
-    .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
-    .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
-    .pred_valid_o, .pred_ready_i, .pred_id_o, .pred_invalid_o, .pred_count_o, .pred_nodes_o,
-    .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
-    .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
-    .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
-  );
+  if (Lanes == 1) begin : gen_one_lane
+    hrpp_top #(
+      .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
+      .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
+      .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
+      .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
+      .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+      .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault)
+    ) u_dut (
+      .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
+      .ray_valid_i(ray_valid_i[0]), .ray_ready_o(ray_ready_o[0]), .ray_id_i(ray_id_i[0]),
+      .ray_kind_i(ray_kind_i[0]), .ray_org_i(ray_org_i[0]), .ray_dir_i(ray_dir_i[0]),
+      .pred_valid_o(pred_valid_o[0]), .pred_ready_i(pred_ready_i[0]), .pred_id_o(pred_id_o[0]),
+      .pred_invalid_o(pred_invalid_o[0]), .pred_count_o(pred_count_o[0]),
+      .pred_nodes_o(pred_nodes_o[0]),
+      .pw_valid_i(pw_valid_i[0]), .pw_ready_o(pw_ready_o[0]), .pw_id_i(pw_id_i[0]),
+      .pw_hit_i(pw_hit_i[0]), .pw_node_i(pw_node_i[0]),
+      .outcome_valid_i(outcome_valid_i[0]), .outcome_ready_o(outcome_ready_o[0]),
+      .outcome_id_i(outcome_id_i[0]), .outcome_hit_i(outcome_hit_i[0]),
+      .outcome_node_i(outcome_node_i[0]),
+      .skip_valid_o(skip_valid_o[0]), .skip_ready_i(skip_ready_i[0]), .skip_id_o(skip_id_o[0]),
+      .skip_action_o(skip_action_o[0])
+    );
+  end else begin : gen_lanes
+    hrpp_lanes #(
+      .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
+      .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
+      .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
+      .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
+      .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth), .InjectFault(InjectFault),
+      .Lanes(Lanes)
+    ) u_dut (
+      .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
+      .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
+      .pred_valid_o, .pred_ready_i, .pred_id_o, .pred_invalid_o, .pred_count_o, .pred_nodes_o,
+      .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
+      .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
+      .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
+    );
+  end
 
 endmodule
 

@@ -12,16 +12,19 @@ from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_con
 
 FILES = [str(ROOT / line.strip()) for line in (ROOT / "rtl" / "hrpp.f").read_text().splitlines()
          if line.strip()]
-# hrpp_top's parameters of every configuration; slang takes the enumerations by name.
-CONFIGS = {name: " ".join(f"-G{k}={v}" for k, v in hrpp_config.hrpp_top_params(c).items())
+# The top (hrpp_top, or hrpp_lanes for more than one lane) and its parameters of every
+# configuration; slang takes the enumerations by name.
+CONFIGS = {name: (hrpp_config.top_module(c),
+                  " ".join(f"-G{k}={v}" for k, v in hrpp_config.top_params(c).items()))
            for name, c in hrpp_config.load()["configurations"].items()}
 
 
-def check(name, params):
+def check(name, top_and_params):
+    top, params = top_and_params
     driver = pyslang.driver.Driver()
     driver.addStandardArgs()
     params = params.replace("1'b1", "1").replace("1'b0", "0")  # slang's command line quotes '
-    cmd = f"slang --top hrpp_top {params} " + " ".join(FILES)
+    cmd = f"slang --top {top} {params} " + " ".join(FILES)
     ok = driver.parseCommandLine(cmd, pyslang.driver.CommandLineOptions())
     ok = ok and driver.processOptions() and driver.parseAllSources()
     if not ok:

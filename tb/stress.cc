@@ -1,6 +1,8 @@
 #include "stress.h"
 
+#include <array>
 #include <bit>
+#include <deque>
 #include <random>
 #include <unordered_set>
 
@@ -49,6 +51,8 @@ bool parse_stress(const std::string& name, StressKind* kind) {
     *kind = StressKind::kOneKey;
   else if (name == "evict")
     *kind = StressKind::kEvict;
+  else if (name == "spread")
+    *kind = StressKind::kSpread;
   else
     return false;
   return true;
@@ -75,6 +79,7 @@ StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashC
       if (k.index == s.target_set && pool_keys.insert(k.key).second) pool.push_back(c);
     }
   }
+  std::array<std::deque<RayRecord>, 4> by_set_mod4;  // spread: random rays not yet placed
   while (s.rays.size() < n) {
     const uint64_t pos = s.rays.size();
     RayRecord r;
@@ -105,12 +110,24 @@ StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashC
       case StressKind::kEvict:
         r = aimed_ray(scene, rng, pos);
         break;
+      case StressKind::kSpread: {
+        auto& want = by_set_mod4[pos % 4];
+        while (want.empty()) {
+          const RayRecord c = aimed_ray(scene, rng, 0);
+          by_set_mod4[hash_ray(c.ray, hash).index % 4].push_back(c);
+        }
+        r = want.front();
+        want.pop_front();
+        r.id = pos;
+        r.kind = pos % 8 >= 6 ? RayKind::kShadow : RayKind::kPrimary;
+        break;
+      }
     }
     s.rays.push_back(r);
   }
   // Measure what the stream is.
   std::unordered_set<uint64_t> keys, sets, target_keys, patterns;
-  uint64_t run = 0, prev_set = ~0ull;
+  uint64_t run = 0, prev_set = ~0ull, position = 0;
   for (const RayRecord& r : s.rays) {
     const HashKey k = hash_ray(r.ray, hash);
     uint64_t h = 0;
@@ -124,6 +141,7 @@ StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashC
       s.target_set_rays++;
       target_keys.insert(k.key);
     }
+    s.spread_misplaced += k.index % 4 != position++ % 4;
     run = k.index == prev_set ? run + 1 : 1;
     prev_set = k.index;
     s.longest_set_run = std::max(s.longest_set_run, run);
@@ -151,6 +169,10 @@ std::string check_stress_stream(StressKind kind, const StressStream& s, uint32_t
         return "only " + std::to_string(s.distinct_rays) +
                " distinct rays (copies below the precision)";
       return {};
+    case StressKind::kSpread:
+      if (s.spread_misplaced != 0)
+        return std::to_string(s.spread_misplaced) + " rays whose set mod 4 is not their position's";
+      [[fallthrough]];
     case StressKind::kEvict:
       if (s.distinct_keys < 4ull * sets * ways)
         return std::to_string(s.distinct_keys) + " distinct keys, fewer than 4 per table entry (" +

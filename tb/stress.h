@@ -14,9 +14,9 @@
 
 namespace hrpp::tb {
 
-enum class StressKind { kSetBurst, kOneKey, kEvict };
+enum class StressKind { kSetBurst, kOneKey, kEvict, kSpread };
 
-/// "set-burst", "one-key", "evict".
+/// "set-burst", "one-key", "evict", "spread".
 bool parse_stress(const std::string& name, StressKind* kind);
 
 struct StressStream {
@@ -24,10 +24,11 @@ struct StressStream {
   uint64_t distinct_rays = 0;  // distinct (origin, direction) bit patterns
   uint64_t distinct_keys = 0;
   uint64_t distinct_sets = 0;
-  uint32_t target_set = 0;       // set-burst: the set of the bursts
-  uint64_t target_set_rays = 0;  // ... rays of that set
-  uint64_t target_set_keys = 0;  // ... distinct keys among them
-  uint64_t longest_set_run = 0;  // longest run of consecutive rays of one set
+  uint32_t target_set = 0;        // set-burst: the set of the bursts
+  uint64_t target_set_rays = 0;   // ... rays of that set
+  uint64_t target_set_keys = 0;   // ... distinct keys among them
+  uint64_t longest_set_run = 0;   // longest run of consecutive rays of one set
+  uint64_t spread_misplaced = 0;  // rays i whose set mod 4 is not i mod 4 (spread: none)
 };
 
 /// n rays aimed at random points of the scene's triangles from random origins in (1.5 times)
@@ -37,6 +38,9 @@ struct StressStream {
 ///   one-key:   one ray, repeated, and copies whose low mantissa bits differ (below the hash's
 ///              precision: each copy is kept only if its key equals the first ray's);
 ///   evict:     independent rays (as many distinct keys as the hash gives).
+///   spread:    independent rays, ray i of a set s with s mod 4 = i mod 4: with 2 or 4 lanes
+///              (lane l taking rays l, l + lanes, ...) each lane's rays are of one bank, its own
+///              (the multi-lane design's peak rate: docs/microarchitecture.md, "Lanes").
 /// `hash` must have index_bits and origin_cell_exp set as the RTL uses them.
 StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashConfig& hash,
                                 uint64_t n, uint64_t seed);

@@ -6,12 +6,15 @@
 
 #include <verilated.h>
 
+#include <bit>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 
 #include "Vhrpp_default.h"
+#include "Vhrpp_default_x2.h"
+#include "Vhrpp_default_x4.h"
 #include "Vhrpp_large.h"
 #include "Vhrpp_mobile.h"
 #include "Vhrpp_mutant.h"
@@ -29,6 +32,24 @@ template <std::size_t N>
 uint32_t bits_of(const VlWide<N>& v, int lsb, int w) {
   uint64_t lo = v[lsb / 32], hi = lsb / 32 + 1 < int(N) ? v[lsb / 32 + 1] : 0;
   return static_cast<uint32_t>((((hi << 32) | lo) >> (lsb % 32)) & ((uint64_t{1} << w) - 1));
+}
+
+// Writes `w` (<= 32) bits at `lsb` of a Verilated signal (integral or VlWide).
+template <typename T>
+void set_bits(T& v, int lsb, int w, uint32_t x) {
+  const uint64_t mask = ((uint64_t{1} << w) - 1) << lsb;
+  v = static_cast<T>((static_cast<uint64_t>(v) & ~mask) | ((uint64_t{x} << lsb) & mask));
+}
+template <std::size_t N>
+void set_bits(VlWide<N>& v, int lsb, int w, uint32_t x) {
+  if (lsb % 32 == 0 && w == 32) {
+    v[lsb / 32] = x;
+    return;
+  }
+  for (int i = 0; i < w; ++i) {
+    const int b = lsb + i;
+    v[b / 32] = (v[b / 32] & ~(1u << (b % 32))) | (((x >> i) & 1u) << (b % 32));
+  }
 }
 
 template <typename M>
@@ -67,6 +88,53 @@ DutOut read(const M* dut, uint32_t k, int node_bits) {
   o.skip_valid = dut->skip_valid_o;
   o.skip_id = dut->skip_id_o;
   o.skip_action = static_cast<Action>(dut->skip_action_o);
+  return o;
+}
+
+// The multi-lane models (hrpp_lanes through hrpp_tb_top, rtl/hrpp_lanes.sv): every port is an
+// array of lanes, packed, lane 0 in the low bits. Lane `lane`'s inputs and outputs.
+struct LaneWidths {
+  int id_bits, node_bits;
+  uint32_t k;  // node ids per entry
+};
+template <typename M>
+void apply_lane(M* dut, const DutIn& in, int lane, const LaneWidths& w) {
+  set_bits(dut->ray_valid_i, lane, 1, in.ray_valid);
+  set_bits(dut->ray_id_i, lane * w.id_bits, w.id_bits, in.ray_id);
+  set_bits(dut->ray_kind_i, lane * 3, 3, in.ray_kind);
+  for (int i = 0; i < 3; ++i) {
+    set_bits(dut->ray_org_i, (lane * 3 + i) * 32, 32, in.org[i]);
+    set_bits(dut->ray_dir_i, (lane * 3 + i) * 32, 32, in.dir[i]);
+  }
+  set_bits(dut->pred_ready_i, lane, 1, in.pred_ready);
+  set_bits(dut->pw_valid_i, lane, 1, in.pw_valid);
+  set_bits(dut->pw_id_i, lane * w.id_bits, w.id_bits, in.pw_id);
+  set_bits(dut->pw_hit_i, lane, 1, in.pw_hit);
+  set_bits(dut->pw_node_i, lane * w.node_bits, w.node_bits, in.pw_node);
+  set_bits(dut->outcome_valid_i, lane, 1, in.outcome_valid);
+  set_bits(dut->outcome_id_i, lane * w.id_bits, w.id_bits, in.outcome_id);
+  set_bits(dut->outcome_hit_i, lane, 1, in.outcome_hit);
+  set_bits(dut->outcome_node_i, lane * w.node_bits, w.node_bits, in.outcome_node);
+  set_bits(dut->skip_ready_i, lane, 1, in.skip_ready);
+}
+
+template <typename M>
+DutOut read_lane(const M* dut, int lane, const LaneWidths& w) {
+  const int count_bits = std::bit_width(w.k);  // $clog2(K + 1)
+  DutOut o;
+  o.ray_ready = bits_of(dut->ray_ready_o, lane, 1);
+  o.pred_valid = bits_of(dut->pred_valid_o, lane, 1);
+  o.pred_id = bits_of(dut->pred_id_o, lane * w.id_bits, w.id_bits);
+  o.pred_invalid = bits_of(dut->pred_invalid_o, lane, 1);
+  o.pred_count = bits_of(dut->pred_count_o, lane * count_bits, count_bits);
+  for (uint32_t i = 0; i < w.k; ++i)
+    o.pred_nodes[i] =
+        bits_of(dut->pred_nodes_o, (lane * int(w.k) + int(i)) * w.node_bits, w.node_bits);
+  o.pw_ready = bits_of(dut->pw_ready_o, lane, 1);
+  o.outcome_ready = bits_of(dut->outcome_ready_o, lane, 1);
+  o.skip_valid = bits_of(dut->skip_valid_o, lane, 1);
+  o.skip_id = bits_of(dut->skip_id_o, lane * w.id_bits, w.id_bits);
+  o.skip_action = static_cast<Action>(bits_of(dut->skip_action_o, lane * 2, 2));
   return o;
 }
 
@@ -134,7 +202,15 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "mobile") return f.template operator()<Vhrpp_mobile>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
-  throw std::invalid_argument("no Verilated model of RTL configuration " + name);
+  throw std::invalid_argument("no one-lane Verilated model of RTL configuration " + name);
+}
+
+// The same for the multi-lane configurations (LanesCycleModel's; tb_run_lanes.cc).
+template <typename F>
+auto with_lanes_model(const std::string& name, F&& f) {
+  if (name == "default_x2") return f.template operator()<Vhrpp_default_x2>();
+  if (name == "default_x4") return f.template operator()<Vhrpp_default_x4>();
+  throw std::invalid_argument("no multi-lane Verilated model of RTL configuration " + name);
 }
 
 }  // namespace hrpp::tb

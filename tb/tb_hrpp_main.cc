@@ -31,6 +31,11 @@ namespace {
 int main_impl(int argc, char** argv) {
   TbOptions o;
   if (const std::optional<int> exit_code = parse_options(argc, argv, &o)) return *exit_code;
+  if (o.latency && rtl_config(o.config).lanes != 1) {
+    std::printf("tb_hrpp --latency measures one-lane configurations; %s has %d lanes\n",
+                o.config.c_str(), rtl_config(o.config).lanes);
+    return 2;
+  }
   if (o.latency) return check_latencies(rtl_config(o.config), o.eo.mode);
 
   if (o.skip_missing && !o.scene_path.empty() && !std::filesystem::exists(o.scene_path)) {
@@ -50,14 +55,29 @@ int main_impl(int argc, char** argv) {
 
   const auto t_sim = std::chrono::steady_clock::now();
   const std::clock_t cpu_sim = std::clock();
-  const Run r = run_lockstep(o.config, cc, rays.bvh, rays.rays, o.eo, o.ro, o.trace);
+  if (cc.lanes > 1 && !o.trace.empty()) {
+    std::printf("tb_hrpp: --trace records one-lane configurations only (%s has %d lanes)\n",
+                o.config.c_str(), cc.lanes);
+    return 2;
+  }
+  const Run r = cc.lanes > 1 ? run_lockstep_lanes(o.config, cc, rays.bvh, rays.rays, o.eo, o.ro)
+                             : run_lockstep(o.config, cc, rays.bvh, rays.rays, o.eo, o.ro, o.trace);
   print_parity(r, t_sim, cpu_sim);
+  if (cc.lanes > 1)
+    std::printf(
+        "lanes: %d; lookups %llu, lookup-queue heads waiting for their bank %llu "
+        "lane-cycles (longest queue %llu), update-queue heads waiting for another "
+        "lane's %llu lane-cycles\n",
+        cc.lanes, (unsigned long long)r.lanes.lookups, (unsigned long long)r.lanes.lookup_waits,
+        (unsigned long long)r.lanes.max_lookup_queue, (unsigned long long)r.lanes.update_waits);
   if (const int rc = report_lockstep(r, o, spec, stress_kind, rays.rays.size())) return rc;
 
   // The same closed loop with the cycle model alone must give the same statistics.
-  const Run m = run_model(cc, rays.bvh, rays.rays, o.eo, o.ro);
+  const Run m = cc.lanes > 1 ? run_model_lanes(cc, rays.bvh, rays.rays, o.eo, o.ro)
+                             : run_model(cc, rays.bvh, rays.rays, o.eo, o.ro);
   const PredictStats untimed = run_untimed(cc, rays.bvh, rays.rays, o.go_up, o.eo.mode);
-  return report_statistics(r, m, untimed, o, cc.table.sets);  // the clear: a set per cycle
+  // The clear: a set per cycle in each bank (a bank per lane).
+  return report_statistics(r, m, untimed, o, cc.table.sets / uint32_t(cc.lanes));
 }
 
 }  // namespace

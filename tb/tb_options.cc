@@ -48,8 +48,8 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
                  "write a waveform to this file: FST if its name ends in .fst, VCD otherwise (its "
                  "folder must exist and be writable)");
   app.add_option("--min-throughput", o->min_throughput,
-                 "fail unless at least this many rays finish per cycle")
-      ->check(CLI::Range(0.0, 1.0));
+                 "fail unless at least this many rays finish per cycle (all lanes together)")
+      ->check(CLI::Range(0.0, 4.0));
   app.add_option("--min-in-flight", o->min_in_flight,
                  "fail unless at some cycle at least this many rays were in flight at once");
   app.add_flag("--skip-missing", o->skip_missing,
@@ -69,8 +69,9 @@ std::optional<int> parse_options(int argc, char** argv, TbOptions* o) {
       ->check(CLI::Range(0, 2));
   app.add_option("--stress", o->stress,
                  "synthetic rays of the scene instead of its camera rays: set-burst (bursts of one "
-                 "table set), one-key (every ray one key), evict (many keys: continuous eviction)")
-      ->check(CLI::IsMember({"set-burst", "one-key", "evict"}));
+                 "table set), one-key (every ray one key), evict (many keys: continuous eviction), "
+                 "spread (ray i of a set s with s mod 4 = i mod 4: each lane its own bank)")
+      ->check(CLI::IsMember({"set-burst", "one-key", "evict", "spread"}));
   // +verilator+... arguments go to the VerilatedContext, the rest to the options above.
   std::vector<char*> cli_args;
   for (int i = 0; i < argc; ++i) {

@@ -281,4 +281,199 @@ PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vecto
   return untimed.total();
 }
 
+// ------------------------------------------------------------------------------------------------
+// More than one lane (rtl/hrpp_lanes.sv, LanesCycleModel)
+// ------------------------------------------------------------------------------------------------
+namespace {
+
+// One engine per lane; lane l takes the stream's rays l, l + lanes, ... in order.
+struct LaneEngines {
+  LaneEngines(const Bvh& bvh, const std::vector<RayRecord>& rays, const EngineOptions& eo,
+              int lanes)
+      : rays_of(size_t(lanes)) {
+    for (size_t i = 0; i < rays.size(); ++i) rays_of[i % size_t(lanes)].push_back(rays[i]);
+    for (int l = 0; l < lanes; ++l) {
+      EngineOptions e = eo;
+      e.seed = eo.seed + uint64_t(l) * 0x9E37'79B9'7F4A'7C15ull;  // independent per lane
+      engines.push_back(std::make_unique<Engine>(bvh, rays_of[size_t(l)], e));
+    }
+  }
+  bool done() const {
+    return std::all_of(engines.begin(), engines.end(), [](const auto& e) { return e->done(); });
+  }
+  uint64_t finished() const {
+    uint64_t n = 0;
+    for (const auto& e : engines) n += e->rays_finished();
+    return n;
+  }
+  void begin_reset(Run& run) {
+    uint64_t d = 0;
+    for (auto& e : engines) d += e->reset();
+    run.resets++;
+    run.dropped += d;
+    run.resets_with_rays += d > 0;
+  }
+  void finish(Run& run) const {
+    for (size_t l = 0; l < engines.size(); ++l) {
+      const Engine& e = *engines[l];
+      run.stats += e.stats();
+      if (const std::string x = e.check_exactly_once(); !x.empty() && run.exactly_once.empty())
+        run.exactly_once = "lane " + std::to_string(l) + ": " + x;
+      for (int p = 0; p < kNumStallPorts; ++p) {
+        const StallStats& s = e.stall_stats(p);
+        run.stalls[p].stalls += s.stalls;
+        run.stalls[p].cycles += s.cycles;
+        run.stalls[p].blocked += s.blocked;
+        run.stalls[p].longest = std::max(run.stalls[p].longest, s.longest);
+      }
+    }
+  }
+  std::vector<std::vector<RayRecord>> rays_of;
+  std::vector<std::unique_ptr<Engine>> engines;
+};
+
+template <typename M>
+Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                  const EngineOptions& eo, const RunOptions& ro) {
+  auto ctx = std::make_unique<VerilatedContext>();
+  std::vector<const char*> args{"tb_hrpp"};
+  for (const std::string& a : ro.plusargs) args.push_back(a.c_str());
+  ctx->commandArgs(int(args.size()), args.data());
+  if (!ro.plusargs.empty())
+    std::printf("verilator: rand-reset %d, seed %d (uninitialised state %s)\n", ctx->randReset(),
+                ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
+  auto dut = std::make_unique<M>(ctx.get());
+  const int lanes = cc.lanes;
+  const LaneWidths w{cc.id_bits, cc.table.node_bits, cc.table.nodes_per_entry};
+  LanesCycleModel model(cc);
+  LaneEngines eng(bvh, rays, eo, lanes);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
+  Run run;
+  // The start of the run as reset_dut (tb_dut.h): every lane idle, two cycles in reset.
+  dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
+  dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
+  for (int l = 0; l < lanes; ++l) apply_lane(dut.get(), DutIn{}, l, w);
+  dut->rst_ni = 0;
+  for (int i = 0; i < 4; ++i) {
+    dut->clk_i = i & 1;
+    dut->eval();
+  }
+  dut->clk_i = 0;
+  dut->rst_ni = 1;
+  dut->eval();
+  Progress progress(stderr, "tb_hrpp", "rays", rays.size());
+  std::vector<DutIn> in(static_cast<size_t>(lanes));
+  std::vector<DutOut> act(static_cast<size_t>(lanes));
+  for (uint64_t cycle = 0; !eng.done(); ++cycle) {
+    if ((cycle & 0xFFF) == 0) progress.update(eng.finished());
+    if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
+      std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
+                  (unsigned long long)eng.finished(), rays.size(), (unsigned long long)cycle);
+      run.ok = false;
+      break;
+    }
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) eng.begin_reset(run);
+    if (in_reset) {
+      run.reset_cycles++;
+      model.reset();
+    }
+    dut->rst_ni = !in_reset;
+    for (int l = 0; l < lanes; ++l) {
+      eng.engines[size_t(l)]->drive(cycle, &in[size_t(l)]);
+      apply_lane(dut.get(), in[size_t(l)], l, w);
+    }
+    dut->clk_i = 0;
+    dut->eval();
+    bool stop = false;
+    for (int l = 0; l < lanes && !stop; ++l) {
+      act[size_t(l)] = read_lane(dut.get(), l, w);
+      const std::string d = compare_outputs(model.outputs(l), act[size_t(l)], w.k);
+      if (!d.empty()) {
+        std::printf("MISMATCH at cycle %llu: lane %d: %s\n", (unsigned long long)cycle, l,
+                    d.c_str());
+        run.mismatches++;
+        run.cycles = cycle;
+        stop = true;
+      }
+    }
+    if (stop) break;
+    for (int l = 0; l < lanes && !stop; ++l) {
+      Engine& e = *eng.engines[size_t(l)];
+      e.observe(cycle, in[size_t(l)], act[size_t(l)]);
+      if (!e.error().empty()) {
+        std::printf("FAIL at cycle %llu: lane %d: %s\n", (unsigned long long)cycle, l,
+                    e.error().c_str());
+        run.ok = false;
+        stop = true;
+      }
+    }
+    if (stop) break;
+    uint64_t in_flight = 0;  // all lanes' rays in flight at once
+    for (const auto& e : eng.engines) in_flight += e->in_flight();
+    run.max_in_flight = std::max(run.max_in_flight, in_flight);
+    dut->clk_i = 1;
+    dut->eval();
+    if (!in_reset) model.tick(in);
+    if (!model.error().empty()) {
+      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
+      run.ok = false;
+      break;
+    }
+    run.cycles = cycle + 1;
+    if (ctx->gotFinish()) {
+      std::printf("FAIL: the simulation finished early (an assertion?) at cycle %llu\n",
+                  (unsigned long long)cycle);
+      run.ok = false;
+      break;
+    }
+  }
+  dut->final();
+  eng.finish(run);
+  run.table = model.stats();
+  run.lanes = model.lanes_stats();
+  run.table_used = model.table().entries_used();
+  return run;
+}
+
+}  // namespace
+
+Run run_lockstep_lanes(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
+                       const std::vector<RayRecord>& rays, const EngineOptions& eo,
+                       const RunOptions& ro) {
+  return with_lanes_model(config,
+                          [&]<typename M>() { return run_dut_lanes<M>(cc, bvh, rays, eo, ro); });
+}
+
+Run run_model_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                    const EngineOptions& eo, const RunOptions& ro) {
+  LanesCycleModel model(cc);
+  LaneEngines eng(bvh, rays, eo, cc.lanes);
+  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
+  Run run;
+  std::vector<DutIn> in(static_cast<size_t>(cc.lanes));
+  for (uint64_t cycle = 0;
+       !eng.done() && cycle <= cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len); ++cycle) {
+    bool reset_starts = false;
+    const bool in_reset = resets.step(cycle, &reset_starts);
+    if (reset_starts) eng.begin_reset(run);
+    if (in_reset) model.reset();
+    for (int l = 0; l < cc.lanes; ++l) {
+      Engine& e = *eng.engines[size_t(l)];
+      e.drive(cycle, &in[size_t(l)]);
+      e.observe(cycle, in[size_t(l)], model.outputs(l));
+    }
+    if (!in_reset) model.tick(in);
+    run.cycles = cycle + 1;
+  }
+  bool engines_ok = true;
+  for (const auto& e : eng.engines) engines_ok &= e->error().empty();
+  run.ok = eng.done() && engines_ok && model.error().empty();
+  eng.finish(run);
+  run.table = model.stats();
+  run.lanes = model.lanes_stats();
+  return run;
+}
+
 }  // namespace hrpp::tb

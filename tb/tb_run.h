@@ -10,6 +10,7 @@
 
 #include "engine.h"
 #include "hrpp/hardware/cycle_model.h"
+#include "hrpp/hardware/cycle_model_lanes.h"
 #include "hrpp/predictor/predictor.h"
 #include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
@@ -26,6 +27,7 @@ struct Run {
   std::string exactly_once;       // Engine::check_exactly_once()
   std::array<StallStats, kNumStallPorts> stalls{};
   CycleStats table;            // the cycle model's table statistics
+  LanesStats lanes;            // the crossbars' (more than one lane)
   uint64_t table_used = 0;     // valid entries at the end
   uint64_t max_in_flight = 0;  // the most rays in flight at once (Engine::max_in_flight)
 };
@@ -45,6 +47,17 @@ Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bv
 /// The cycle model alone in the same closed loop.
 Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
               const EngineOptions& eo, const RunOptions& ro);
+
+/// More than one lane (cc.lanes 2 or 4; tb_run_lanes.cc): one engine per lane, lane l taking the
+/// stream's rays l, l + lanes, l + 2 lanes, ... in order (its ids its own); DUT (the multi-lane
+/// Verilated model of `config`) and LanesCycleModel in lockstep, every lane's outputs compared
+/// every cycle. The statistics are the sum over the lanes.
+Run run_lockstep_lanes(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
+                       const std::vector<RayRecord>& rays, const EngineOptions& eo,
+                       const RunOptions& ro);
+/// LanesCycleModel alone in the same closed loop.
+Run run_model_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                    const EngineOptions& eo, const RunOptions& ro);
 
 /// The untimed golden model on the same rays in the same order (no pipeline latency).
 PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,

@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package (run by CMake with the system python3)
 from pyhrpp.files import write_atomic  # noqa: E402
 from pyhrpp.rtl_config import (COMBINES, JSON_PATH, PARAMS, VARIANTS, ConfigError,  # noqa: E402
-                               config, hrpp_top_params, load, predict_args, predict_options)
+                               config, load, top_params, predict_args, predict_options)
 from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
 
 PKG_PATH = ROOT / "rtl" / "hrpp_pkg.sv"
@@ -111,7 +111,8 @@ def cpp_header(data: dict) -> str:
             "  uint32_t sets, ways, nodes_per_entry;",
             "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth;",
             "  bool key_store_bram;  // +1 cycle of decision and update latency",
-            "  bool inject_fault;", "};", "",
+            "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle", "};",
+            "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
     for name, c in cfgs.items():
         out.append(
@@ -120,7 +121,7 @@ def cpp_header(data: dict) -> str:
             f"     {c['sets']}, {c['ways']}, {c['nodes_per_entry']}, {c['tag_bits']}, "
             f"{c['node_id_width']}, {c['id_width']}, {c['pred_fifo_depth']}, "
             f"{c['skip_fifo_depth']}, {'true' if c['key_store_bram'] else 'false'}, "
-            f"{'true' if c['inject_fault'] else 'false'}}},")
+            f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]
@@ -132,8 +133,9 @@ def cmake_text(data: dict) -> str:
            "# edit.",
            f"set(HRPP_CONFIGS {' '.join(data['configurations'])})"]
     for name, c in data["configurations"].items():
-        flags = " ".join(f"-G{k}={v}" for k, v in hrpp_top_params(c, enums="int").items())
+        flags = " ".join(f"-G{k}={v}" for k, v in top_params(c, enums="int").items())
         out.append(f"set(HRPP_CFG_{name} {flags})")
+        out.append(f"set(HRPP_LANES_{name} {c['lanes']})")
     return "\n".join(out) + "\n"
 
 

@@ -70,14 +70,15 @@ ENUM_PARAMS = {
 
 
 def read_configs() -> dict[str, dict[str, int]]:
-    """hrpp_top's parameters of every configuration of rtl/config/hrpp_configs.json:
+    """The top's parameters of every configuration of rtl/config/hrpp_configs.json (hrpp_top's,
+    and Lanes for hrpp_lanes):
     {name: {param: int}} (one-bit and enumeration parameters as their encodings)."""
     try:
         data = hrpp_config.load()
     except hrpp_config.ConfigError as e:
         raise FlowError(str(e))
     as_int = lambda v: int(v.split("'b")[1], 2) if isinstance(v, str) else int(v)
-    return {name: {k: as_int(v) for k, v in hrpp_config.hrpp_top_params(c, enums="int").items()}
+    return {name: {k: as_int(v) for k, v in hrpp_config.top_params(c, enums="int").items()}
             for name, c in data["configurations"].items()}
 
 
@@ -98,7 +99,8 @@ def describe(p: dict[str, int]) -> str:
     else:
         h = f"faithful P={p.get('Precision', 6)} E={p.get('ExpBits', 3)}"
     h += " concat" if p.get("Combine", 0) else " xor"
-    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}")
+    lanes = f", {p['Lanes']} lanes" if p.get("Lanes", 1) > 1 else ""
+    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}{lanes}")
 
 
 def read_slang_cmd(top: str, params: dict[str, int], files: list[str]) -> str:
@@ -133,9 +135,10 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
     for name, params in jobs:
         geo = table_geometry(params)
         info = {"config": name, "params": params, "description": describe(params), **geo}
+        top = "hrpp_lanes" if params.get("Lanes", 1) > 1 else "hrpp_top"
         futs[(name, "design")] = pool.submit(
-            yosys_design, info, read_slang_cmd("hrpp_top", dict(params), rtl_files()),
-            name in netlist_for)
+            yosys_design, info, read_slang_cmd(top, dict(params), rtl_files()),
+            name in netlist_for, top)
         ceiling = {"Depth": geo["sets"], "Width": geo["row_bits"]}
         futs[(name, "ceiling")] = pool.submit(
             yosys_ceiling, name, geo["sets"], geo["row_bits"],

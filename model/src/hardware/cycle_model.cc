@@ -1,6 +1,7 @@
 #include "hrpp/hardware/cycle_model.h"
 
 #include <bit>
+#include <stdexcept>
 
 namespace hrpp {
 
@@ -14,11 +15,16 @@ std::string CycleConfig::validate() const {
   if (table.tag_bits < 1 || table.tag_bits > hash.tag_bits())
     return "stored tag bits must be 1.." + std::to_string(hash.tag_bits());
   if (id_bits < 1 || id_bits > 16) return "id bits must be 1..16";
+  if (lanes != 1 && lanes != 2 && lanes != 4) return "lanes must be 1, 2 or 4";
+  if (table.sets / uint32_t(lanes) < 2) return "the RTL needs at least 2 sets per bank (lane)";
   return {};
 }
 
 CycleModel::CycleModel(const CycleConfig& cfg)
     : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits), requested_(cfg.table) {
+  if (cfg.lanes != 1)
+    throw std::invalid_argument("CycleModel models one lane; " + std::to_string(cfg.lanes) +
+                                " lanes: LanesCycleModel (hrpp/hardware/cycle_model_lanes.h)");
   reset();
   stats_ = CycleStats{};
 }

@@ -30,6 +30,9 @@ struct CycleConfig {
   // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
   // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
   bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
+  /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
+  /// cycle_model_lanes.h).
+  int lanes = 1;
   std::string validate() const;
 };
 
@@ -77,6 +80,7 @@ struct CycleStats {
 
 class CycleModel {
  public:
+  /// One lane (cfg.lanes == 1; more lanes: LanesCycleModel); throws std::invalid_argument else.
   explicit CycleModel(const CycleConfig& cfg);
   /// rst_ni low for one cycle (call once per clock cycle of the reset): every register and FIFO
   /// is cleared and the table clear starts again (the table's contents are lost). The key store

@@ -31,6 +31,7 @@ struct RtlConfig {
   int pred_fifo_depth = 0, skip_fifo_depth = 0;
   bool key_store_bram = false;  // KeyStoreBram: one cycle more of decision and update latency
   bool inject_fault = false;    // test only (the "mutant" configuration)
+  int lanes = 1;                // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
 
   /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
   /// the declared ones, and one cycle more with the key store in block RAM (its registered read).
@@ -48,7 +49,8 @@ struct RtlConfig {
     return h + (hash.combine == CombineMode::kConcat ? " concat, " : " xor, ") +
            std::to_string(table.sets) + "x" + std::to_string(table.ways) +
            " table, K=" + std::to_string(table.nodes_per_entry) + ", " +
-           std::to_string(table.tag_bits) + "-bit tags";
+           std::to_string(table.tag_bits) + "-bit tags" +
+           (lanes > 1 ? ", " + std::to_string(lanes) + " lanes" : "");
   }
   /// The predictor of this configuration (go-up 0, closest-exact mode).
   PredictorConfig predictor() const {
@@ -67,6 +69,7 @@ struct RtlConfig {
     c.pred_fifo_depth = pred_fifo_depth;
     c.skip_fifo_depth = skip_fifo_depth;
     c.key_store_bram = key_store_bram;
+    c.lanes = lanes;
     return c;
   }
   /// The cycle model of this configuration in `mode` for a scene: the scene's cell exponent, and
@@ -103,6 +106,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.skip_fifo_depth = d.skip_fifo_depth;
   c.key_store_bram = d.key_store_bram;
   c.inject_fault = d.inject_fault;
+  c.lanes = int(d.lanes);
   return c;
 }
 
