@@ -34,8 +34,9 @@ def runs(shared, own):
     glass = os.path.join(own, "glass_spheres.glb")
     balls = os.path.join(own, "spd_balls.glb")
     modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec",
-             "mobile": "anyhit"}
-    every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000}
+             "mobile": "anyhit", "default_x2": "closest-exact", "default_x4": "closest-spec"}
+    every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000, "default_x2": 5000,
+             "default_x4": 5000}
     out = []
     for cfg, mode in modes.items():
         for seed in (1, 2):
@@ -53,8 +54,11 @@ def runs(shared, own):
                      "--reset-every", str(4 * every[cfg])]))
         # evict: not in the large configuration, whose 4096 sets this scene's rays do not all
         # reach (2,724 with 95,445 keys), so its table cannot fill up.
+        # spread (each lane its own bank): the multi-lane configurations only.
+        lanes = cfg.startswith("default_x")
         for kind, rays in (("set-burst", 100000 if cfg == "large" else 300000),
-                           ("one-key", 300000)) + ((("evict", 300000),) if cfg != "large" else ()):
+                           ("one-key", 300000)) + ((("evict", 300000),) if cfg != "large" else ()) \
+                + ((("spread", 300000),) if lanes else ()):
             out.append(("stress", f"{kind}.{cfg}",
                         ["--scene", balls, "--rays", str(rays), "--config", cfg, "--mode", mode,
                          "--stress", kind, "--seed", "7", "--p-ray", "1", "--min-latency", "1",
