@@ -97,28 +97,7 @@ void CycleModel::drop_queue_head() {
 }
 
 void CycleModel::check_against_requests(const Op& written) {
-  // Apply every request up to the one written (the dropped ones before it too) to requested_;
-  // each set they touch must then be the table's.
-  std::vector<uint32_t> sets;
-  while (!requests_.empty() && requests_.front().seq <= written.seq) {
-    const Op& op = requests_.front();
-    requested_.update(op.idx, op.tag, 0, op.node);
-    sets.push_back(op.idx);
-    requests_.pop_front();
-  }
-  for (const uint32_t s : sets)
-    for (uint32_t i = 0; i < cfg_.table.ways; ++i) {
-      const Way& a = table_.way(s, i);
-      const Way& b = requested_.way(s, i);
-      bool same = a.valid == b.valid && table_.age(s, i) == requested_.age(s, i);
-      if (a.valid && same) {
-        same = a.tag == b.tag && a.count == b.count;
-        for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
-      }
-      if (!same && error_.empty())
-        error_ = "the table's set " + std::to_string(s) + " differs from the golden model's " +
-                 "with every update request applied (a dropped request changed the table)";
-    }
+  hrpp::check_against_requests(requests_, written, requested_, table_, cfg_.table.ways, &error_);
 }
 
 DutOut CycleModel::outputs() const {

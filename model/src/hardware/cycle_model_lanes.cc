@@ -91,28 +91,9 @@ DutOut LanesCycleModel::outputs(int lane) const {
 }
 
 void LanesCycleModel::check_against_requests(Bank& bank, const Op& written) {
-  // As CycleModel: every request of the bank up to the one written (the dropped ones before it
-  // too) applied to requested_; each set they touch must then be the table's.
-  std::vector<uint32_t> sets;
-  while (!bank.requests.empty() && bank.requests.front().seq <= written.seq) {
-    const Op& op = bank.requests.front();
-    requested_.update(op.idx, op.tag, 0, op.node);
-    sets.push_back(op.idx);
-    bank.requests.pop_front();
-  }
-  for (const uint32_t s : sets)
-    for (uint32_t i = 0; i < cfg_.table.ways; ++i) {
-      const Way& a = table_.way(s, i);
-      const Way& b = requested_.way(s, i);
-      bool same = a.valid == b.valid && table_.age(s, i) == requested_.age(s, i);
-      if (a.valid && same) {
-        same = a.tag == b.tag && a.count == b.count;
-        for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
-      }
-      if (!same && error_.empty())
-        error_ = "the table's set " + std::to_string(s) + " differs from the golden model's " +
-                 "with every update request applied (a dropped request changed the table)";
-    }
+  // As CycleModel, over the bank's requests (a set's requests all go to its bank).
+  hrpp::check_against_requests(bank.requests, written, requested_, table_, cfg_.table.ways,
+                               &error_);
 }
 
 void LanesCycleModel::tick(const std::vector<DutIn>& in) {

@@ -20,6 +20,35 @@
 
 namespace hrpp {
 
+/// The cycle models' self-check (CycleModel, LanesCycleModel): every request in `requests` up to
+/// `written` (by sequence number; the requests dropped before it too) is applied to `requested`,
+/// the golden model's table with every request applied, and popped; each set they touch must
+/// then equal `table`'s. The first difference is written to *error (if it is empty).
+template <typename Op>
+void check_against_requests(std::deque<Op>& requests, const Op& written, PredTable& requested,
+                            const PredTable& table, uint32_t ways, std::string* error) {
+  std::vector<uint32_t> sets;
+  while (!requests.empty() && requests.front().seq <= written.seq) {
+    const Op& op = requests.front();
+    requested.update(op.idx, op.tag, 0, op.node);
+    sets.push_back(op.idx);
+    requests.pop_front();
+  }
+  for (const uint32_t s : sets)
+    for (uint32_t i = 0; i < ways; ++i) {
+      const Way& a = table.way(s, i);
+      const Way& b = requested.way(s, i);
+      bool same = a.valid == b.valid && table.age(s, i) == requested.age(s, i);
+      if (a.valid && same) {
+        same = a.tag == b.tag && a.count == b.count;
+        for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
+      }
+      if (!same && error->empty())
+        *error = "the table's set " + std::to_string(s) + " differs from the golden model's " +
+                 "with every update request applied (a dropped request changed the table)";
+    }
+}
+
 struct CycleConfig {
   HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
   TableConfig table;  // finite; tag_bits = the RTL's TagWidth
