@@ -26,6 +26,7 @@ PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpB
           ("sets", "NumSets"), ("ways", "NumWays"), ("nodes_per_entry", "NodesPerEntry"),
           ("node_id_width", "NodeIdWidth"), ("tag_bits", "TagWidth"), ("id_width", "IdWidth"),
           ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
+          ("update_queue_depth", "UpdateQueueDepth"),
           ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault")]
 BOOLS = ("key_store_bram", "inject_fault")
 FIELDS = [f for f, _ in PARAMS]
@@ -59,7 +60,7 @@ def _check(name: str, c: dict) -> None:
         if f not in ("variant", "combine", *BOOLS) and (
                 not isinstance(c[f], int) or isinstance(c[f], bool) or c[f] < 0):
             raise ConfigError(f"configuration {name}: {f} must be a non-negative integer")
-    for f in ("sets", "pred_fifo_depth", "skip_fifo_depth"):
+    for f in ("sets", "pred_fifo_depth", "skip_fifo_depth", "update_queue_depth"):
         if not _pow2(c[f]) or c[f] < 2:
             raise ConfigError(f"configuration {name}: {f} must be a power of two >= 2")
     if c["lanes"] not in (1, 2, 4) or isinstance(c["lanes"], bool):

@@ -35,7 +35,7 @@ module hrpp_lanes
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits (per lane)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// per lane, a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// per lane, a power of two
-  parameter int unsigned UpdateQueueDepth = 8,  /// per lane, a power of two >= 2
+  parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// per lane, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   parameter int unsigned Lanes = 2,  /// lanes and table banks: 2 or 4
   localparam int unsigned IdxWidth = $clog2(NumSets),

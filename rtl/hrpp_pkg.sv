@@ -40,6 +40,7 @@ package hrpp_pkg;
   localparam int unsigned DefaultIdWidth = 6;
   localparam int unsigned DefaultPredFifoDepth = 16;
   localparam int unsigned DefaultSkipFifoDepth = 4;
+  localparam int unsigned DefaultUpdateQueueDepth = 8;
   localparam bit DefaultKeyStoreBram = 1'b0;
   localparam bit DefaultInjectFault = 1'b0;
   // END generated

@@ -31,7 +31,7 @@ module hrpp_top
   parameter bit KeyStoreBram = DefaultKeyStoreBram,  /// key store in block RAM (+1 cycle)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
-  parameter int unsigned UpdateQueueDepth = 8,  /// update queue entries, a power of two >= 2
+  parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// update queue entries, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),

@@ -28,6 +28,7 @@ module hrpp_tb_top
   parameter int unsigned IdWidth = DefaultIdWidth,
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,
+  parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,
   parameter bit KeyStoreBram = DefaultKeyStoreBram,
   parameter bit InjectFault = DefaultInjectFault,
   parameter int unsigned Lanes = 1,  /// 1: hrpp_top; 2 or 4: hrpp_lanes (ports per lane)
@@ -80,7 +81,7 @@ module hrpp_tb_top
       .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
-      .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault)
+      .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
       .ray_valid_i(ray_valid_i[0]), .ray_ready_o(ray_ready_o[0]), .ray_id_i(ray_id_i[0]),
@@ -102,7 +103,8 @@ module hrpp_tb_top
       .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
       .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
-      .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth), .InjectFault(InjectFault),
+      .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+      .UpdateQueueDepth(UpdateQueueDepth), .InjectFault(InjectFault),
       .Lanes(Lanes)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),

@@ -98,7 +98,8 @@ class RtlConfig(unittest.TestCase):
     BASE = {"variant": "improved", "precision": 6, "exp_bits": 3, "origin_bits": 5,
             "dir_bits": 3, "combine": "concat", "sets": 128, "ways": 8, "nodes_per_entry": 2,
             "node_id_width": 20, "tag_bits": 8, "id_width": 16, "pred_fifo_depth": 16,
-            "skip_fifo_depth": 8, "key_store_bram": False, "inject_fault": False}
+            "skip_fifo_depth": 8, "update_queue_depth": 8, "key_store_bram": False,
+            "inject_fault": False}
 
     def load(self, configs, latencies=None):
         with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:

@@ -109,7 +109,7 @@ def cpp_header(data: dict) -> str:
             "  const char* name;", "  HashVariant variant;",
             "  int precision, exp_bits, origin_bits, dir_bits;", "  CombineMode combine;",
             "  uint32_t sets, ways, nodes_per_entry;",
-            "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth;",
+            "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth, update_queue_depth;",
             "  bool key_store_bram;  // +1 cycle of decision and update latency",
             "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle", "};",
             "",
@@ -120,7 +120,8 @@ def cpp_header(data: dict) -> str:
             f"{c['origin_bits']}, {c['dir_bits']}, {COMBINES[c['combine']][2]},\n"
             f"     {c['sets']}, {c['ways']}, {c['nodes_per_entry']}, {c['tag_bits']}, "
             f"{c['node_id_width']}, {c['id_width']}, {c['pred_fifo_depth']}, "
-            f"{c['skip_fifo_depth']}, {'true' if c['key_store_bram'] else 'false'}, "
+            f"{c['skip_fifo_depth']}, {c['update_queue_depth']}, "
+            f"{'true' if c['key_store_bram'] else 'false'}, "
             f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "

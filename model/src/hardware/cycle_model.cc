@@ -76,8 +76,8 @@ CycleModel::Decision CycleModel::decide() const {
     d.update = Op{kp.idx, kp.tag, p0_.node};
   if (d.f_req && d.p_req) d.update2 = Op{kp.idx, kp.tag, p0_.node};
   // The update queue's room, from its count alone.
-  d.room1 = update_queue_.size() + 1 <= kUpdateQueueDepth;
-  d.room2 = update_queue_.size() + 2 <= kUpdateQueueDepth;
+  d.room1 = update_queue_.size() + 1 <= size_t(cfg_.update_queue_depth);
+  d.room2 = update_queue_.size() + 2 <= size_t(cfg_.update_queue_depth);
   d.f_advance = f0_.valid && (!f0_.hit || d.room1);
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
   d.p_take = !clearing_ && (!p0_.valid || d.p_advance);

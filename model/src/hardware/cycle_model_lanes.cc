@@ -57,8 +57,8 @@ LanesCycleModel::Decision LanesCycleModel::decide(const Lane& l) const {
   else if (d.p_req)
     d.update = Op{kp.idx, kp.tag, l.p0.node};
   if (d.f_req && d.p_req) d.update2 = Op{kp.idx, kp.tag, l.p0.node};
-  d.room1 = l.update_queue.size() + 1 <= kUpdateQueueDepth;
-  d.room2 = l.update_queue.size() + 2 <= kUpdateQueueDepth;
+  d.room1 = l.update_queue.size() + 1 <= size_t(cfg_.update_queue_depth);
+  d.room2 = l.update_queue.size() + 2 <= size_t(cfg_.update_queue_depth);
   d.f_advance = l.f0.valid && (!l.f0.hit || d.room1);
   d.p_advance = l.p0.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
   return d;

@@ -56,6 +56,7 @@ struct CycleConfig {
   int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
   int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
   int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
+  int update_queue_depth = rtl::kDefaultConfig.update_queue_depth;
   // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
   // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
   bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
@@ -199,7 +200,6 @@ class CycleModel {
   // Update path: (K: kp_, kf_ with the key store in block RAM) P0 and F0, the update queue (U),
   // then T0, T1, T2, C1, C2, C3, W.
   Msg kp_, kf_, p0_, f0_;
-  static constexpr size_t kUpdateQueueDepth = 8;
   std::deque<Op> update_queue_;
   // Every request the queue took, in order, until a write applies it (and the dropped ones before
   // it) to requested_: the golden model's table with every request applied, which the table must

@@ -85,7 +85,6 @@ class LanesCycleModel {
   static constexpr int kHashLatency = rtl::kHashStages;
   static constexpr int kLookupLatency = rtl::kLookupStages;
   static constexpr int kUpdateStages = rtl::kUpdateStages;
-  static constexpr size_t kUpdateQueueDepth = 8;
   struct Lane {
     std::optional<DutIn> a;
     std::array<std::optional<DutIn>, kHashLatency> h;

@@ -28,7 +28,7 @@ struct RtlConfig {
   TableConfig table;
   int node_id_width = 0;  // NodeIdWidth
   int id_width = 0;       // IdWidth: ray ids
-  int pred_fifo_depth = 0, skip_fifo_depth = 0;
+  int pred_fifo_depth = 0, skip_fifo_depth = 0, update_queue_depth = 0;
   bool key_store_bram = false;  // KeyStoreBram: one cycle more of decision and update latency
   bool inject_fault = false;    // test only (the "mutant" configuration)
   int lanes = 1;                // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
@@ -68,6 +68,7 @@ struct RtlConfig {
     c.id_bits = id_width;
     c.pred_fifo_depth = pred_fifo_depth;
     c.skip_fifo_depth = skip_fifo_depth;
+    c.update_queue_depth = update_queue_depth;
     c.key_store_bram = key_store_bram;
     c.lanes = lanes;
     return c;
@@ -104,6 +105,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.id_width = d.id_width;
   c.pred_fifo_depth = d.pred_fifo_depth;
   c.skip_fifo_depth = d.skip_fifo_depth;
+  c.update_queue_depth = d.update_queue_depth;
   c.key_store_bram = d.key_store_bram;
   c.inject_fault = d.inject_fault;
   c.lanes = int(d.lanes);
