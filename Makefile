@@ -3,8 +3,8 @@
 #   make run     install what is missing, build, run the main job on the default scene
 #   make test    install what is missing, build, run the whole test suite (what CI runs)
 #
-# Other targets: setup, build, lint, format, check-embree, results, sim-results, port-rate, sim-long,
-# stress, synth, synth-sweep, synth-check, formal, sweep, report, bench, test-sanitize, fuzz, clean.
+# Other targets: setup, build, lint, format, check-embree, results, sim-results, design-study,
+# port-rate, sim-long, stress, synth, synth-sweep, synth-check, formal, sweep, report, bench, test-sanitize, fuzz, clean.
 # Generated files go to build/ and out/.
 
 SHELL      := /bin/bash
@@ -24,7 +24,8 @@ APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-ven
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all setup setup-apt setup-venv build run test lint format sim-long stress check-embree results clean \
-  synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal port-rate
+  synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal port-rate sim-results \
+  design-study
 
 all: build
 
@@ -139,6 +140,13 @@ SIM_RES ?= 256x256
 sim-results: build
 	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/sim
+
+# The secondary-ray predictor design study (model/tools/design_study.py, the designs in
+# model/tools/design_study.json; docs/results.md, "A predictor for secondary rays"): every design
+# on every scene x ray kind in simulated time; out/design_study/ and the study-* blocks.
+design-study: build
+	python3 model/tools/design_study.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
+	  --res $(SIM_RES) --out $(OUT)/design_study
 
 # How many lookups and updates per cycle the mobile and desktop RT units need from the predictor
 # (model/tools/port_rate.py; docs/results.md, "Lookups per cycle the RT units need"; about 10

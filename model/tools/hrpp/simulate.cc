@@ -63,6 +63,7 @@ struct SimulateSetup {
   PredictorConfig pcfg;
   std::string predictor_line;
   uint64_t table_bytes = 0;  // the preset's table, as the RTL stores it (unbounded: 0)
+  uint64_t table_bits = 0;   // the same in bits
   // --rtl: each unit's first mismatch in each run ("RUN, unit U, cycle N: signal ..."), in the
   // order they occurred; the run being simulated.
   std::shared_ptr<std::vector<std::string>> rtl_mismatches =
@@ -330,6 +331,7 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
   if (s.preset != "none" && s.preset != "oracle") {
     pr["line"] = s.predictor_line;
     pr["table_bytes"] = s.table_bytes;
+    pr["table_bits"] = s.table_bits;
   }
   j["preset"] = pr;
   j["rtl"] = a.rtl;
@@ -462,7 +464,8 @@ int cmd_simulate(const SimulateArgs& a) {
       shown.hash = o.cycle.hash;
       shown.table = o.cycle.table;
     }
-    s.table_bytes = shown.table.unbounded ? 0 : (shown.table.total_bits() + 7) / 8;
+    s.table_bits = shown.table.unbounded ? 0 : shown.table.total_bits();
+    s.table_bytes = (s.table_bits + 7) / 8;
     s.predictor_line = predictor_line(a.p, shown, s.table_bytes, kUnknownEntries);
   }
   print_simulate_head(s, a);

@@ -1,0 +1,288 @@
+#!/usr/bin/env python3
+"""Predictor design study for secondary rays in simulated time (docs/results.md, "A predictor for
+secondary rays"): every design of model/tools/design_study.json on every shared and own scene x ray
+kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md made from them.
+
+  make design-study [SIM_RES=256x256] [JOBS=2]
+  model/tools/design_study.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
+      [--gpu mobile,desktop] [--scenes bunny,sponza] [--designs a,b] [--resume] [--doc ...]
+
+A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
+(out/design_study/presets/NAME.json); its "gpus" limit it to some GPU configurations. Ray kinds
+as in sim_results.py (primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an
+empty table. The first design (on every GPU) also runs the oracle. Storage: the table's bits as
+the golden model counts them (the largest over the scenes: node ids are as wide as the scene's
+BVH needs, 21 bits on happy_buddha_full; an rtl-NAME preset's are its configuration's).
+
+Writes OUT/GPU/SCENE-KIND-DESIGN.json (kept with --resume), OUT/summary.json and the blocks
+study-designs, study-ablation and study-goal of --doc.
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))  # the pyhrpp package
+sys.path.insert(0, str(ROOT / "model" / "tools"))
+from pyhrpp.docs import update_blocks  # noqa: E402
+from sim_results import KINDS, fx, geomean, label, pct, run, scenes_of  # noqa: E402
+
+KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
+# A design no slower than no predictor within this margin counts as "not slower": the simulator
+# is deterministic, but a change in one ray's timing moves a run's cycles by up to ~0.3%.
+NOT_SLOWER = 0.995
+
+
+def load_designs(path):
+    spec = json.loads(pathlib.Path(path).read_text())
+    designs, names = [], set()
+    for d in spec["designs"]:
+        if d["name"] in names:
+            raise SystemExit(f"design_study: {path}: design {d['name']!r} twice")
+        names.add(d["name"])
+        opts = dict(d.get("options", {}))
+        if "ablation_of" in d:
+            base = next((b for b in designs if b["name"] == d["ablation_of"]), None)
+            if base is None:
+                raise SystemExit(f"design_study: {path}: {d['name']}: ablation_of "
+                                 f"{d['ablation_of']!r} is not an earlier design")
+            opts = {**base["options"], **opts}
+        designs.append({**d, "options": opts})
+    for k in ("winner", "baseline"):
+        if spec[k] not in names:
+            raise SystemExit(f"design_study: {path}: {k} {spec[k]!r} is not a design")
+    return spec, designs
+
+
+def preset_arg(design, out):
+    """The --preset argument: a named preset as is, else a preset file of the design's options."""
+    opts = design["options"]
+    if list(opts) == ["preset"]:
+        return opts["preset"]
+    path = out / "presets" / f"{design['name']}.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    text = json.dumps({"name": design["name"], **opts}, indent=1) + "\n"
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+    return str(path)
+
+
+def tasks_for(args, scenes, designs, out):
+    tasks = []
+    for gpu in args.gpu.split(","):
+        for where, scene in scenes:
+            for kind, kopts in KINDS.items():
+                for i, d in enumerate(designs):
+                    if gpu not in d.get("gpus", [gpu]):
+                        continue
+                    path = out / gpu / f"{where}-{scene.stem}-{kind}-{d['name']}.json"
+                    cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
+                           "--preset", preset_arg(d, out), "--json", str(path)] + kopts
+                    if i > 0:
+                        cmd.append("--no-oracle")
+                    tasks.append(((gpu, where, scene.stem, kind, d["name"]), cmd, path))
+    return tasks
+
+
+def summarize(res, gpus, scenes, designs):
+    """Per design: storage bits and, per GPU and kind, the speed-ups' geometric mean and minimum
+    and the gain as a fraction of the oracle's (geometric means over the scenes)."""
+    first = designs[0]["name"]
+    summ = {}
+    for d in designs:
+        n = d["name"]
+        bits = [r["preset"].get("table_bits", 0) for r in
+                (res.get(k) for k in res if k[4] == n) if r and "preset" in r]
+        s = {"bits": max(bits) if bits else None, "gpu": {}}
+        for gpu in gpus:
+            s["gpu"][gpu] = {}
+            for kind in KINDS:
+                sp, orc, worst, skipped = [], [], None, []
+                for where, scene in scenes:
+                    r = res.get((gpu, where, scene.stem, kind, n))
+                    o = res.get((gpu, where, scene.stem, kind, first))
+                    if not r or "unsupported" in r or not o or o["rays"] == 0 or \
+                            "speedup" not in r:
+                        if r and "unsupported" in r:
+                            skipped.append(label(where, scene))
+                        continue
+                    sp.append(r["speedup"])
+                    orc.append(o["oracle"]["speedup"])
+                    if worst is None or r["speedup"] < worst[0]:
+                        worst = (r["speedup"], label(where, scene))
+                g, go = geomean(sp), geomean(orc)
+                s["gpu"][gpu][kind] = {
+                    "geomean": g, "oracle": go, "worst": worst, "skipped": skipped,
+                    "of_oracle": (g - 1) / (go - 1) if go and go > 1 else None}
+        summ[n] = s
+    return summ
+
+
+def bits_text(b):
+    return f"{b:,}" if b else "unbounded"
+
+
+def designs_block(spec, designs, summ, gpus):
+    rows = []
+    head = "| design | table bits |"
+    sep = "| --- | ---: |"
+    for gpu in gpus:
+        for kind in KINDS:
+            head += f" {gpu}: {KIND_SHORT[kind]} |"
+            sep += " ---: |"
+        head += f" {gpu}: AO gain, % of the oracle's | {gpu}: slowest scene x kind |"
+        sep += " ---: | --- |"
+    rows += [head, sep]
+    for d in designs:
+        if "ablation_of" in d:
+            continue
+        s = summ[d["name"]]
+        cells = [f"`{d['name']}`", bits_text(s["bits"])]
+        for gpu in gpus:
+            g = s["gpu"][gpu]
+            cells += [fx(g[k]["geomean"]) for k in KINDS]
+            cells.append(pct(g["ao"]["of_oracle"]) if g["ao"]["of_oracle"] is not None else "")
+            worst = min(((g[k]["worst"], k) for k in KINDS if g[k]["worst"]),
+                        key=lambda w: w[0][0], default=None)
+            cells.append(f"{worst[0][0]:.3f} ({worst[0][1]}, {KIND_SHORT[worst[1]]})"
+                         if worst else "")
+        rows.append("| " + " | ".join(cells) + " |")
+    oracle = {gpu: {k: summ[designs[0]["name"]]["gpu"][gpu][k]["oracle"] for k in KINDS}
+              for gpu in gpus}
+    cells = ["oracle", ""]
+    for gpu in gpus:
+        cells += [fx(oracle[gpu][k]) for k in KINDS] + ["100.0%", ""]
+    rows.append("| " + " | ".join(cells) + " |")
+    legend = ["", "Designs (options as `hrpp simulate` takes them; timing: the golden predictor "
+              "behind the RTL's latencies unless the design is an rtl-NAME preset):", ""]
+    for d in designs:
+        if "ablation_of" in d:
+            continue
+        legend.append(f"- `{d['name']}`: {d['about']}")
+    skipped = sorted({f"`{n}`: {', '.join(sorted(set(v)))}" for n, s in summ.items()
+                      for v in [[x for gpu in gpus for k in KINDS
+                                 for x in s["gpu"][gpu][k]["skipped"]]] if v})
+    if skipped:
+        legend += ["", "Scenes a design cannot run (its node ids cannot name the BVH), left out "
+                   "of its means: " + "; ".join(skipped) + "."]
+    return "\n".join(rows + legend)
+
+
+def ablation_block(spec, designs, summ, gpus):
+    w = spec["winner"]
+    rows = ["| change against `" + w + "` | table bits | "
+            + " | ".join(f"{gpu}: {KIND_SHORT[k]}" for gpu in gpus for k in KINDS) + " |",
+            "| --- | ---: |" + " ---: |" * (len(gpus) * len(KINDS))]
+
+    def cells(n):
+        s = summ[n]
+        return [bits_text(s["bits"])] + [fx(s["gpu"][gpu][k]["geomean"])
+                                         for gpu in gpus for k in KINDS]
+    rows.append(f"| none (`{w}` itself) | " + " | ".join(cells(w)) + " |")
+    for d in designs:
+        if d.get("ablation_of") == w:
+            rows.append(f"| {d['about']} (`{d['name']}`) | " + " | ".join(cells(d["name"])) + " |")
+    return "\n".join(rows)
+
+
+def goal_block(spec, summ, gpus):
+    w, base = spec["winner"], spec["baseline"]
+    lines = []
+    for gpu in gpus:
+        sw, sb = summ[w]["gpu"][gpu], summ[base]["gpu"][gpu]
+        gw, gb = sw["ao"]["geomean"] - 1, sb["ao"]["geomean"] - 1
+        ratio = gw / gb if gb > 0 else None
+        worst = min(((sw[k]["worst"], k) for k in KINDS if sw[k]["worst"]), key=lambda x: x[0][0])
+        lines.append(
+            f"- `{gpu}`: AO gain `{w}` {100 * gw:+.1f}% against `{base}` {100 * gb:+.1f}%"
+            + (f" ({ratio:.2f}x; the goal: at least 1.5x)" if ratio is not None
+               else f" (`{base}` gains nothing; the goal of 1.5x its gain is met by any gain "
+                    "above it)")
+            + f"; {pct(sw['ao']['of_oracle'])} of the oracle's (stretch goal: 50%); shadow rays "
+              f"{fx(sw['shadow']['geomean'])} against {fx(sb['shadow']['geomean'])}; primary "
+              f"{fx(sw['primary']['geomean'])}; slowest scene x kind "
+              f"{worst[0][0]:.3f} ({worst[0][1]}, {KIND_SHORT[worst[1]]}; not slower means at "
+              f"least {NOT_SLOWER})")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"))
+    ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
+    ap.add_argument("--spec", default=str(ROOT / "model" / "tools" / "design_study.json"))
+    ap.add_argument("--out", default=str(ROOT / "out" / "design_study"))
+    ap.add_argument("--res", default="256x256")
+    ap.add_argument("--gpu", default="mobile,desktop")
+    ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
+    ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
+                    "design always runs, for the oracle)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--resume", action="store_true", help="keep the runs whose JSON exists")
+    ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
+                    help="the Markdown file whose study-* blocks are rewritten ('' for none)")
+    args = ap.parse_args()
+    if not pathlib.Path(args.hrpp).exists():
+        raise SystemExit(f"design_study: {args.hrpp} not found (make build)")
+    spec, designs = load_designs(args.spec)
+    if args.designs:
+        want = set(args.designs.split(","))
+        unknown = want - {d["name"] for d in designs}
+        if unknown:
+            raise SystemExit(f"design_study: unknown designs {sorted(unknown)}")
+        designs = [d for i, d in enumerate(designs) if i == 0 or d["name"] in want]
+    scenes = scenes_of(args.shared, args.scenes)
+    out = pathlib.Path(args.out)
+    tasks = tasks_for(args, scenes, designs, out)
+    res, errors = {}, []
+    t0 = time.time()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        futs = [pool.submit(run, t, args.resume) for t in tasks]
+        for n, f in enumerate(as_completed(futs), 1):
+            key, data, secs, err = f.result()
+            if err:
+                errors.append(err)
+                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
+                continue
+            res[key] = data
+            sp = f"{data['speedup']:.3f}x" if "speedup" in data else data.get("unsupported", "")
+            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
+                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
+    if errors:
+        for e in errors:
+            print(e, file=sys.stderr)
+        raise SystemExit(f"design_study: {len(errors)} of {len(tasks)} runs failed; "
+                         "docs untouched")
+    gpus = args.gpu.split(",")
+    summ = summarize(res, gpus, scenes, designs)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(
+        {"res": args.res, "gpus": gpus, "designs": summ}, indent=2, default=str) + "\n")
+    full = not args.scenes and not args.designs and args.gpu == "mobile,desktop"
+    cmd = f"make design-study SIM_RES={args.res}" if full else " ".join(sys.argv)
+    names = {d["name"] for d in designs}
+    blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
+              + designs_block(spec, designs, summ, gpus)}
+    if spec["winner"] in names:
+        blocks["study-ablation"] = f"Made by `{cmd}`.\n\n" + ablation_block(spec, designs, summ,
+                                                                            gpus)
+        if spec["baseline"] in names:
+            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus)
+            print(blocks["study-goal"])
+    if args.doc and full:
+        update_blocks(args.doc, blocks)
+    elif args.doc:
+        print("design_study: a partial study (--scenes, --designs or --gpu): docs untouched; "
+              f"the tables are in {out / 'study.md'}", file=sys.stderr)
+    (out / "study.md").write_text("\n\n".join(f"<!-- {k} -->\n{v}" for k, v in blocks.items())
+                                  + "\n")
+
+
+if __name__ == "__main__":
+    main()
