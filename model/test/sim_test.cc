@@ -241,6 +241,28 @@ TEST(Sim, TheOracleSkipsEveryAnyHitRayThatHits) {
   EXPECT_LT(s.cycles, run(w, none).cycles);
 }
 
+// Rays that give up entering (entry_timeout) walk from the root without the predictor: every
+// ray is either looked up or bypassed, none waits longer than the timeout, and the answers stay
+// the golden walks'.
+TEST(Sim, RaysThatGiveUpEnteringWalkWithoutThePredictor) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  for (const uint32_t timeout : {1u, 8u}) {
+    SimOptions o = rtl_default(w, PredictMode::kClosestExact);
+    o.entry_timeout = timeout;
+    std::vector<Hit> answers;
+    o.answers = &answers;
+    const SimStats s = run(w, o);
+    EXPECT_GT(s.predictor.bypassed, 0u) << timeout;
+    EXPECT_GT(s.predictor.lookups, 0u) << timeout;
+    EXPECT_EQ(s.predictor.lookups + s.predictor.bypassed, s.rays) << timeout;
+    EXPECT_EQ(s.predict_total().exact_mismatches, 0u);
+    for (size_t i = 0; i < w.rays.size(); ++i)
+      if (validate_ray(w.rays[i].ray) == RayError::kNone)
+        ASSERT_TRUE(same_hit(answers[i], g.answers[i])) << "ray " << i;
+  }
+}
+
 TEST(Sim, GpuConfigurationErrorsNameTheKey) {
   nlohmann::json j = mobile().to_json();
   EXPECT_NO_THROW(sim::gpu_config_from_json(j, "mobile"));

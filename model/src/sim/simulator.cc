@@ -421,6 +421,18 @@ SimStats Simulator::run() {
       pred_[u]->cycle(now, &io);
       if (const std::string e = pred_[u]->error(); !e.empty())
         throw std::runtime_error("unit " + std::to_string(u) + "'s predictor: " + e);
+      // Rays still waiting to enter after entry_timeout cycles walk without the predictor (the
+      // queue is in admission order, so the oldest is at its front).
+      while (opt_.entry_timeout > 0 && !io.entering.empty() &&
+             admitted_at_[slot_of(io.entering.front())] + opt_.entry_timeout <= now) {
+        const uint32_t si = slot_of(io.entering.front());
+        io.entering.pop_front();
+        Slot& s = slots_[si];
+        s.uses_pred = false;
+        start_root_walk(s, Action::kFull);
+        schedule(si, now + 1);
+        st_.predictor.bypassed++;
+      }
       for (const auto& [ray, p] : io.predictions) on_prediction(ray, p, now);
       for (const auto& [ray, a] : io.decisions) on_decision(ray, a, now);
       io.predictions.clear();
@@ -526,6 +538,7 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
             {"updates", predictor.updates},
             {"stall_cycles", predictor.stall_cycles},
             {"entry_wait_cycles", predictor.entry_wait},
+            {"bypassed_rays", predictor.bypassed},
             {"true_positive", p.true_positive},
             {"false_positive", p.false_positive},
             {"false_negative", p.false_negative},

@@ -39,6 +39,7 @@ struct SimulateArgs {
   // Timing of golden-model presets (docs/timing_model.md, "Presets"); < 0: the preset's.
   int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
       updates_per_cycle = -1, credits = -1;
+  uint32_t entry_timeout = 0;  // the preset's rays give up entering after this many cycles
 };
 
 /// One simulated configuration.
@@ -259,6 +260,9 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     r.opt.timed = timed_for(a, r.opt.timed);
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
   }
+  r.opt.entry_timeout = a.entry_timeout;
+  if (a.entry_timeout > 0)
+    r.timing += "; rays give up entering after " + std::to_string(a.entry_timeout) + " cycles";
   s->runs.push_back(r);
   add_repacked(a, r, s);
   return 0;
@@ -404,12 +408,15 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     std::printf(
         "  %s: precision %.4f, recall %.4f, %.2f%% of interior tests skipped, %llu lookups, %llu "
         "stall cycles (%.2f%% of unit cycles), %.1f cycles per predicted ray waiting to enter, "
-        "%llu wrong results\n",
+        "%llu wrong results%s\n",
         s.preset.c_str(), t.precision(), t.recall(), 100 * t.skipped_interior_fraction(),
         (unsigned long long)p.predictor.lookups, (unsigned long long)p.predictor.stall_cycles,
         100.0 * p.predictor.stall_cycles / std::max<uint64_t>(1, p.cycles * g.units),
         double(p.predictor.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
-        (unsigned long long)t.wrong_results);
+        (unsigned long long)t.wrong_results,
+        a.entry_timeout
+            ? (", " + std::to_string(p.predictor.bypassed) + " rays gave up entering").c_str()
+            : "");
     for (size_t i = 0; i < st.size(); ++i)
       if (s.runs[i].name == "oracle" && s.main != i) {
         const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
@@ -594,6 +601,12 @@ Subcommand add_simulate(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   sc->add_option("--credits", sa->credits, "golden presets: rays held at once (0: unlimited)")
       ->check(CLI::Range(0, 1 << 24));
+  sc->add_option("--entry-timeout", sa->entry_timeout,
+                 "a ray that has waited this many cycles to enter its unit's predictor (no "
+                 "credit, port busy) walks from the root without it: no lookup, no table write "
+                 "(0: rays wait until they enter)")
+      ->check(CLI::Range(0, 1 << 24))
+      ->capture_default_str();
   return {sc, [sa] {
             // No preset: the RTL's default configuration, unless hash or table options are
             // given (then the golden model's defaults with those options).

@@ -59,6 +59,10 @@ struct SimOptions {
     kNode = 2,       // one category per first predicted node, and not predicted
   } repack = Repack::kNone;
   uint32_t repack_timer = 20;  // MICRO 2021's -gpgpu_rt_predictor_repacking_timer
+  /// A ray that has waited this many cycles to enter its unit's predictor (no credit, port busy)
+  /// gives up: it walks from the root with no lookup and no table write, as a ray that does not
+  /// use the predictor (`bypassed`). 0: rays wait until they enter.
+  uint32_t entry_timeout = 0;
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).

@@ -49,6 +49,7 @@ struct UnitPredictorStats {
   uint64_t entry_wait = 0;    // sum over the rays of the cycles they waited to enter
   uint64_t updates = 0;       // table writes
   uint64_t mismatches = 0;    // --rtl: cycles in which the RTL's outputs differed from the model's
+  uint64_t bypassed = 0;      // rays that gave up waiting to enter (SimOptions::entry_timeout)
 };
 
 class UnitPredictor {
