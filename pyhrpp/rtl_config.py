@@ -19,10 +19,14 @@ VARIANTS = {"faithful": ("HashFaithful", 0, "HashVariant::kFaithful"),
             "improved": ("HashImproved", 1, "HashVariant::kImproved")}
 COMBINES = {"xor": ("CombineXor", 0, "CombineMode::kXor"),
             "concat": ("CombineConcat", 1, "CombineMode::kConcat")}
+DIR_CODES = {"grid": ("DirGrid", 0, "DirCode::kGrid"),
+             "oct": ("DirOct", 1, "DirCode::kOct")}
+ENUMS = {"variant": VARIANTS, "combine": COMBINES, "dir_code": DIR_CODES}
 
 # JSON field -> hrpp_top parameter, in hrpp_top's order.
 PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpBits"),
           ("origin_bits", "OriginBits"), ("dir_bits", "DirBits"), ("combine", "Combine"),
+          ("dir_code", "DirCode"),
           ("sets", "NumSets"), ("ways", "NumWays"), ("nodes_per_entry", "NodesPerEntry"),
           ("node_id_width", "NodeIdWidth"), ("tag_bits", "TagWidth"), ("id_width", "IdWidth"),
           ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
@@ -32,7 +36,8 @@ BOOLS = ("key_store_bram", "inject_fault")
 FIELDS = [f for f, _ in PARAMS]
 # Lookups and updates per cycle (docs/microarchitecture.md, "Lanes"): optional, 1 when absent.
 # One lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which has hrpp_top's parameters and Lanes.
-OPTIONAL_FIELDS = {"lanes": 1}
+# The improved hash's direction code (docs/hash.md): optional, "grid" when absent.
+OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid"}
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
 
@@ -53,11 +58,16 @@ def _check(name: str, c: dict) -> None:
         raise ConfigError(f"configuration {name}: variant must be one of {list(VARIANTS)}")
     if c["combine"] not in COMBINES:
         raise ConfigError(f"configuration {name}: combine must be one of {list(COMBINES)}")
+    if c["dir_code"] not in DIR_CODES:
+        raise ConfigError(f"configuration {name}: dir_code must be one of {list(DIR_CODES)}")
+    if c["dir_code"] == "oct" and (c["variant"] != "improved" or not 1 <= c["dir_bits"] <= 8):
+        raise ConfigError(f"configuration {name}: dir_code oct needs the improved variant and "
+                          "dir_bits 1..8")
     for f in BOOLS:
         if not isinstance(c[f], bool):
             raise ConfigError(f"configuration {name}: {f} must be true or false")
     for f in FIELDS:
-        if f not in ("variant", "combine", *BOOLS) and (
+        if f not in (*ENUMS, *BOOLS) and (
                 not isinstance(c[f], int) or isinstance(c[f], bool) or c[f] < 0):
             raise ConfigError(f"configuration {name}: {f} must be a non-negative integer")
     for f in ("sets", "pred_fifo_depth", "skip_fifo_depth", "update_queue_depth"):
@@ -133,8 +143,8 @@ def hrpp_top_params(c: dict, enums: str = "name") -> dict[str, int | str]:
     out: dict[str, int | str] = {}
     for f, p in PARAMS:
         v = c[f]
-        if f in ("variant", "combine"):
-            sv, code, _ = (VARIANTS if f == "variant" else COMBINES)[v]
+        if f in ENUMS:
+            sv, code, _ = ENUMS[f][v]
             out[p] = f"hrpp_pkg::{sv}" if enums == "name" else f"1'b{code}"
         elif f in BOOLS:
             out[p] = f"1'b{int(v)}"
@@ -166,6 +176,8 @@ def predict_options(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> dict
             o["precision"], o["exp-bits"] = str(c["precision"]), str(c["exp_bits"])
         else:
             o["origin-bits"], o["dir-bits"] = str(c["origin_bits"]), str(c["dir_bits"])
+            if c["dir_code"] != "grid":  # the default: the other configurations' options as before
+                o["dir-code"] = c["dir_code"]
         o["combine"] = c["combine"]
     if "table" in parts:
         o["table"] = f"{c['sets']}x{c['ways']}"
@@ -181,6 +193,8 @@ def predict_args(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> list[st
 def describe(c: dict) -> str:
     h = (f"improved o{c['origin_bits']}/d{c['dir_bits']}" if c["variant"] == "improved"
          else f"faithful P={c['precision']} E={c['exp_bits']}")
+    if c.get("dir_code", "grid") != "grid":
+        h += f" {c['dir_code']}"
     lanes = f", {c['lanes']} lanes" if c.get("lanes", 1) != 1 else ""
     return (f"{c['sets']}x{c['ways']}x{c['nodes_per_entry']}, tag {c['tag_bits']}, {h} "
             f"{c['combine']}{lanes}")

@@ -6,6 +6,8 @@
 //   stage 1b: shift direction, saturated shift amount
 //   stage 2 : shifts (the sticky bit is "trailing zeros < shift"), magnitudes
 //   output : two's-complement negation, origin/direction combination (combinational)
+// The octahedral direction code (DirCode = DirOct, improved variant) runs beside the origin
+// fields in the same three stages (gen_oct below).
 // Rays with an infinite or NaN component are flagged invalid_o (never looked up or inserted).
 module hrpp_hash
   import hrpp_pkg::*;
@@ -16,11 +18,12 @@ module hrpp_hash
   parameter int unsigned OriginBits = 5,   /// improved: bits per origin axis, 1..16
   parameter int unsigned DirBits = 3,      /// improved: bits per direction component, 1..16
   parameter combine_e Combine = CombineXor,  /// origin and direction fields: XOR or concatenated
+  parameter dir_code_e DirCode = DirGrid,  /// improved: direction grid or octahedral (DirBits 1..8)
   localparam int unsigned FaithWidth = 1 + ExpBits + Precision,
   localparam int unsigned OriginFieldWidth = field_width(Variant, Precision, ExpBits, OriginBits),
   localparam int unsigned DirFieldWidth = field_width(Variant, Precision, ExpBits, DirBits),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
-                                               Combine),
+                                               Combine, DirCode),
   localparam int unsigned MaxFieldWidth = FaithWidth > 16 ? FaithWidth : 16  // widest field
 ) (
   input  logic                  clk_i,
@@ -217,10 +220,154 @@ module hrpp_hash
     end
   end
 
+  // The direction's part of the key: the grid fields z | y | x, or the octahedral field u | v.
+  localparam bit OctDir = Variant == HashImproved && DirCode == DirOct;
+  localparam int unsigned DKeyWidth = OctDir ? 2 * DirBits : 3 * DirFieldWidth;
+  logic [DKeyWidth-1:0] d_key;
+
+  if (OctDir) begin : gen_oct
+    // -------------------------------------------------------------------------------------------
+    // Octahedral direction code (docs/hash.md, "Octahedral direction code"), b = DirBits,
+    // h = 2^(b-1): beside the origin fields, in the same stages.
+    //   stage 1 : pairwise exponent differences, shift E - e_i (saturated at 24), significands,
+    //             signs (canonical)
+    //   stage 1b: aligned magnitudes A_i = sig_i >> (E - e_i)
+    //   stage 2 : L = A_x + A_y + A_z (carry-save, then one adder), the folded numerators Nu, Nv,
+    //             the multiples j * L (j = 2..h-1) from L's carry-save form
+    //   output  : compares N * h >= j * L, bins (the count of true compares), fields u | v
+    // The grid direction fields above are not used (synthesis removes them).
+    // -------------------------------------------------------------------------------------------
+    localparam int unsigned Half = 1 << (DirBits - 1);  // h
+    localparam int unsigned NumMult = Half > 1 ? Half - 1 : 1;  // multiples j = 1..h-1 (>= 1 slot)
+    localparam int unsigned LW = 26;                    // L < 3 * 2^24
+    localparam int unsigned MW = LW + DirBits;          // j * L < 2^(b-1) * 2^26; N * h < 2^(24+b)
+
+    logic [2:0]       s1o_sign_d, s1o_sign_q;   // canonical signs
+    logic [2:0][23:0] s1o_sig_d, s1o_sig_q;     // canonical significands (0 for a zero)
+    logic [2:0][4:0]  s1o_sh_d, s1o_sh_q;       // E - e_i, saturated at 24
+
+    always_comb begin
+      logic [2:0][7:0] e;
+      logic [2:0][2:0][8:0] diff;  // diff[i][k] = e_k - e_i (9 bits, two's complement)
+      logic ge_xy, ge_xz, ge_yz, max_x, max_y;
+      logic [2:0][8:0] d;
+      for (int i = 0; i < 3; i++) begin
+        logic [31:0] b;
+        b = dir_i[i];
+        e[i] = b[30:23];  // the canonical exponent equals the raw one (zero stays 0, NaN 255)
+        s1o_sig_d[i] = b[30:23] == 8'd0 ? 24'd0
+                     : {1'b1, b[30:23] == 8'hFF ? 23'd0 : b[22:0]};  // NaN is +inf
+        s1o_sign_d[i] = b[31] && b[30:23] != 8'd0 && !(b[30:23] == 8'hFF && b[22:0] != 23'd0);
+      end
+      for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) diff[i][k] = {1'b0, e[k]} - {1'b0, e[i]};
+      // Which exponent is the largest (the first of equal ones): the signs of the differences.
+      ge_xy = !diff[1][0][8];  // e_x - e_y >= 0
+      ge_xz = !diff[2][0][8];
+      ge_yz = !diff[2][1][8];
+      max_x = ge_xy && ge_xz;
+      max_y = !max_x && ge_yz;
+      d[0] = max_x ? 9'd0 : max_y ? diff[0][1] : diff[0][2];
+      d[1] = max_y ? 9'd0 : max_x ? diff[1][0] : diff[1][2];
+      d[2] = (max_x || max_y) ? (max_x ? diff[2][0] : diff[2][1]) : 9'd0;
+      for (int i = 0; i < 3; i++) s1o_sh_d[i] = d[i] >= 9'd24 ? 5'd24 : d[i][4:0];
+    end
+
+    logic [2:0]       s1bo_sign_q;
+    logic [2:0][23:0] s1bo_a_d, s1bo_a_q;  // A_i
+    always_comb begin
+      for (int i = 0; i < 3; i++) s1bo_a_d[i] = s1o_sig_q[i] >> s1o_sh_q[i];
+    end
+
+    logic [1:0]              s2o_sign_q;           // s_x, s_y
+    logic [LW-2:0]           s2o_nu_d, s2o_nu_q;   // Nu, Nv (25 bits)
+    logic [LW-2:0]           s2o_nv_d, s2o_nv_q;
+    logic [NumMult:1][MW-1:0] s2o_mult_d, s2o_mult_q;  // j * L
+    always_comb begin
+      logic [LW-1:0] ls, lc, l;  // L in carry-save form (ls + lc), and L
+      logic [2:0][LW-1:0] a;
+      logic [MW-1:0] s, c, x;    // a multiple in carry-save form (s + c); x the next addend
+      for (int i = 0; i < 3; i++) a[i] = LW'(s1bo_a_q[i]);
+      ls = a[0] ^ a[1] ^ a[2];
+      lc = ((a[0] & a[1]) | (a[0] & a[2]) | (a[1] & a[2])) << 1;
+      l = ls + lc;
+      // Upper hemisphere (s_z = 0): (A_x, A_y); lower: the fold (A_x + A_z, A_y + A_z).
+      s2o_nu_d = (LW - 1)'(a[0]) + (s1bo_sign_q[2] ? (LW - 1)'(a[2]) : '0);
+      s2o_nv_d = (LW - 1)'(a[1]) + (s1bo_sign_q[2] ? (LW - 1)'(a[2]) : '0);
+      s2o_mult_d = '0;
+      for (int j = 1; j <= NumMult; j++) begin
+        s = '0;
+        c = '0;
+        x = '0;
+        if ((j & (j - 1)) == 0) begin  // a power of two: a shift of L
+          for (int k = 0; k < 8; k++)
+            if (j == (1 << k)) s = MW'(l) << k;
+        end else begin  // the shifted copies of ls and lc added in carry-save form
+          for (int k = 0; k < 8; k++)
+            if (((j >> k) & 1) != 0) begin
+              x = MW'(ls) << k;
+              {s, c} = {s ^ c ^ x, MW'(((s & c) | (s & x) | (c & x)) << 1)};
+              x = MW'(lc) << k;
+              {s, c} = {s ^ c ^ x, MW'(((s & c) | (s & x) | (c & x)) << 1)};
+            end
+        end
+        s2o_mult_d[j] = s + c;  // c = 0 for a power of two
+      end
+    end
+
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        s1o_sign_q  <= '0;
+        s1o_sig_q   <= '0;
+        s1o_sh_q    <= '0;
+        s1bo_sign_q <= '0;
+        s1bo_a_q    <= '0;
+        s2o_sign_q  <= '0;
+        s2o_nu_q    <= '0;
+        s2o_nv_q    <= '0;
+        s2o_mult_q  <= '0;
+      end else begin
+        s1o_sign_q  <= s1o_sign_d;
+        s1o_sig_q   <= s1o_sig_d;
+        s1o_sh_q    <= s1o_sh_d;
+        s1bo_sign_q <= s1o_sign_q;
+        s1bo_a_q    <= s1bo_a_d;
+        s2o_sign_q  <= s1bo_sign_q[1:0];
+        s2o_nu_q    <= s2o_nu_d;
+        s2o_nv_q    <= s2o_nv_d;
+        s2o_mult_q  <= s2o_mult_d;
+      end
+    end
+
+    // Output: per coordinate, the bin m = #{j in 1..h-1 : N * h >= j * L} and the field s | m.
+    logic [2*DirBits-1:0] oct_d;
+    always_comb begin
+      logic [1:0][LW-2:0] n;
+      logic [1:0][DirBits-1:0] f;
+      n[0] = s2o_nu_q;
+      n[1] = s2o_nv_q;
+      for (int a = 0; a < 2; a++) begin
+        logic [MW-1:0] nh;
+        logic [7:0] m;
+        nh = MW'(n[a]) << (DirBits - 1);
+        m = '0;
+        for (int j = 1; j < Half; j++) m += 8'(nh >= s2o_mult_q[j]);
+        f[a] = DirBits'(m) | (DirBits'(s2o_sign_q[a]) << (DirBits - 1));
+      end
+      oct_d = {f[0], f[1]};  // u | v
+    end
+
+    logic grid_dir_unused;  // the grid direction fields: not used by this code
+    assign grid_dir_unused = ^d_fields;
+    assign d_key = oct_d;
+  end else begin : gen_grid_dir
+    assign d_key = d_fields;
+  end
+
   if (Combine == CombineXor) begin : gen_xor
-    assign key_o = KeyWidth'(o_fields) ^ KeyWidth'(d_fields);
+    assign key_o = KeyWidth'(o_fields) ^ KeyWidth'(d_key);
   end else begin : gen_concat
-    assign key_o = {o_fields, d_fields};
+    assign key_o = {o_fields, d_key};
   end
   assign invalid_o = inv2_q;
 
@@ -244,6 +391,9 @@ module hrpp_hash
   end
   if (DirBits < 1 || DirBits > 16) begin : gen_dir_bits_check
     $error("DirBits must be 1..16");
+  end
+  if (DirCode == DirOct && (Variant != HashImproved || DirBits > 8)) begin : gen_dir_code_check
+    $error("DirCode = DirOct needs the improved variant and DirBits 1..8");
   end
   if (KeyWidth > 64) begin : gen_key_width_check
     $error("keys are at most 64 bits");

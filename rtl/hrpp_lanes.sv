@@ -27,6 +27,7 @@ module hrpp_lanes
   parameter int unsigned OriginBits = DefaultOriginBits,
   parameter int unsigned DirBits = DefaultDirBits,
   parameter combine_e Combine = DefaultCombine,
+  parameter dir_code_e DirCode = DefaultDirCode,  /// improved: direction grid or octahedral
   parameter int unsigned NumSets = DefaultNumSets,              /// sets, a power of two
   parameter int unsigned NumWays = DefaultNumWays,              /// ways, 2..16
   parameter int unsigned NodesPerEntry = DefaultNodesPerEntry,  /// node ids per way
@@ -43,7 +44,7 @@ module hrpp_lanes
   localparam int unsigned BankIdxWidth = IdxWidth - BankBits,
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
-                                               Combine)
+                                               Combine, DirCode)
 ) (
   input  logic                                                   clk_i,
   input  logic                                                   rst_ni,
@@ -221,7 +222,7 @@ module hrpp_lanes
     logic                key_invalid;
     hrpp_hash #(
       .Variant(Variant), .Precision(Precision), .ExpBits(ExpBits), .OriginBits(OriginBits),
-      .DirBits(DirBits), .Combine(Combine)
+      .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode)
     ) u_hash (
       .clk_i, .rst_ni, .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i),
       .key_o(key), .invalid_o(key_invalid)

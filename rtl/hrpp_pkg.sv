@@ -16,6 +16,11 @@ package hrpp_pkg;
     CombineXor    = 1'b0,  // "xor"
     CombineConcat = 1'b1   // "concat"
   } combine_e;
+  // improved hash's direction code: grid or octahedral
+  typedef enum logic {
+    DirGrid       = 1'b0,  // "grid"
+    DirOct        = 1'b1   // "oct"
+  } dir_code_e;
 
   // Pipeline latencies in cycles (docs/microarchitecture.md, "Declared latencies"; each
   // module checks at elaboration that its pipeline has the stages declared here).
@@ -32,6 +37,7 @@ package hrpp_pkg;
   localparam int unsigned DefaultOriginBits = 5;
   localparam int unsigned DefaultDirBits = 3;
   localparam combine_e DefaultCombine = CombineConcat;
+  localparam dir_code_e DefaultDirCode = DirGrid;
   localparam int unsigned DefaultNumSets = 128;
   localparam int unsigned DefaultNumWays = 8;
   localparam int unsigned DefaultNodesPerEntry = 2;
@@ -52,15 +58,18 @@ package hrpp_pkg;
     return variant == HashFaithful ? 1 + exp_bits + precision : grid_bits;
   endfunction
 
-  // Width of the key: three origin and three direction fields, XORed (the wider field's width
-  // three times) or concatenated.
+  // Width of the key: three origin fields and the direction's (three fields, or with the improved
+  // hash's octahedral code one field of 2 * dir_bits), XORed (the wider part's width) or
+  // concatenated.
   function automatic int unsigned key_width(hash_variant_e variant, int unsigned precision,
                                             int unsigned exp_bits, int unsigned origin_bits,
-                                            int unsigned dir_bits, combine_e combine);
+                                            int unsigned dir_bits, combine_e combine,
+                                            dir_code_e dir_code);
     int unsigned o, d;
-    o = field_width(variant, precision, exp_bits, origin_bits);
-    d = field_width(variant, precision, exp_bits, dir_bits);
-    return combine == CombineXor ? 3 * (o > d ? o : d) : 3 * o + 3 * d;
+    o = 3 * field_width(variant, precision, exp_bits, origin_bits);
+    d = variant == HashImproved && dir_code == DirOct
+        ? 2 * dir_bits : 3 * field_width(variant, precision, exp_bits, dir_bits);
+    return combine == CombineXor ? (o > d ? o : d) : o + d;
   endfunction
 
   // How closest-hit rays use predictions (cfg_mode_i).

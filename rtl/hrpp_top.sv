@@ -20,6 +20,7 @@ module hrpp_top
   parameter int unsigned OriginBits = DefaultOriginBits,
   parameter int unsigned DirBits = DefaultDirBits,
   parameter combine_e Combine = DefaultCombine,
+  parameter dir_code_e DirCode = DefaultDirCode,  /// improved: direction grid or octahedral
   // Table
   parameter int unsigned NumSets = DefaultNumSets,              /// sets, a power of two
   parameter int unsigned NumWays = DefaultNumWays,              /// ways, 2..16
@@ -36,7 +37,7 @@ module hrpp_top
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
-                                               Combine)
+                                               Combine, DirCode)
 ) (
   input  logic                                       clk_i,
   input  logic                                       rst_ni,
@@ -110,7 +111,7 @@ module hrpp_top
 
   hrpp_hash #(
     .Variant(Variant), .Precision(Precision), .ExpBits(ExpBits), .OriginBits(OriginBits),
-    .DirBits(DirBits), .Combine(Combine)
+    .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode)
   ) u_hash (
     .clk_i, .rst_ni, .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i),
     .key_o(key), .invalid_o(key_invalid)

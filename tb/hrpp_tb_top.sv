@@ -6,9 +6,10 @@
 // on every cycle, as before). Why it is here: Verilator evaluates all logic that reads a
 // top-level input again on every eval() call, twice per clock cycle; the hash's first stage
 // reads cfg_cell_exp_i, so without the register the whole stage ran three times per cycle
-// (docs/results.md, "Performance"). Ports and parameters are hrpp_top's, except that Variant and
-// Combine are their enumerations' encodings: Verilator's -G cannot set an enum-typed parameter
-// (the Verilator builds and lints take this top; rtl/config/hrpp_config.py writes their -G flags).
+// (docs/results.md, "Performance"). Ports and parameters are hrpp_top's, except that Variant,
+// Combine and DirCode are their enumerations' encodings: Verilator's -G cannot set an enum-typed
+// parameter (the Verilator builds and lints take this top; rtl/config/hrpp_config.py writes their
+// -G flags).
 // Lanes > 1 (rtl/hrpp_lanes.sv): every interface is an array of Lanes; with one lane the arrays
 // have one element and the top is hrpp_top as before (the same ports, bit for bit).
 module hrpp_tb_top
@@ -20,6 +21,7 @@ module hrpp_tb_top
   parameter int unsigned OriginBits = DefaultOriginBits,
   parameter int unsigned DirBits = DefaultDirBits,
   parameter bit Combine = DefaultCombine,  /// combine_e's encoding
+  parameter bit DirCode = DefaultDirCode,  /// dir_code_e's encoding
   parameter int unsigned NumSets = DefaultNumSets,
   parameter int unsigned NumWays = DefaultNumWays,
   parameter int unsigned NodesPerEntry = DefaultNodesPerEntry,
@@ -78,6 +80,7 @@ module hrpp_tb_top
     hrpp_top #(
       .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
       .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
+      .DirCode(dir_code_e'(DirCode)),
       .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
@@ -101,6 +104,7 @@ module hrpp_tb_top
     hrpp_lanes #(
       .Variant(hash_variant_e'(Variant)), .Precision(Precision), .ExpBits(ExpBits),
       .OriginBits(OriginBits), .DirBits(DirBits), .Combine(combine_e'(Combine)),
+      .DirCode(dir_code_e'(DirCode)),
       .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),

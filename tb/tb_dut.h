@@ -18,6 +18,7 @@
 #include "Vhrpp_large.h"
 #include "Vhrpp_mobile.h"
 #include "Vhrpp_mutant.h"
+#include "Vhrpp_oct.h"
 #include "Vhrpp_small.h"
 #include "hrpp/hardware/cycle_model.h"
 
@@ -202,6 +203,7 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "mobile") return f.template operator()<Vhrpp_mobile>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
+  if (name == "oct") return f.template operator()<Vhrpp_oct>();
   throw std::invalid_argument("no one-lane Verilated model of RTL configuration " + name);
 }
 

@@ -1,12 +1,15 @@
 // tb_hash: the RTL hash unit (rtl/hrpp_hash.sv) against the C++ hash (model/src/predictor/hash.cc)
-// on every special class of HARD_CASES H1-H8 and dense random vectors, for eight parameter sets and
-// many origin cell exponents. Prints "hash: N vectors x 8 configurations, M mismatches".
+// on every special class of HARD_CASES H1-H8 and dense random vectors, for twelve parameter sets
+// (four with the octahedral direction code, which also gets every direction made of three special
+// values, random unit directions and exact bin boundaries) and many origin cell exponents. Prints
+// "hash: N vectors x 12 configurations, M mismatches".
 //
 //   tb_hash [COUNT]   COUNT random vectors per configuration (default 2000000); --help, --version
 #include <verilated.h>
 
 #include <CLI/CLI.hpp>
 #include <bit>
+#include <cmath>
 #include <cstdio>
 #include <deque>
 #include <memory>
@@ -23,8 +26,10 @@ using namespace hrpp;
 
 namespace {
 
-HashConfig make(HashVariant v, int p, int e, int go, int gd, CombineMode c) {
+HashConfig make(HashVariant v, int p, int e, int go, int gd, CombineMode c,
+                DirCode d = DirCode::kGrid) {
   HashConfig h;
+  h.dir_code = d;
   h.variant = v;
   h.precision = p;
   h.exp_bits = e;
@@ -36,7 +41,8 @@ HashConfig make(HashVariant v, int p, int e, int go, int gd, CombineMode c) {
 }
 
 // Keep in sync with tb_hash_top.sv.
-const HashConfig kConfigs[8] = {
+constexpr int kNumConfigs = 12;
+const HashConfig kConfigs[kNumConfigs] = {
     make(HashVariant::kFaithful, 6, 3, 5, 3, CombineMode::kXor),
     make(HashVariant::kFaithful, 2, 2, 5, 3, CombineMode::kConcat),
     make(HashVariant::kFaithful, 10, 8, 5, 3, CombineMode::kXor),
@@ -45,12 +51,16 @@ const HashConfig kConfigs[8] = {
     make(HashVariant::kImproved, 6, 3, 16, 16, CombineMode::kXor),
     make(HashVariant::kImproved, 6, 3, 1, 1, CombineMode::kConcat),
     make(HashVariant::kImproved, 6, 3, 10, 8, CombineMode::kXor),
+    make(HashVariant::kImproved, 6, 3, 3, 3, CombineMode::kConcat, DirCode::kOct),
+    make(HashVariant::kImproved, 6, 3, 5, 1, CombineMode::kXor, DirCode::kOct),
+    make(HashVariant::kImproved, 6, 3, 16, 8, CombineMode::kConcat, DirCode::kOct),
+    make(HashVariant::kImproved, 6, 3, 1, 4, CombineMode::kXor, DirCode::kOct),
 };
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"HRPP hash unit (rtl/hrpp_hash.sv) against the C++ hash, eight parameter sets"};
+  CLI::App app{"HRPP hash unit (rtl/hrpp_hash.sv) against the C++ hash, twelve parameter sets"};
   cli::add_version_flag(app, "tb_hash");
   uint64_t n_random = 2000000;
   app.add_option("count", n_random, "random vectors per configuration (the special values too)")
@@ -106,7 +116,7 @@ int main(int argc, char** argv) {
   auto compare = [&](const std::array<uint32_t, 6>& b, int k) {
     bool invalid = false;
     for (uint32_t v : b) invalid |= ((v >> 23) & 0xFF) == 0xFF;
-    for (int c = 0; c < 8; ++c) {
+    for (int c = 0; c < kNumConfigs; ++c) {
       HashConfig cfg = kConfigs[c];
       cfg.origin_cell_exp = k;
       const uint64_t exp = hash_key(b, cfg);
@@ -148,6 +158,34 @@ int main(int argc, char** argv) {
         b[pos] = s;
         check(b, k);
       }
+  // The octahedral code: every direction made of three special values (random origins), and
+  // exact bin boundaries (dyadic components: (1, 1, 0) / 2, (1, 1, -2) / 4, ...).
+  for (uint32_t x : special)
+    for (uint32_t y : special)
+      for (uint32_t z : special)
+        check({static_cast<uint32_t>(rng()), static_cast<uint32_t>(rng()),
+               static_cast<uint32_t>(rng()), x, y, z},
+              cell_exps[(x ^ y ^ z) % std::size(cell_exps)]);
+  const float dyadic[] = {0.f,    -0.f,    0.125f, -0.125f, 0.25f,  -0.25f,
+                          0.375f, -0.375f, 0.5f,   -0.5f,   0.625f, -0.625f,
+                          0.75f,  -0.75f,  1.f,    -1.f,    0.875f, -0.875f};
+  for (float x : dyadic)
+    for (float y : dyadic)
+      for (float z : dyadic)
+        check({0, 0, 0, std::bit_cast<uint32_t>(x), std::bit_cast<uint32_t>(y),
+               std::bit_cast<uint32_t>(z)},
+              0);
+  // Random unit directions (normalised Gaussian vectors).
+  std::normal_distribution<float> gauss;
+  for (uint64_t i = 0; i < n_random / 4; ++i) {
+    float d[3], n2 = 0;
+    for (float& c : d) n2 += (c = gauss(rng)) * c;
+    const float inv = 1.f / std::sqrt(n2);
+    check({static_cast<uint32_t>(rng()), static_cast<uint32_t>(rng()), static_cast<uint32_t>(rng()),
+           std::bit_cast<uint32_t>(d[0] * inv), std::bit_cast<uint32_t>(d[1] * inv),
+           std::bit_cast<uint32_t>(d[2] * inv)},
+          cell_exps[i % std::size(cell_exps)]);
+  }
   // Dense random: uniform bit patterns, and realistic floats (origins in a scene, unit dirs).
   std::uniform_int_distribution<int> kd(0, std::size(cell_exps) - 1);
   std::uniform_real_distribution<float> pos(-100.f, 100.f), unit(-1.f, 1.f);
@@ -162,8 +200,8 @@ int main(int argc, char** argv) {
     check(b, cell_exps[kd(rng)]);
   }
   check({0, 0, 0, 0, 0, 0}, 0);  // flushes the last vector
-  std::printf("hash: %llu vectors x 8 configurations, %llu mismatches\n",
-              (unsigned long long)vectors, (unsigned long long)mismatches);
+  std::printf("hash: %llu vectors x %d configurations, %llu mismatches\n",
+              (unsigned long long)vectors, kNumConfigs, (unsigned long long)mismatches);
   dut->final();
   return mismatches ? 1 : 0;
 }

@@ -2,7 +2,7 @@
 // and plays the traversal engine; every cycle every DUT output is compared with the cycle model.
 //
 //   tb_hrpp --scene SCENE|--stream FILE|--latency [--rays N]
-//           [--config small|default|large|mobile|mutant]
+//           [--config small|default|large|mobile|mutant|oct|...]
 //           [--mode anyhit|closest-exact|closest-spec] [--seed S] [--trace FILE.fst|.vcd]
 //           [--reset-every N] [--stall-gap G --stall-max M] [--stress KIND] [+verilator+...]
 //

@@ -55,6 +55,36 @@ inline uint32_t ref_grid_dir(float d, int g) {
   return static_cast<uint32_t>(static_cast<int64_t>(q)) & ((1u << g) - 1);
 }
 
+// Reference octahedral direction field (docs/hash.md, "Octahedral direction code"), written from
+// the specification on the decoded floats: each magnitude as a double (NaN as +inf, an infinity
+// as 2^128, its exponent field 255 with significand 1.0; denormals as 0), the largest exponent by
+// std::ilogb, the aligned magnitudes as floor(|d| * 2^(150 - E)) (exact in double), and each bin
+// as an integer quotient floor(N * 2^(b-1) / L), clamped, instead of the compares.
+inline uint32_t ref_oct_dir(const std::array<float, 3>& d, int b) {
+  double mag[3];
+  bool neg[3];
+  int emax = 0;  // biased; 0 when every component is zero
+  for (int i = 0; i < 3; ++i) {
+    float x = d[i];
+    if (std::isnan(x)) x = std::numeric_limits<float>::infinity();
+    if (x == 0 || std::fpclassify(x) == FP_SUBNORMAL) x = 0;  // -0 and denormals: +0
+    neg[i] = std::signbit(x);
+    mag[i] = std::isinf(x) ? std::ldexp(1.0, 128) : std::fabs(static_cast<double>(x));
+    if (mag[i] != 0) emax = std::max(emax, std::ilogb(mag[i]) + 127);
+  }
+  uint64_t a[3];
+  for (int i = 0; i < 3; ++i)
+    a[i] = static_cast<uint64_t>(std::floor(std::ldexp(mag[i], 150 - emax)));
+  const uint64_t l = a[0] + a[1] + a[2], half = uint64_t{1} << (b - 1);
+  // Upper hemisphere (z >= +0): (x, y) / L; lower: the fold (1 - |v|, 1 - |u|) with the signs of
+  // x and y, where 1 - |y| / L = (|x| + |z|) / L.
+  const uint64_t nu = neg[2] ? l - a[1] : a[0], nv = neg[2] ? l - a[0] : a[1];
+  auto bin = [&](uint64_t n) { return l == 0 ? half - 1 : std::min(n * half / l, half - 1); };
+  const uint32_t u = (neg[0] ? uint32_t(half) : 0) | uint32_t(bin(nu));
+  const uint32_t v = (neg[1] ? uint32_t(half) : 0) | uint32_t(bin(nv));
+  return (u << b) | v;
+}
+
 // `width` binary digits of v, most significant first.
 inline std::string ref_bits(uint64_t v, int width) {
   std::string s;
@@ -73,10 +103,13 @@ inline uint64_t ref_hash_key(const std::array<float, 6>& c, const HashConfig& cf
     o += ref_bits(faithful ? ref_faithful(c[a], cfg.exp_bits, cfg.precision)
                            : ref_grid_origin(c[a], cfg.origin_cell_exp, fo),
                   fo);
-  for (int a = 2; a >= 0; --a)
-    d += ref_bits(
-        faithful ? ref_faithful(c[3 + a], cfg.exp_bits, cfg.precision) : ref_grid_dir(c[3 + a], fd),
-        fd);
+  if (!faithful && cfg.dir_code == DirCode::kOct)  // one field u | v for the whole direction
+    d = ref_bits(ref_oct_dir({c[3], c[4], c[5]}, cfg.dir_bits), 2 * cfg.dir_bits);
+  else
+    for (int a = 2; a >= 0; --a)
+      d += ref_bits(faithful ? ref_faithful(c[3 + a], cfg.exp_bits, cfg.precision)
+                             : ref_grid_dir(c[3 + a], fd),
+                    fd);
   std::string key;
   if (cfg.combine == CombineMode::kConcat) {
     key = o + d;

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "hash_ref.h"
+#include "hrpp/util/rng.h"
 
 namespace hrpp {
 namespace {
@@ -181,6 +182,192 @@ TEST(Hash, CellExponentCoversTheScene) {
   EXPECT_EQ(cell_exp_for(b, 5), 3 - 5);  // 32 cells of 0.25
   Aabb c{{0, 0, 0}, {1000, 9, 9}};
   EXPECT_EQ(cell_exp_for(c, 4), 10 - 4);
+}
+
+// ---- Octahedral direction code (docs/hash.md, "Octahedral direction code") ----
+
+using test::ref_oct_dir;
+
+uint32_t oct(float x, float y, float z, int b) {
+  return oct_dir_field({bits(x), bits(y), bits(z)}, b);
+}
+uint32_t oct_ref(float x, float y, float z, int b) { return ref_oct_dir({x, y, z}, b); }
+// u << b | v from sign and magnitude bins.
+uint32_t oct_code(uint32_t su, uint32_t mu, uint32_t sv, uint32_t mv, int b) {
+  return (((su << (b - 1)) | mu) << b) | (sv << (b - 1)) | mv;
+}
+
+// A unit direction uniformly distributed on the sphere (z = 1 - 2u, phi = 2 pi u'), in float.
+std::array<float, 3> unit_dir(uint64_t seed, uint64_t i) {
+  const double z = 1.0 - 2.0 * uniform01(seed, i, 0), phi = 2 * M_PI * uniform01(seed, i, 1);
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)};
+}
+
+HashConfig improved_oct(int ob = 5, int k = -3, int db = 3, CombineMode c = CombineMode::kConcat) {
+  HashConfig h = improved(ob, k, db);
+  h.dir_code = DirCode::kOct;
+  h.combine = c;
+  return h;
+}
+
+TEST(HashOct, AxisAlignedDirections) {
+  for (int b = 1; b <= 8; ++b) {
+    const uint32_t top = (1u << (b - 1)) - 1;                       // the largest magnitude bin
+    EXPECT_EQ(oct(0, 0, 1, b), oct_code(0, 0, 0, 0, b)) << b;       // +z: the centre
+    EXPECT_EQ(oct(0, 0, -1, b), oct_code(0, top, 0, top, b)) << b;  // -z: folded to a corner
+    EXPECT_EQ(oct(1, 0, 0, b), oct_code(0, top, 0, 0, b)) << b;     // +x
+    EXPECT_EQ(oct(-1, 0, 0, b), oct_code(1, top, 0, 0, b)) << b;    // -x
+    EXPECT_EQ(oct(0, 1, 0, b), oct_code(0, 0, 0, top, b)) << b;     // +y
+    EXPECT_EQ(oct(0, -1, 0, b), oct_code(0, 0, 1, top, b)) << b;    // -y
+    // -0 components are +0 (canonical): -0 in z is the upper hemisphere, -0 in x a plus sign.
+    EXPECT_EQ(oct(-0.f, -0.f, 1, b), oct(0, 0, 1, b)) << b;
+    EXPECT_EQ(oct(1, -0.f, -0.f, b), oct(1, 0, 0, b)) << b;
+    EXPECT_EQ(oct(-0.f, 1, -0.f, b), oct(0, 1, 0, b)) << b;
+    // The zero direction (never hashed): L = 0, every compare 0 >= 0 holds.
+    EXPECT_EQ(oct(0, -0.f, 0, b), oct_code(0, top, 0, top, b)) << b;
+  }
+  // b = 1: only the signs of x and y.
+  EXPECT_EQ(oct(-0.3f, 0.4f, -0.5f, 1), 0b10u);
+  EXPECT_EQ(oct(0.3f, -0.4f, 0.5f, 1), 0b01u);
+}
+
+TEST(HashOct, ExactBinBoundaries) {
+  // (1, 1, 0) / 2: u = v = 1/2 exactly, the boundary of bin 2^(b-2) (b >= 2), which it belongs to.
+  for (int b = 2; b <= 8; ++b) {
+    const uint32_t h4 = 1u << (b - 2);
+    EXPECT_EQ(oct(0.5f, 0.5f, 0, b), oct_code(0, h4, 0, h4, b)) << b;
+    EXPECT_EQ(oct(0.7f, 0.7f, 0, b), oct_code(0, h4, 0, h4, b)) << b;  // only the ratio matters
+    EXPECT_EQ(oct(-0.5f, 0.5f, -0.f, b), oct_code(1, h4, 0, h4, b)) << b;
+  }
+  // One ulp less on y: u just above 1/2, v just below.
+  const float below = std::nextafter(0.5f, 0.f);
+  EXPECT_EQ(oct(0.5f, below, 0, 2), oct_code(0, 1, 0, 0, 2));
+  // (1, 1, -2) / 4: lower hemisphere, u' = v' = (1 + 2) / 4 = 3/4: bin 3 of 4 (b = 3) exactly.
+  EXPECT_EQ(oct(0.25f, 0.25f, -0.5f, 3), oct_code(0, 3, 0, 3, 3));
+  // y one ulp below 1/4: u' = 1 - |v| just above 3/4 (bin 3), v' = 1 - |u| just below (bin 2).
+  EXPECT_EQ(oct(0.25f, below / 2, -0.5f, 3), oct_code(0, 3, 0, 2, 3));
+  // (1, 2, 1) / 4 upper: u = 1/4 (bin 1 of 4 exactly), v = 1/2 (bin 2).
+  EXPECT_EQ(oct(0.25f, 0.5f, 0.25f, 3), oct_code(0, 1, 0, 2, 3));
+}
+
+TEST(HashOct, DenormalsAndWildlyDifferentExponents) {
+  const float den = flt(0x00000001), big = 1e30f;
+  for (int b = 1; b <= 8; ++b) {
+    EXPECT_EQ(oct(den, -den, 1, b), oct(0, 0, 1, b));      // denormals are zero
+    EXPECT_EQ(oct(0.5f, 0, -den, b), oct(0.5f, 0, 0, b));  // -denormal z: upper hemisphere
+    // A component 2^24 below the largest aligns to 0; 2^23 below to 1 (truncated alignment).
+    EXPECT_EQ(oct(1, 0, -std::ldexp(1.f, -24), b), oct(1, 0, 0, b));
+    EXPECT_EQ(oct(1, std::ldexp(1.f, -23), 0, b), oct(1, 0, 0, b));
+    EXPECT_EQ(oct(big, -1e-30f, 1e-20f, b), oct_code(0, (1u << (b - 1)) - 1, 1, 0, b));
+  }
+  // Lower hemisphere with a tiny z that aligns to 0: the fold still applies (s_z = 1).
+  EXPECT_EQ(oct(1, 0, -std::ldexp(1.f, -24), 3), oct_code(0, 3, 0, 0, 3));
+  EXPECT_EQ(oct(0, 1, -std::ldexp(1.f, -30), 3), oct_code(0, 0, 0, 3, 3));
+}
+
+TEST(HashOct, InfinityAndNaNAreTotal) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+  for (int b = 1; b <= 8; ++b) {
+    EXPECT_EQ(oct(nan, 0, 0, b), oct(inf, 0, 0, b));  // every NaN is +inf
+    EXPECT_EQ(oct(flt(0xFFC12345), 0.5f, 0, b), oct(inf, 0.5f, 0, b));
+    EXPECT_EQ(oct(inf, 0.5f, 0, b), oct(1, 0, 0, b));  // 0.5 is 2^-128 of inf's 2^128: aligns to 0
+    EXPECT_EQ(oct(-inf, 0, 0, b), oct(-1, 0, 0, b));
+    for (float x : {inf, -inf, nan, 1e38f, -3.f})
+      for (float y : {inf, -inf, nan, 0.f, 2.f})
+        for (float z : {inf, -inf, nan, -0.f, -1.f}) {
+          const uint32_t f = oct(x, y, z, b);
+          EXPECT_LT(f, 1u << (2 * b));
+          EXPECT_EQ(f, oct_ref(x, y, z, b)) << x << " " << y << " " << z << " b=" << b;
+        }
+  }
+}
+
+TEST(HashOct, MatchesReferenceOnRandomPatternsAndSpecialClasses) {
+  std::vector<uint32_t> special = {0,          0x80000000, 1,          0x807FFFFF, 0x00800000,
+                                   0x80800000, 0x3F800000, 0xBF800000, 0x3F7FFFFF, 0x3F000000,
+                                   0xBF000000, 0x7F7FFFFF, 0xFF7FFFFF, 0x7F800000, 0xFF800000,
+                                   0x7FC00000, 0xFFC00000, 0x33800000, 0x34000000, 0xB3800000};
+  uint64_t z = 777;
+  auto next = [&] {
+    z = z * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<uint32_t>(z >> 32);
+  };
+  for (int b = 1; b <= 8; ++b) {
+    for (uint32_t x : special)
+      for (uint32_t y : special)
+        for (uint32_t w : special)
+          ASSERT_EQ(oct_dir_field({x, y, w}, b), ref_oct_dir({flt(x), flt(y), flt(w)}, b))
+              << std::hex << x << " " << y << " " << w << std::dec << " b=" << b;
+    for (int i = 0; i < 100000; ++i) {
+      // Random patterns, and random patterns with exponents near each other (most of the
+      // interesting alignments): exponent 120..127 with a random sign and mantissa.
+      std::array<uint32_t, 3> p = {next(), next(), next()};
+      if (i & 1)
+        for (uint32_t& c : p) c = (c & 0x807FFFFF) | ((120 + (c >> 23) % 8) << 23);
+      ASSERT_EQ(oct_dir_field(p, b), ref_oct_dir({flt(p[0]), flt(p[1]), flt(p[2])}, b))
+          << std::hex << p[0] << " " << p[1] << " " << p[2] << std::dec << " b=" << b;
+    }
+  }
+}
+
+TEST(HashOct, MatchesReferenceOnRandomUnitVectors) {
+  for (int b = 1; b <= 8; ++b)
+    for (uint64_t i = 0; i < 100000; ++i) {
+      const auto d = unit_dir(42, i);
+      ASSERT_EQ(oct_dir_field({bits(d[0]), bits(d[1]), bits(d[2])}, b), ref_oct_dir(d, b))
+          << d[0] << " " << d[1] << " " << d[2] << " b=" << b;
+    }
+}
+
+TEST(HashOct, EveryCodeIsReachableByUnitDirections) {
+  for (int b = 1; b <= 4; ++b) {
+    std::vector<uint64_t> seen(size_t{1} << (2 * b), 0);
+    for (uint64_t i = 0; i < 200000; ++i) {
+      const auto d = unit_dir(7, i);
+      ++seen.at(oct_dir_field({bits(d[0]), bits(d[1]), bits(d[2])}, b));
+    }
+    for (size_t c = 0; c < seen.size(); ++c) EXPECT_GT(seen[c], 0u) << "b=" << b << " code " << c;
+  }
+}
+
+TEST(HashOct, KeyCombinationAndWidths) {
+  const std::array<uint32_t, 6> r = {bits(1.3f),  bits(-2.7f), bits(0.1f),
+                                     bits(-0.6f), bits(0.0f),  bits(-0.8f)};
+  for (int ob : {1, 3, 5, 16})
+    for (int db : {1, 3, 8}) {
+      const HashConfig cat = improved_oct(ob, -3, db),
+                       x = improved_oct(ob, -3, db, CombineMode::kXor);
+      ASSERT_EQ(cat.validate(), "");
+      ASSERT_EQ(x.validate(), "");
+      EXPECT_EQ(cat.dir_field_bits(), 2 * db);
+      EXPECT_EQ(cat.key_bits(), 3 * ob + 2 * db);
+      EXPECT_EQ(x.key_bits(), std::max(3 * ob, 2 * db));
+      uint64_t o = 0;
+      for (int i = 0; i < 3; ++i) o = (o << ob) | grid_origin_field(r[i], -3, ob);
+      const uint64_t d = oct_dir_field({r[3], r[4], r[5]}, db);
+      EXPECT_EQ(hash_key(r, cat), (o << (2 * db)) | d);
+      EXPECT_EQ(hash_key(r, x), o ^ d);
+      std::array<float, 6> f;
+      for (int i = 0; i < 6; ++i) f[i] = flt(r[i]);
+      EXPECT_EQ(hash_key(r, cat), test::ref_hash_key(f, cat));
+      EXPECT_EQ(hash_key(r, x), test::ref_hash_key(f, x));
+    }
+  // The grid code (the default) is unchanged by the new field.
+  EXPECT_EQ(improved().dir_code, DirCode::kGrid);
+  EXPECT_EQ(improved(5, -3, 3).key_bits(), 24);
+}
+
+TEST(HashOct, ConfigValidation) {
+  EXPECT_NE(improved_oct(5, -3, 9).validate().find("must be 1..8"), std::string::npos);
+  EXPECT_NE(improved_oct(5, -3, 0).validate(), "");
+  HashConfig f = faithful();
+  f.dir_code = DirCode::kOct;
+  EXPECT_NE(f.validate().find("applies only to the improved hash"), std::string::npos);
+  HashConfig m = improved_oct();
+  m.variant = HashVariant::kMicro21;
+  EXPECT_NE(m.validate().find("applies only to the improved hash"), std::string::npos);
+  EXPECT_EQ(improved_oct(5, -3, 8).validate(), "");
 }
 
 // ---- H8: exhaustive sweep against simple reference implementations ----

@@ -149,6 +149,27 @@ class RtlConfig(unittest.TestCase):
             rtl_config.config("nope", self.load({"default": self.BASE}))
         self.assertIn("unknown configuration 'nope'", str(e.exception))
 
+    def test_dir_code(self):
+        """dir_code: "grid" when absent (every existing configuration); "oct" reaches DirCode,
+        the `hrpp predict` options and the description; only with the improved hash, 1..8 bits."""
+        data = self.load({"default": self.BASE,
+                          "oct": {"base": "default", "dir_code": "oct", "origin_bits": 3}})
+        default, octc = (rtl_config.config(n, data) for n in ("default", "oct"))
+        self.assertEqual((default["dir_code"], octc["dir_code"]), ("grid", "oct"))
+        self.assertEqual(rtl_config.hrpp_top_params(default)["DirCode"], "hrpp_pkg::DirGrid")
+        self.assertEqual(rtl_config.hrpp_top_params(octc, enums="int")["DirCode"], "1'b1")
+        self.assertNotIn("--dir-code", rtl_config.predict_args(default, ("hash",)))
+        self.assertEqual(rtl_config.predict_args(octc, ("hash",)),
+                         ["--hash", "improved", "--origin-bits", "3", "--dir-bits", "3",
+                          "--dir-code", "oct", "--combine", "concat"])
+        self.assertIn("o3/d3 oct concat", rtl_config.describe(octc))
+        for bad, message in (({"dir_code": "cube"}, "dir_code must be one of"),
+                             ({"dir_code": "oct", "variant": "faithful"}, "needs the improved"),
+                             ({"dir_code": "oct", "dir_bits": 9}, "dir_bits 1..8")):
+            with self.assertRaises(rtl_config.ConfigError) as e:
+                self.load({"default": {**self.BASE, **bad}})
+            self.assertIn(message, str(e.exception))
+
     def test_the_project_file_loads(self):
         self.assertIn("default", rtl_config.load()["configurations"])
 

@@ -91,7 +91,9 @@ class Tiny(unittest.TestCase):
             rows = read(a)
             # 8 configurations x (primary, shadow, ao, all).
             self.assertEqual(len(rows), 8 * 4)
-            self.assertEqual(list(rows[0]), ["scene", "kind", "res"] + list(sweep.PARAMS)
+            # dir_code is written only when a row has another direction code than the grid.
+            self.assertEqual(list(rows[0]), ["scene", "kind", "res"]
+                             + [n for n in sweep.PARAMS if n != "dir_code"]
                              + sweep.RESULT_COLUMNS)
             self.assertEqual([r["kind"] for r in rows[:4]], ["primary", "shadow", "ao", "all"])
             self.assertEqual({(r["precision"], r["table"], r["mode"]) for r in rows},
@@ -123,6 +125,32 @@ class Tiny(unittest.TestCase):
             self.assertIn("### spd_tetra / all / closest-hit queries", report)
             self.assertIn("Smallest table keeping 90%", report)
             self.assertIn("| no predictor (the baseline walk, spp=1) |", report)
+
+    def test_dir_code(self):
+        """dir_code=grid,oct on the improved hash: the column appears, the octahedral rows have
+        the key of hrpp predict --dir-code oct (2b direction bits), and read back the CSV's rows
+        keep their codes; on the faithful hash the parameter is not passed (and not refused)."""
+        with tempfile.TemporaryDirectory() as d:
+            a = os.path.join(d, "a.csv")
+            p = run_sweep(TETRA, "--param", "hash=improved,faithful", "--param",
+                          "dir_code=grid,oct", "--param", "table=16x2", "--res", "8x8",
+                          "--no-dask", "--no-timing", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            rows = read(a)
+            self.assertIn("dir_code", rows[0])
+            codes = {(r["hash"], r["dir_code"]) for r in rows}
+            self.assertEqual(codes, {(h, c) for h in ("improved", "faithful")
+                                     for c in ("grid", "oct")})
+            by = {(r["hash"], r["dir_code"], r["kind"]): r for r in rows}
+            # The octahedral and the grid code differ on the improved hash, not on the faithful.
+            self.assertNotEqual(by[("improved", "grid", "all")]["true_positive"] + "/"
+                                + by[("improved", "grid", "all")]["table_entries"],
+                                by[("improved", "oct", "all")]["true_positive"] + "/"
+                                + by[("improved", "oct", "all")]["table_entries"])
+            for k in ("true_positive", "table_entries", "skipped_interior"):
+                self.assertEqual(by[("faithful", "grid", "all")][k],
+                                 by[("faithful", "oct", "all")][k])
+            self.assertEqual({r["dir_code"] for r in sweep.read_csv([a])}, {"grid", "oct"})
 
     def test_latency_rows(self):
         with tempfile.TemporaryDirectory() as d:

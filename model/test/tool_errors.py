@@ -319,6 +319,9 @@ OPTION_CASES = [
     ("option: -inf AO distance", {}, P + "--ao-distance -inf", r"--ao-distance: must be a number >= 0 or 'inf', got -inf"),
     ("option: unknown preset", {}, P + "--preset micro22", r"--preset"),
     ("option: micro21 theta bits 9", {}, P + "--hash micro21 --dir-bits 9", r"theta bits \(--dir-bits\) must be 1\.\.8"),
+    ("option: octahedral direction bits 9", {}, P + "--hash improved --dir-code oct --dir-bits 9",
+     r"octahedral direction bits \(--dir-bits with --dir-code oct\) must be 1\.\.8, got 9"),
+    ("option: unknown direction code", {}, P + "--hash improved --dir-code cube", r"--dir-code"),
     ("option: unknown predict kinds", {}, P + "--predict-kinds shadow", r"--predict-kinds"),
     ("option: unknown effect", {}, P + "--effects shadow,glitter", r"unknown effect 'glitter'"),
     ("option: stream with workload options", {}, "predict {scene} --stream {stream} --spp 2", r"excludes"),
@@ -392,6 +395,11 @@ INAPPLICABLE_CASES = [
      r"this run uses the default hash faithful"),
     ("inapplicable: --dir-bits with --hash faithful", {}, P + "--hash faithful --dir-bits 2",
      r"--dir-bits " + APPLIES + r"the improved and micro21 hashes.*this run uses --hash faithful"),
+    ("inapplicable: --dir-code with --preset micro21", {}, P + "--preset micro21 --dir-code oct",
+     r"--dir-code " + APPLIES + r"the improved hash \(--hash improved\); this run uses --preset "
+     r"micro21 \(hash micro21\)"),
+    ("inapplicable: --dir-code with the default (faithful) hash", {}, P + "--dir-code oct",
+     r"--dir-code " + APPLIES + r"the improved hash.*this run uses the default hash faithful"),
     ("inapplicable: --tag-bits with --table unbounded", {}, P + "--table unbounded --tag-bits 8",
      r"--tag-bits " + APPLIES + r"a set-associative table \(--table SETSxWAYS\); this run uses "
      r"--table unbounded"),

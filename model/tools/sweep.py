@@ -74,6 +74,7 @@ PARAMS = {
     "exp_bits": ("--exp-bits", "3"),
     "origin_bits": ("--origin-bits", "5"),
     "dir_bits": ("--dir-bits", "3"),
+    "dir_code": ("--dir-code", "grid"),
     "combine": ("--combine", "xor"),
     "table": ("--table", "unbounded"),
     "tag_bits": ("--tag-bits", "full"),
@@ -88,8 +89,8 @@ PARAMS = {
 ALIASES = {"exp": "exp_bits", "ways": "table", "k": "nodes_per_entry", "nodes": "nodes_per_entry",
            "go_up_level": "go_up", "pipeline_latency": "latency", "ray_order": "order",
            "variant": "hash", "hash_variant": "hash", "size": "table"}
-PRESET_SET = ("hash", "precision", "exp_bits", "origin_bits", "dir_bits", "combine", "table",
-              "tag_bits", "nodes_per_entry", "go_up", "mode")
+PRESET_SET = ("hash", "precision", "exp_bits", "origin_bits", "dir_bits", "dir_code", "combine",
+              "table", "tag_bits", "nodes_per_entry", "go_up", "mode")
 KIND_ORDER = ["primary", "shadow", "ao", "reflection", "refraction", "diffuse", "all"]
 
 RESULT_COLUMNS = [
@@ -180,7 +181,8 @@ def preset_values(hrpp, scene, preset):
     bounded = c["table"] != "unbounded"
     return {"hash": c["hash"], "precision": str(c["precision_bits"]),
             "exp_bits": str(c["exp_bits"]), "origin_bits": str(c["origin_bits"]),
-            "dir_bits": str(c["dir_bits"]), "combine": c["combine"], "table": c["table"],
+            "dir_bits": str(c["dir_bits"]), "dir_code": c.get("dir_code", "grid"),
+            "combine": c["combine"], "table": c["table"],
             "tag_bits": str(c["tag_bits"]) if bounded and c["tag_bits"] != c["full_tag_bits"]
             else "full",
             "nodes_per_entry": str(c["nodes_per_entry"]), "go_up": str(c["go_up"]),
@@ -219,6 +221,10 @@ def applies(name, cfg):
         return cfg["hash"] == "faithful"
     if name in ("origin_bits", "dir_bits"):
         return cfg["hash"] != "faithful"
+    if name == "dir_code":  # the improved hash only; the default (grid) is passed only to
+        # override a preset's code, so that every other command line stays as it was
+        return cfg["hash"] == "improved" and (cfg["dir_code"] != PARAMS["dir_code"][1]
+                                              or bool(cfg["preset"]))
     if name == "tag_bits":
         return cfg["table"] != "unbounded"
     return True
@@ -404,7 +410,9 @@ def fmt(v):
 
 
 def write_csv(path, rows, simulated=False):
-    cols = ["scene", "kind", "res"] + list(PARAMS) + RESULT_COLUMNS
+    # dir_code only when a row has another code than the grid: every other CSV as before.
+    params = [n for n in PARAMS if n != "dir_code" or any(r["dir_code"] != "grid" for r in rows)]
+    cols = ["scene", "kind", "res"] + params + RESULT_COLUMNS
     if simulated:
         cols += SIM_COLUMNS
     buf = io.StringIO()
@@ -433,6 +441,7 @@ def read_csv(paths):
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
                 r.setdefault("preset", "")  # a CSV from before presets could be swept
+                r.setdefault("dir_code", "grid")  # written only when a row has another code
                 if r.get("timing") is None:  # a cost-model CSV
                     r.update({c: "" for c in SIM_COLUMNS})
                     r["timing"] = "cost-model"
@@ -716,8 +725,8 @@ def run_tasks(args, tasks, progress):
 # ---- plots and report ----------------------------------------------------------------------------
 
 # Parameters that mean nothing for the other hash variant.
-UNUSED = {"faithful": ("origin_bits", "dir_bits"), "improved": ("precision", "exp_bits"),
-          "micro21": ("precision", "exp_bits")}
+UNUSED = {"faithful": ("origin_bits", "dir_bits", "dir_code"),
+          "improved": ("precision", "exp_bits"), "micro21": ("precision", "exp_bits", "dir_code")}
 
 
 def with_baselines(pts):

@@ -26,7 +26,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package (run by CMake with the system python3)
 from pyhrpp.files import write_atomic  # noqa: E402
-from pyhrpp.rtl_config import (COMBINES, JSON_PATH, PARAMS, VARIANTS, ConfigError,  # noqa: E402
+from pyhrpp.rtl_config import (COMBINES, DIR_CODES, JSON_PATH, PARAMS, VARIANTS,  # noqa: E402
+                               ConfigError,
                                config, load, top_params, predict_args, predict_options)
 from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
 
@@ -52,6 +53,8 @@ def sv_block(data: dict) -> str:
              enum("hash_variant_e", VARIANTS, "faithful: the study's; improved: fixed-point grid")
              .rstrip("\n"),
              enum("combine_e", COMBINES, "origin and direction fields: XOR or concatenated")
+             .rstrip("\n"),
+             enum("dir_code_e", DIR_CODES, "improved hash's direction code: grid or octahedral")
              .rstrip("\n"), "",
              "  // Pipeline latencies in cycles (docs/microarchitecture.md, \"Declared "
              "latencies\"; each",
@@ -72,6 +75,8 @@ def sv_block(data: dict) -> str:
             lines.append(f"  localparam hash_variant_e Default{p} = {VARIANTS[v][0]};")
         elif f == "combine":
             lines.append(f"  localparam combine_e Default{p} = {COMBINES[v][0]};")
+        elif f == "dir_code":
+            lines.append(f"  localparam dir_code_e Default{p} = {DIR_CODES[v][0]};")
         elif f in ("key_store_bram", "inject_fault"):
             lines.append(f"  localparam bit Default{p} = 1'b{int(v)};")
         else:
@@ -108,6 +113,7 @@ def cpp_header(data: dict) -> str:
     out += ["", "/// One configuration's hrpp_top parameters.", "struct ConfigData {",
             "  const char* name;", "  HashVariant variant;",
             "  int precision, exp_bits, origin_bits, dir_bits;", "  CombineMode combine;",
+            "  DirCode dir_code;  // the improved hash's direction code",
             "  uint32_t sets, ways, nodes_per_entry;",
             "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth, update_queue_depth;",
             "  bool key_store_bram;  // +1 cycle of decision and update latency",
@@ -117,7 +123,8 @@ def cpp_header(data: dict) -> str:
     for name, c in cfgs.items():
         out.append(
             f"    {{\"{name}\", {VARIANTS[c['variant']][2]}, {c['precision']}, {c['exp_bits']}, "
-            f"{c['origin_bits']}, {c['dir_bits']}, {COMBINES[c['combine']][2]},\n"
+            f"{c['origin_bits']}, {c['dir_bits']}, {COMBINES[c['combine']][2]}, "
+            f"{DIR_CODES[c['dir_code']][2]},\n"
             f"     {c['sets']}, {c['ways']}, {c['nodes_per_entry']}, {c['tag_bits']}, "
             f"{c['node_id_width']}, {c['id_width']}, {c['pred_fifo_depth']}, "
             f"{c['skip_fifo_depth']}, {c['update_queue_depth']}, "

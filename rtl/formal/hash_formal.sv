@@ -16,7 +16,7 @@ module hash_formal
   localparam int unsigned Fo = field_width(Variant, Precision, ExpBits, OriginBits),
   localparam int unsigned Fd = field_width(Variant, Precision, ExpBits, DirBits),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
-                                               Combine)
+                                               Combine, DirGrid)
 ) (
   input logic                  clk_i,
   input logic [2:0][31:0]      org_i,

@@ -61,11 +61,12 @@ def clog2(n: int) -> int:
 # ------------------------------------------------------------------------------------------------
 # Configurations
 # ------------------------------------------------------------------------------------------------
-# Variant and Combine are kept as their encodings (describe(), the sweep); read_slang_cmd() names
-# them (hrpp_top takes the enumerations).
+# Variant, Combine and DirCode are kept as their encodings (describe(), the sweep); read_slang_cmd()
+# names them (hrpp_top takes the enumerations).
 ENUM_PARAMS = {
     "Variant": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.VARIANTS.values()},
     "Combine": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.COMBINES.values()},
+    "DirCode": {code: f"hrpp_pkg::{sv}" for sv, code, _ in hrpp_config.DIR_CODES.values()},
 }
 
 
@@ -96,6 +97,7 @@ def table_geometry(p: dict[str, int]) -> dict[str, int]:
 def describe(p: dict[str, int]) -> str:
     if p.get("Variant", 0):
         h = f"improved o{p.get('OriginBits', 5)}/d{p.get('DirBits', 3)}"
+        h += " oct" if p.get("DirCode", 0) else ""
     else:
         h = f"faithful P={p.get('Precision', 6)} E={p.get('ExpBits', 3)}"
     h += " concat" if p.get("Combine", 0) else " xor"

@@ -18,21 +18,33 @@ const char* hash_variant_name(HashVariant v) {
   return "?";
 }
 const char* combine_mode_name(CombineMode c) { return c == CombineMode::kXor ? "xor" : "concat"; }
+const char* dir_code_name(DirCode c) { return c == DirCode::kGrid ? "grid" : "oct"; }
 
 int HashConfig::origin_field_bits() const {
   return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : origin_bits;
 }
 int HashConfig::dir_field_bits() const {
   if (variant == HashVariant::kMicro21) return 2 * dir_bits + 1;  // phi | theta
+  if (variant == HashVariant::kImproved && dir_code == DirCode::kOct) return 2 * dir_bits;  // u|v
   return variant == HashVariant::kFaithful ? 1 + exp_bits + precision : dir_bits;
 }
 int HashConfig::key_bits() const {
   const int o = 3 * origin_field_bits();
-  const int d = variant == HashVariant::kMicro21 ? dir_field_bits() : 3 * dir_field_bits();
+  // micro21 and oct: one direction field for the whole direction; else one per component.
+  const bool whole = variant == HashVariant::kMicro21 ||
+                     (variant == HashVariant::kImproved && dir_code == DirCode::kOct);
+  const int d = whole ? dir_field_bits() : 3 * dir_field_bits();
   return combine == CombineMode::kXor ? std::max(o, d) : o + d;
 }
 
 std::string HashConfig::validate() const {
+  if (dir_code != DirCode::kGrid && dir_code != DirCode::kOct)
+    return "unknown direction code " + std::to_string(int(dir_code));
+  if (dir_code == DirCode::kOct && variant != HashVariant::kImproved)
+    return std::string(
+               "the octahedral direction code (--dir-code oct) applies only to the "
+               "improved hash (--hash improved), not to --hash ") +
+           hash_variant_name(variant);
   if (variant == HashVariant::kFaithful) {
     if (precision < 1 || precision > 23)
       return "precision must be 1..23 (the float32 mantissa has 23 bits), got " +
@@ -56,6 +68,9 @@ std::string HashConfig::validate() const {
       return "origin grid bits must be 1..16, got " + std::to_string(origin_bits);
     if (dir_bits < 1 || dir_bits > 16)
       return "direction grid bits must be 1..16, got " + std::to_string(dir_bits);
+    if (dir_code == DirCode::kOct && dir_bits > 8)
+      return "octahedral direction bits (--dir-bits with --dir-code oct) must be 1..8, got " +
+             std::to_string(dir_bits);
     if (origin_cell_exp < -149 || origin_cell_exp > 127)
       return "origin cell exponent must be -149..127, got " + std::to_string(origin_cell_exp);
   }
@@ -140,6 +155,34 @@ uint32_t grid_dir_field(uint32_t bits, int field_bits) {
   return low_bits(static_cast<uint64_t>(q), field_bits);
 }
 
+uint32_t oct_dir_field(const std::array<uint32_t, 3>& dir_bits, int b) {
+  // Step 1: canonical patterns; exponent, 24-bit significand (0 for a zero) and sign.
+  uint32_t e[3], sig[3], s[3];
+  for (int i = 0; i < 3; ++i) {
+    const uint32_t c = canonical_bits(dir_bits[i]);
+    e[i] = (c >> 23) & 0xFF;
+    sig[i] = e[i] == 0 ? 0 : (1u << 23) | (c & 0x7FFFFF);
+    s[i] = c >> 31;
+  }
+  // Step 2: magnitudes aligned to the largest exponent, truncated.
+  const uint32_t emax = std::max({e[0], e[1], e[2]});
+  uint64_t a[3];
+  for (int i = 0; i < 3; ++i) a[i] = emax - e[i] >= 24 ? 0 : sig[i] >> (emax - e[i]);
+  // Step 3: the L1 norm and the numerators (lower hemisphere folded).
+  const uint64_t l = a[0] + a[1] + a[2];
+  const uint64_t nu = s[2] ? a[0] + a[2] : a[0], nv = s[2] ? a[1] + a[2] : a[1];
+  // Step 4: magnitude bins by exact compares against the multiples j * L.
+  const uint64_t half = uint64_t{1} << (b - 1);
+  auto bin = [&](uint64_t n) {
+    uint32_t m = 0;
+    for (uint64_t j = 1; j < half; ++j) m += n * half >= j * l ? 1 : 0;
+    return m;
+  };
+  const uint32_t u = (s[0] << (b - 1)) | bin(nu), v = (s[1] << (b - 1)) | bin(nv);
+  // Step 5: u | v.
+  return (u << b) | v;
+}
+
 // micro21: ubc-aamodt-group/ray-intersection-predictor, src/cuda-sim/rt-sim.cc (commit 06c52d6),
 // hash_origin_grid, hash_direction_spherical and hash_grid_spherical; PI and clamp from
 // src/cuda-sim/vector-math.h (a float constant; std::max(std::min(x, hi), lo)). docs/hash.md.
@@ -188,6 +231,12 @@ uint64_t hash_key(const std::array<uint32_t, 6>& bits, const HashConfig& cfg) {
     return cfg.combine == CombineMode::kXor ? of ^ df : (of << cfg.dir_field_bits()) | df;
   }
   const int fo = cfg.origin_field_bits(), fd = cfg.dir_field_bits();
+  if (cfg.variant == HashVariant::kImproved && cfg.dir_code == DirCode::kOct) {
+    uint64_t o = 0;
+    for (int i = 0; i < 3; ++i) o = (o << fo) | grid_origin_field(bits[i], cfg.origin_cell_exp, fo);
+    const uint64_t d = oct_dir_field({bits[3], bits[4], bits[5]}, cfg.dir_bits);
+    return cfg.combine == CombineMode::kXor ? o ^ d : (o << fd) | d;
+  }
   uint64_t o = 0, d = 0;
   // Origin packed x|y|z, direction z|y|x (x in the most significant field of the origin, z in
   // that of the direction), so XOR pairs o.x^d.z, o.y^d.y, o.z^d.x as the study's simulator does.

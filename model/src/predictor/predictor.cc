@@ -273,6 +273,7 @@ nlohmann::json Predictor::to_json() const {
       {"origin_bits", h.origin_bits},
       {"origin_cell_exp", h.origin_cell_exp},
       {"dir_bits", h.dir_bits},
+      {"dir_code", dir_code_name(h.dir_code)},
       {"combine", combine_mode_name(h.combine)},
       {"key_bits", h.key_bits()},
       {"table", t.unbounded ? "unbounded" : std::to_string(t.sets) + "x" + std::to_string(t.ways)},

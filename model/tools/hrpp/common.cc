@@ -320,6 +320,12 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                   "gets one more)")
       ->check(CLI::Range(1, 16))
       ->capture_default_str();
+  app->add_option("--dir-code", a.dir_code,
+                  "improved hash: direction code, 'grid' (each component on a uniform grid of "
+                  "--dir-bits bits) or 'oct' (octahedral map onto a square, --dir-bits 1..8 per "
+                  "coordinate; docs/hash.md)")
+      ->check(CLI::IsMember({"grid", "oct"}))
+      ->capture_default_str();
   app->add_option("--combine", a.combine, "how origin and direction fields combine")
       ->check(CLI::IsMember({"xor", "concat"}))
       ->capture_default_str();
@@ -344,9 +350,9 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                   "update, and count as not predicted)")
       ->check(CLI::IsMember({"all", "any-hit"}))
       ->capture_default_str();
-  for (const char* o :
-       {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits", "--combine",
-        "--table", "--tag-bits", "--nodes-per-entry", "--go-up", "--mode", "--predict-kinds"})
+  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
+                        "--dir-code", "--combine", "--table", "--tag-bits", "--nodes-per-entry",
+                        "--go-up", "--mode", "--predict-kinds"})
     a.given[o] = app->get_option(o);
 }
 
@@ -374,6 +380,7 @@ std::map<std::string, OptionField> option_fields(PredictorArgs& a) {
           {"--exp-bits", {.number = &a.exp_bits}},
           {"--origin-bits", {.number = &a.origin_bits}},
           {"--dir-bits", {.number = &a.dir_bits}},
+          {"--dir-code", {.text = &a.dir_code}},
           {"--combine", {.text = &a.combine}},
           {"--table", {.text = &a.table}},
           {"--tag-bits", {.number = &a.tag_bits}},
@@ -396,6 +403,7 @@ void apply_named_preset(PredictorArgs& a, const std::string& name) {
   set("--exp-bits", &a.exp_bits, h.exp_bits);
   set("--origin-bits", &a.origin_bits, h.origin_bits);
   set("--dir-bits", &a.dir_bits, h.dir_bits);
+  set("--dir-code", &a.dir_code, std::string(dir_code_name(h.dir_code)));
   set("--combine", &a.combine, std::string(combine_mode_name(h.combine)));
   set("--table", &a.table,
       t.unbounded ? std::string("unbounded")
@@ -545,6 +553,8 @@ bool check_applicable(const char* cmd, const PredictorArgs& a) {
        "hash", "--hash", a.hash},
       {"--dir-bits", !faithful, "the improved and micro21 hashes (--hash improved|micro21)", "hash",
        "--hash", a.hash},
+      {"--dir-code", a.hash == "improved", "the improved hash (--hash improved)", "hash", "--hash",
+       a.hash},
       {"--tag-bits", a.table != "unbounded", "a set-associative table (--table SETSxWAYS)", "table",
        "--table", a.table},
   };
@@ -573,6 +583,7 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
   h.exp_bits = a.exp_bits;
   h.origin_bits = a.origin_bits;
   h.dir_bits = a.dir_bits;
+  h.dir_code = a.dir_code == "oct" ? DirCode::kOct : DirCode::kGrid;
   h.combine = a.combine == "xor" ? CombineMode::kXor : CombineMode::kConcat;
   parse_predict_mode(a.mode, &cfg->mode);
   cfg->go_up = a.go_up;
@@ -624,7 +635,7 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
   else
     hash = "origin " + std::to_string(h.origin_bits) + " bits, cell 2^" +
            std::to_string(h.origin_cell_exp) + ", dir " + std::to_string(h.dir_bits) + " bits " +
-           a.combine;
+           (h.dir_code == DirCode::kOct ? "oct " : "") + a.combine;
   // kUnknownEntries: the table's size only (e.g. one table per simulated unit).
   const std::string used = table_entries == kUnknownEntries
                                ? (t.unbounded ? "" : ", " + std::to_string(table_bytes) + " bytes")

@@ -77,6 +77,7 @@ void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::str
 
 struct PredictorArgs {
   std::string hash = "faithful", table = "unbounded", mode = "closest-exact", combine = "xor";
+  std::string dir_code = "grid";      // improved hash: grid | oct
   std::string predict_kinds = "all";  // all | any-hit
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   // In this order in `hrpp --help`.
   const std::vector<Subcommand> subcommands = {
       add_info(app),  add_check_embree(app), add_predict(app),  add_sweep(app),
-      add_trace(app), add_render(app),       add_simulate(app),
+      add_trace(app), add_render(app),       add_simulate(app), add_dir_codes(app),
   };
 
   try {

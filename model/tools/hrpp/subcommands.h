@@ -1,6 +1,6 @@
 // hrpp CLI: the subcommands, one file each (info.cc, check_embree.cc, predict.cc, trace.cc,
-// render.cc, sweep.cc). Each add_X registers its subcommand and options on the app; main.cc runs
-// the one the command line chose after parsing.
+// render.cc, sweep.cc, simulate.cc, dir_codes.cc). Each add_X registers its subcommand and options
+// on the app; main.cc runs the one the command line chose after parsing.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -20,5 +20,6 @@ Subcommand add_sweep(CLI::App& app);
 Subcommand add_trace(CLI::App& app);
 Subcommand add_render(CLI::App& app);
 Subcommand add_simulate(CLI::App& app);
+Subcommand add_dir_codes(CLI::App& app);
 
 }  // namespace hrpp::cli

@@ -39,11 +39,13 @@ struct RtlConfig {
   int update_write_latency() const { return rtl::kUpdateWriteLatency + int(key_store_bram); }
   int update_landing() const { return rtl::kUpdateLanding + int(key_store_bram); }
 
-  /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3").
+  /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3"; the
+  /// octahedral direction code: "improved hash 3/3 oct concat").
   std::string describe() const {
     const std::string h = hash.variant == HashVariant::kImproved
                               ? "improved hash " + std::to_string(hash.origin_bits) + "/" +
-                                    std::to_string(hash.dir_bits)
+                                    std::to_string(hash.dir_bits) +
+                                    (hash.dir_code == DirCode::kOct ? " oct" : "")
                               : "faithful hash P=" + std::to_string(hash.precision) +
                                     " E=" + std::to_string(hash.exp_bits);
     return h + (hash.combine == CombineMode::kConcat ? " concat, " : " xor, ") +
@@ -94,6 +96,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.hash.origin_bits = d.origin_bits;
   c.hash.dir_bits = d.dir_bits;
   c.hash.combine = d.combine;
+  c.hash.dir_code = d.dir_code;
   c.hash.index_bits = std::countr_zero(d.sets);
   c.table.sets = d.sets;
   c.table.ways = d.ways;
@@ -119,7 +122,7 @@ inline std::vector<std::string> rtl_config_names() {
   return names;
 }
 
-/// The named RTL configuration ("small", "default", "large", "mobile", "mutant"); throws
+/// The named RTL configuration ("small", "default", "large", "mobile", "mutant", ...); throws
 /// std::invalid_argument naming the known ones.
 inline RtlConfig rtl_config(std::string_view name) {
   for (const rtl::ConfigData& d : rtl::kConfigs)

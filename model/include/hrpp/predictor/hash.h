@@ -18,9 +18,13 @@ enum class HashVariant : uint8_t {
                   // direction as whole-degree theta / phi (acos, atan2 in float; docs/hash.md)
 };
 enum class CombineMode : uint8_t { kXor = 0, kConcat = 1 };
+// The improved hash's direction code (docs/hash.md): each component on a uniform grid, or the
+// octahedral map of the direction onto a square (no code is wasted on non-unit directions).
+enum class DirCode : uint8_t { kGrid = 0, kOct = 1 };
 
 const char* hash_variant_name(HashVariant v);
 const char* combine_mode_name(CombineMode c);
+const char* dir_code_name(DirCode c);
 
 struct HashConfig {
   HashVariant variant = HashVariant::kFaithful;
@@ -28,10 +32,12 @@ struct HashConfig {
   int precision = 6;  // P: top mantissa bits per component, 1..23
   int exp_bits = 3;   // E: top exponent bits per component, 0..8
   // Improved variant.
-  int origin_bits = 5;      // G_o: bits of each origin axis's cell index, 1..16
-  int origin_cell_exp = 0;  // k: cells are 2^k wide (set from the scene by cell_exp_for)
-  int dir_bits = 3;         // G_d: bits of each direction component, 1..16
-                            // (micro21: theta bits, 1..8; phi gets one more)
+  int origin_bits = 5;                // G_o: bits of each origin axis's cell index, 1..16
+  int origin_cell_exp = 0;            // k: cells are 2^k wide (set from the scene by cell_exp_for)
+  int dir_bits = 3;                   // G_d: bits of each direction component, 1..16
+                                      // (micro21: theta bits, 1..8; phi gets one more;
+                                      // oct: bits of each of the two octahedral coordinates, 1..8)
+  DirCode dir_code = DirCode::kGrid;  // improved only: grid (per component) or oct
   // micro21 variant: the scene's bounds the origin grid spans (set by resolve_for_scene).
   std::array<float, 3> bounds_lo{0.f, 0.f, 0.f}, bounds_hi{1.f, 1.f, 1.f};
   // Both.
@@ -39,7 +45,8 @@ struct HashConfig {
   int index_bits = 8;  // the table has 2^index_bits sets (0 for the unbounded table)
 
   /// Width of one origin / direction component's field (micro21: of one origin axis, and of the
-  /// whole direction field phi | theta, 2 * dir_bits + 1).
+  /// whole direction field phi | theta, 2 * dir_bits + 1; improved with the oct code: of the
+  /// whole direction field u | v, 2 * dir_bits).
   int origin_field_bits() const;
   int dir_field_bits() const;
   /// Width of the combined key (at most 64).
@@ -76,6 +83,12 @@ uint32_t micro21_origin_field(const std::array<float, 3>& o, const HashConfig& c
 /// >> (8 - dir_bits) and phi = trunc((atan2(d.y, d.x) + pi) / pi * 180) >> (8 - dir_bits), all
 /// in float; the direction is not normalised (as theirs).
 uint32_t micro21_dir_field(const std::array<float, 3>& d, int dir_bits);
+
+/// Improved hash, octahedral direction code (docs/hash.md, "Octahedral direction code"): the
+/// direction's three float32 bit patterns (x, y, z) mapped onto the octahedron's square, each of
+/// the two coordinates u, v as sign | magnitude bin (b bits); returns u << b | v (2b bits).
+/// b = 1..8. Total: every bit pattern gives a field.
+uint32_t oct_dir_field(const std::array<uint32_t, 3>& dir_bits, int b);
 
 struct HashKey {
   uint64_t key = 0;
