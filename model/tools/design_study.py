@@ -8,7 +8,8 @@ kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md
       [--gpu mobile,desktop] [--scenes bunny,sponza] [--designs a,b] [--resume] [--doc ...]
 
 A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
-(out/design_study/presets/NAME.json); its "gpus" limit it to some GPU configurations. Ray kinds
+(out/design_study/presets/NAME.json); its "sim_options" are `hrpp simulate`'s own (e.g.
+"entry_timeout"), its "gpus" limit it to some GPU configurations. Ray kinds
 as in sim_results.py (primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an
 empty table. The first design (on every GPU) also runs the oracle. Storage: the table's bits as
 the golden model counts them (the largest over the scenes: node ids are as wide as the scene's
@@ -52,6 +53,7 @@ def load_designs(path):
                 raise SystemExit(f"design_study: {path}: {d['name']}: ablation_of "
                                  f"{d['ablation_of']!r} is not an earlier design")
             opts = {**base["options"], **opts}
+            d = {**d, "sim_options": {**base.get("sim_options", {}), **d.get("sim_options", {})}}
         designs.append({**d, "options": opts})
     for k in ("winner", "baseline"):
         if spec[k] not in names:
@@ -83,6 +85,8 @@ def tasks_for(args, scenes, designs, out):
                     path = out / gpu / f"{where}-{scene.stem}-{kind}-{d['name']}.json"
                     cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
                            "--preset", preset_arg(d, out), "--json", str(path)] + kopts
+                    for k, v in d.get("sim_options", {}).items():  # simulate's own options
+                        cmd += ["--" + k.replace("_", "-"), str(v)]
                     if i > 0:
                         cmd.append("--no-oracle")
                     tasks.append(((gpu, where, scene.stem, kind, d["name"]), cmd, path))
