@@ -34,9 +34,10 @@ def runs(shared, own):
     glass = os.path.join(own, "glass_spheres.glb")
     balls = os.path.join(own, "spd_balls.glb")
     modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec",
-             "mobile": "anyhit", "default_x2": "closest-exact", "default_x4": "closest-spec"}
+             "mobile": "anyhit", "default_x2": "closest-exact", "default_x4": "closest-spec",
+             "conf": "anyhit"}
     every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000, "default_x2": 5000,
-             "default_x4": 5000}
+             "default_x4": 5000, "conf": 5000}
     out = []
     for cfg, mode in modes.items():
         for seed in (1, 2):

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "Vhrpp_conf.h"
 #include "Vhrpp_default.h"
 #include "Vhrpp_default_x2.h"
 #include "Vhrpp_default_x4.h"
@@ -202,6 +203,7 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "mobile") return f.template operator()<Vhrpp_mobile>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
+  if (name == "conf") return f.template operator()<Vhrpp_conf>();
   throw std::invalid_argument("no one-lane Verilated model of RTL configuration " + name);
 }
 
