@@ -487,6 +487,10 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
       nlohmann::json v = predict[k].to_json();
       v.erase("baseline_ns");
       v.erase("hrpp_ns");
+      // Counted by the unit's predictor, not per kind: "predictor" holds them (demotes,
+      // suppressed_lookups).
+      v.erase("table_demotes");
+      v.erase("suppressed_lookups");
       v["rays"] = by_kind[k].rays;
       v["mean_latency"] = rate(by_kind[k].latency, by_kind[k].rays);
       kinds[std::string(ray_kind_name(RayKind(k)))] = v;
