@@ -666,8 +666,8 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
   std::string line = b;
   // Only when set, so that the line of every other configuration stays as it was.
   if (t.conf_bits > 0)
-    line += ", confidence " + std::to_string(t.conf_bits) + " bits (threshold " +
-            std::to_string(t.conf_threshold) + ")";
+    line += ", confidence " + std::to_string(t.conf_bits) + (t.conf_bits == 1 ? " bit" : " bits") +
+            " (threshold " + std::to_string(t.conf_threshold) + ")";
   if (cfg.any_hit_only) line += ", any-hit rays only";
   return line;
 }
