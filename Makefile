@@ -92,7 +92,7 @@ test: build
 # scene, 1,000,000 rays each (about 6 s per run). A configuration whose node ids cannot name the
 # scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only mobile's 21 bits do) is
 # skipped with the reason; any other failure stops the target. SIM_LONG_CONFIGS picks configurations.
-SIM_LONG_CONFIGS ?= small default large mobile default_x2 default_x4 oct
+SIM_LONG_CONFIGS ?= small default large mobile default_x2 default_x4 oct secondary
 sim-long: build
 	@for s in $(SHARED)/scenes/*.glb; do for c in $(SIM_LONG_CONFIGS); do \
 	  for m in anyhit closest-exact closest-spec; do \

@@ -31,13 +31,16 @@ PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpB
           ("node_id_width", "NodeIdWidth"), ("tag_bits", "TagWidth"), ("id_width", "IdWidth"),
           ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
           ("update_queue_depth", "UpdateQueueDepth"),
-          ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault")]
+          ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault"),
+          ("confidence_bits", "ConfBits")]
 BOOLS = ("key_store_bram", "inject_fault")
-FIELDS = [f for f, _ in PARAMS]
-# Lookups and updates per cycle (docs/microarchitecture.md, "Lanes"): optional, 1 when absent.
-# One lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which has hrpp_top's parameters and Lanes.
-# The improved hash's direction code (docs/hash.md): optional, "grid" when absent.
-OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid"}
+# Optional fields, with their value when absent. lanes: lookups and updates per cycle
+# (docs/microarchitecture.md, "Lanes"); one lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which
+# has hrpp_top's parameters and Lanes. dir_code: the improved hash's direction code (docs/hash.md).
+# confidence_bits: a confidence bit per table way (0 or 1: docs/hash.md, "Confidence", with
+# threshold 1; hrpp_top only).
+OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid", "confidence_bits": 0}
+FIELDS = [f for f, _ in PARAMS if f not in OPTIONAL_FIELDS]
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
 
@@ -77,6 +80,16 @@ def _check(name: str, c: dict) -> None:
         raise ConfigError(f"configuration {name}: lanes must be 1, 2 or 4")
     if c["sets"] // c["lanes"] < 2:
         raise ConfigError(f"configuration {name}: sets / lanes must be at least 2 (sets per bank)")
+    conf = c["confidence_bits"]
+    if not isinstance(conf, int) or isinstance(conf, bool) or conf not in (0, 1):
+        raise ConfigError(f"configuration {name}: confidence_bits must be 0 or 1, got {conf!r} "
+                          "(the RTL drops a request identical to the one just before it only if "
+                          "applying it twice equals applying it once: a demote of a 1-bit "
+                          "counter; more bits are the golden model's only, hrpp predict "
+                          "--confidence-bits)")
+    if c["lanes"] != 1 and conf:
+        raise ConfigError(f"configuration {name}: confidence_bits is not available with lanes > 1 "
+                          "(hrpp_lanes has no confidence bits)")
     if c["lanes"] != 1 and c["key_store_bram"]:
         raise ConfigError(f"configuration {name}: key_store_bram is not available with lanes > 1 "
                           "(hrpp_lanes keeps each lane's key store in distributed RAM)")
@@ -183,6 +196,9 @@ def predict_options(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> dict
         o["table"] = f"{c['sets']}x{c['ways']}"
         o["nodes-per-entry"] = str(c["nodes_per_entry"])
         o["tag-bits"] = str(c["tag_bits"])
+        if c.get("confidence_bits", 0):  # only when set: every other configuration's as before
+            o["confidence-bits"] = str(c["confidence_bits"])
+            o["confidence-threshold"] = "1"
     return o
 
 
@@ -196,5 +212,6 @@ def describe(c: dict) -> str:
     if c.get("dir_code", "grid") != "grid":
         h += f" {c['dir_code']}"
     lanes = f", {c['lanes']} lanes" if c.get("lanes", 1) != 1 else ""
+    conf = ", confidence bit" if c.get("confidence_bits", 0) else ""
     return (f"{c['sets']}x{c['ways']}x{c['nodes_per_entry']}, tag {c['tag_bits']}, {h} "
-            f"{c['combine']}{lanes}")
+            f"{c['combine']}{lanes}{conf}")

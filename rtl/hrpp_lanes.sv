@@ -39,6 +39,7 @@ module hrpp_lanes
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// per lane, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   parameter int unsigned Lanes = 2,  /// lanes and table banks: 2 or 4
+  parameter int unsigned ConfBits = 0,  /// confidence bits: only 0 (not implemented with lanes)
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned BankBits = $clog2(Lanes),
   localparam int unsigned BankIdxWidth = IdxWidth - BankBits,
@@ -180,7 +181,8 @@ module hrpp_lanes
       .lk_valid_i(bk_lk_valid[b]), .lk_idx_i(bk_lk_idx[b]), .lk_tag_i(bk_lk_tag[b]),
       .lk_valid_o(bk_lk_valid_o[b]), .lk_count_o(bk_lk_count[b]), .lk_nodes_o(bk_lk_nodes[b]),
       .tbl_wr_valid_i(bk_wr_valid[b]), .tbl_wr_ready_o(bk_wr_ready[b]),
-      .tbl_wr_idx_i(bk_wr_idx[b]), .tbl_wr_tag_i(bk_wr_tag[b]), .tbl_wr_node_i(bk_wr_node[b])
+      .tbl_wr_idx_i(bk_wr_idx[b]), .tbl_wr_tag_i(bk_wr_tag[b]), .tbl_wr_node_i(bk_wr_node[b]),
+      .tbl_wr_demote_i(1'b0)
     );
   end
 
@@ -362,6 +364,7 @@ module hrpp_lanes
     logic [IdxWidth-1:0]    sc_wr_idx, sc_wr2_idx;
     logic [TagWidth-1:0]    sc_wr_tag, sc_wr2_tag;
     logic [NodeIdWidth-1:0] sc_wr_node, sc_wr2_node;
+    logic                   sc_wr_demote_unused;  // never set: no confidence bits (ConfBits 0)
     hrpp_skip_ctrl #(
       .IdWidth(IdWidth), .IdxWidth(IdxWidth), .TagWidth(TagWidth), .NodeIdWidth(NodeIdWidth),
       .FifoDepth(SkipFifoDepth)
@@ -373,9 +376,10 @@ module hrpp_lanes
       .outcome_id_i(outcome_id_i[l]), .outcome_hit_i(outcome_hit_i[l]),
       .outcome_node_i(outcome_node_i[l]),
       .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
-      .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
+      .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag), .ksf_pred_i(1'b0),
       .tbl_wr_valid_o(sc_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_wr_idx),
       .tbl_wr_tag_o(sc_wr_tag), .tbl_wr_node_o(sc_wr_node),
+      .tbl_wr_demote_o(sc_wr_demote_unused),
       .tbl_wr2_valid_o(sc_wr2_valid), .tbl_wr2_ready_i(uq_room2), .tbl_wr2_idx_o(sc_wr2_idx),
       .tbl_wr2_tag_o(sc_wr2_tag), .tbl_wr2_node_o(sc_wr2_node),
       .skip_valid_o(skip_valid_o[l]), .skip_ready_i(skip_ready_i[l]), .skip_id_o(skip_id_o[l]),
@@ -455,6 +459,9 @@ module hrpp_lanes
   if (Stages != PredictionLatency) begin : gen_latency_check
     $error("hrpp_lanes predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
            PredictionLatency);
+  end
+  if (ConfBits != 0) begin : gen_conf_check
+    $error("hrpp_lanes: ConfBits %0d: confidence bits are implemented in hrpp_top only", ConfBits);
   end
   if (Lanes != 2 && Lanes != 4) begin : gen_lanes_check
     $error("hrpp_lanes: Lanes %0d is not 2 or 4 (one lane: hrpp_top)", Lanes);

@@ -49,6 +49,7 @@ package hrpp_pkg;
   localparam int unsigned DefaultUpdateQueueDepth = 8;
   localparam bit DefaultKeyStoreBram = 1'b0;
   localparam bit DefaultInjectFault = 1'b0;
+  localparam int unsigned DefaultConfBits = 0;
   // END generated
 
   // Width of one origin or direction field of the key (docs/hash.md): faithful, sign | ExpBits

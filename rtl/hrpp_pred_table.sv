@@ -15,6 +15,16 @@
 // taken and dropped at once. Every other hazard is forwarded, so one lookup and one update per
 // cycle are sustained.
 // After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
+//
+// Confidence (ConfBits = 1; docs/hash.md, "Confidence", with C = 1, T = 1): each way holds a
+// confidence bit beside its node list (stored in the RAM only when ConfBits = 1: the RAM word is
+// the row without it otherwise). A lookup returns no prediction from a way whose bit is 0. An
+// update sets the bit when its node was already in the way's list, clears it when the node is
+// inserted or the way allocated. A demote request (tbl_wr_demote_i) clears the bit of the way
+// holding its tag and changes nothing else (no allocation, no recency change; no way: the row is
+// rewritten unchanged). An update applied twice is not applied once (an insertion leaves the bit
+// 0, the same update again sets it), so with ConfBits = 1 only a repeated identical demote is
+// dropped at the interlock; an identical update waits like any other of its set.
 module hrpp_pred_table
   import hrpp_pkg::*;
 #(
@@ -24,6 +34,7 @@ module hrpp_pred_table
   parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,      /// bits of a node id
   parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits
   parameter bit InjectFault = 1'b0,  /// test only: a one-bit fault in the node update
+  parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bits per way: 0 or 1
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -43,7 +54,8 @@ module hrpp_pred_table
   output logic                                      tbl_wr_ready_o,
   input  logic [IdxWidth-1:0]                       tbl_wr_idx_i,
   input  logic [TagWidth-1:0]                       tbl_wr_tag_i,
-  input  logic [NodeIdWidth-1:0]                    tbl_wr_node_i
+  input  logic [NodeIdWidth-1:0]                    tbl_wr_node_i,
+  input  logic                                      tbl_wr_demote_i  /// a demote (ConfBits = 1)
 );
 
   typedef struct packed {
@@ -52,9 +64,30 @@ module hrpp_pred_table
     logic [CountWidth-1:0]                     count;
     logic [NodesPerEntry-1:0][NodeIdWidth-1:0] nodes;  // [0] = most recently used
     logic [AgeWidth-1:0]                       age;    // 0 = most recently used way
+    logic                                      conf;   // confidence (always 0 if ConfBits = 0)
   } way_t;
   typedef way_t [NumWays-1:0] row_t;
-  localparam int unsigned RowWidth = $bits(row_t);
+  // The RAM word: each way's fields but its confidence bit (way w at bits [w * BaseWidth +:
+  // BaseWidth], as the row without the bit), then with ConfBits = 1 the ways' confidence bits.
+  localparam int unsigned BaseWidth = $bits(way_t) - 1;
+  localparam int unsigned RamWidth = NumWays * (BaseWidth + ConfBits);
+  function automatic logic [RamWidth-1:0] to_ram(row_t r);
+    logic [RamWidth-1:0] d;
+    d = '0;
+    for (int w = 0; w < NumWays; w++) begin
+      d[w*BaseWidth +: BaseWidth] = BaseWidth'(r[w] >> 1);
+      if (ConfBits > 0) d |= RamWidth'(r[w].conf) << (NumWays * BaseWidth + w);
+    end
+    return d;
+  endfunction
+  function automatic row_t from_ram(logic [RamWidth-1:0] d);
+    row_t r;
+    for (int w = 0; w < NumWays; w++) begin
+      r[w] = way_t'({d[w*BaseWidth +: BaseWidth], 1'b0});
+      if (ConfBits > 0) r[w].conf = 1'(d >> (NumWays * BaseWidth + w));
+    end
+    return r;
+  endfunction
 
   // A table write request as it travels down the update pipeline.
   typedef struct packed {
@@ -62,6 +95,7 @@ module hrpp_pred_table
     logic [IdxWidth-1:0]    idx;
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
+    logic                   demote;  // a demote request (ConfBits = 1), not an update
   } upd_req_t;
 
   // The row every set holds after reset: all ways invalid, way i has age i.
@@ -106,17 +140,17 @@ module hrpp_pred_table
   // ---------------------------------------------------------------------------------------------
   // Memories
   // ---------------------------------------------------------------------------------------------
-  logic [RowWidth-1:0] lk_rdata, uram_rdata;
+  logic [RamWidth-1:0] lk_rdata, uram_rdata;
   logic [IdxWidth-1:0] uram_raddr;
   logic                uram_re;
 
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowWidth)) u_lookup_ram (
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RamWidth)) u_lookup_ram (
     .clk_i, .re_i(lk_valid_i), .raddr_i(lk_idx_i), .rdata_o(lk_rdata),
-    .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
+    .we_i(we), .waddr_i(waddr), .wdata_i(to_ram(wdata))
   );
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RowWidth)) u_update_ram (
+  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RamWidth)) u_update_ram (
     .clk_i, .re_i(uram_re), .raddr_i(uram_raddr), .rdata_o(uram_rdata),
-    .we_i(we), .waddr_i(waddr), .wdata_i(wdata)
+    .we_i(we), .waddr_i(waddr), .wdata_i(to_ram(wdata))
   );
 
   // ---------------------------------------------------------------------------------------------
@@ -157,18 +191,20 @@ module hrpp_pred_table
       l3_valid_q   <= l2_valid_q;
       l3_collide_q <= l2_collide_q;
       l3_tag_q     <= l2_tag_q;
-      l3_ram_q     <= row_t'(lk_rdata);
+      l3_ram_q     <= from_ram(lk_rdata);
       l3_wrow_q    <= l2_wrow_q;
     end
   end
 
-  // L3: the row (the colliding write, else the RAM data); per way, tag match.
+  // L3: the row (the colliding write, else the RAM data); per way, tag match (with ConfBits = 1
+  // only a way whose confidence bit is set predicts: a way below the threshold counts as none).
   row_t               l3_row;
   logic [NumWays-1:0] l3_match;
   always_comb begin
     l3_row = l3_collide_q ? l3_wrow_q : l3_ram_q;
     for (int w = 0; w < NumWays; w++)
-      l3_match[w] = l3_row[w].valid && l3_row[w].tag == l3_tag_q;
+      l3_match[w] = l3_row[w].valid && l3_row[w].tag == l3_tag_q &&
+                    (ConfBits == 0 || l3_row[w].conf);
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -251,6 +287,7 @@ module hrpp_pred_table
     logic                     valid;
     logic [IdxWidth-1:0]      idx;
     logic [NodeIdWidth-1:0]   node;
+    logic                     demote;
     row_t                     row;
     logic [NumWays-1:0]       sel;      // one-hot way to update
     way_t                     way;
@@ -270,9 +307,17 @@ module hrpp_pred_table
   logic wr_same_t0, wr_same_t1, wr_drop;
   assign wr_same_t0     = t0_q.valid && t0_q.idx == tbl_wr_idx_i;
   assign wr_same_t1     = t1_q.valid && t1_q.idx == tbl_wr_idx_i;
-  assign wr_drop        = wr_same_t0 ? t0_q.tag == tbl_wr_tag_i && t0_q.node == tbl_wr_node_i
-                                     : wr_same_t1 && t1_q.tag == tbl_wr_tag_i &&
-                                       t1_q.node == tbl_wr_node_i;
+  // With ConfBits = 1 only demotes are dropped (a demote applied twice is applied once; an
+  // update is not: see the top); a demote is identical only to a demote of its tag (the node
+  // does not matter to a demote), an update only to an update.
+  logic wr_droppable, wr_same_as_t0, wr_same_as_t1;
+  assign wr_droppable   = ConfBits == 0 || tbl_wr_demote_i;
+  assign wr_same_as_t0  = t0_q.tag == tbl_wr_tag_i && t0_q.demote == tbl_wr_demote_i &&
+                          (tbl_wr_demote_i || t0_q.node == tbl_wr_node_i);
+  assign wr_same_as_t1  = t1_q.tag == tbl_wr_tag_i && t1_q.demote == tbl_wr_demote_i &&
+                          (tbl_wr_demote_i || t1_q.node == tbl_wr_node_i);
+  assign wr_drop        = wr_droppable && (wr_same_t0 ? wr_same_as_t0
+                                                      : wr_same_t1 && wr_same_as_t1);
   assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
@@ -295,9 +340,10 @@ module hrpp_pred_table
       t0_q.idx   <= tbl_wr_idx_i;
       t0_q.tag   <= tbl_wr_tag_i;
       t0_q.node  <= tbl_wr_node_i;
+      t0_q.demote <= ConfBits > 0 && tbl_wr_demote_i;
       t1_q       <= t0_q;
       t2_q.req   <= t1_q;
-      t2_q.ram   <= row_t'(uram_rdata);
+      t2_q.ram   <= from_ram(uram_rdata);
       c1_q.req   <= t2_q.req;
       c1_q.ram   <= t2_q.ram;
       // C1 needs the newest of four writes its RAM read (presented in T0, three cycles before
@@ -363,7 +409,9 @@ module hrpp_pred_table
   logic [NodesPerEntry-1:0]              c2_way_node_eq;
   logic [NumWays-1:0][NodesPerEntry-1:0] c2_node_eq;  // per way: node i equals the node
   always_comb begin
-    c2_sel = c2_q.any_match ? c2_q.match : c2_q.any_inv ? c2_q.first_inv : c2_q.oldest;
+    // A demote selects the matching way only (none: nothing changes; never a victim).
+    c2_sel = c2_q.any_match ? c2_q.match :
+             c2_q.req.demote ? '0 : c2_q.any_inv ? c2_q.first_inv : c2_q.oldest;
     for (int w = 0; w < NumWays; w++)
       for (int i = 0; i < NodesPerEntry; i++)
         c2_node_eq[w][i] = CountWidth'(i) < c2_q.row[w].count && &c2_q.node_eq_part[w][i];
@@ -378,6 +426,7 @@ module hrpp_pred_table
       c2_way.tag     = c2_q.req.tag;
       c2_way.count   = '0;
       c2_way.nodes   = '0;
+      c2_way.conf    = 1'b0;
       c2_way_node_eq = '0;
     end
   end
@@ -389,6 +438,7 @@ module hrpp_pred_table
       c3_q.valid   <= c2_q.req.valid;
       c3_q.idx     <= c2_q.req.idx;
       c3_q.node    <= c2_q.req.node;
+      c3_q.demote  <= c2_q.req.demote;
       c3_q.row     <= c2_q.row;
       c3_q.sel     <= c2_sel;
       c3_q.way     <= c2_way;
@@ -413,10 +463,17 @@ module hrpp_pred_table
     // InjectFault (test only): the lowest bit of a node id written to way 0 is flipped.
     c3_new_way.nodes[0] = c3_q.node ^ NodeIdWidth'(InjectFault && c3_q.sel[0]);
     c3_new_way.age = '0;
+    // Confidence: set when the node was in the list (a confirmation), else cleared (inserted;
+    // a new way's node_eq is 0).
+    c3_new_way.conf = ConfBits > 0 && |c3_q.node_eq;
     for (int w = 0; w < NumWays; w++) begin
       c3_new_row[w] = c3_q.sel[w] ? c3_new_way : c3_q.row[w];
       if (!c3_q.sel[w] && c3_q.row[w].age < c3_q.way.age)
         c3_new_row[w].age = c3_q.row[w].age + 1'b1;
+      if (c3_q.demote) begin  // the matching way's bit cleared, nothing else
+        c3_new_row[w] = c3_q.row[w];
+        if (c3_q.sel[w]) c3_new_row[w].conf = 1'b0;
+      end
     end
   end
 
@@ -458,14 +515,27 @@ module hrpp_pred_table
   if (TagWidth < 1 || TagWidth > 64) begin : gen_tag_check
     $error("TagWidth must be 1..64");
   end
+  if (ConfBits > 1) begin : gen_conf_check
+    $error("ConfBits must be 0 or 1 (a demote and a repeated demote must be idempotent)");
+  end
 
 `ifndef SYNTHESIS
   // At most one way matches a tag (an entry is only allocated when none does).
   OneWayMatches_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c1_q.req.valid |-> $onehot0(c1_match));
-  // The selected way is one-hot.
+  // The selected way is one-hot (a demote: at most one way, the matching one).
   SelOneHot_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c3_q.valid |-> $onehot(c3_q.sel));
+      c3_q.valid |-> (c3_q.demote ? $onehot0(c3_q.sel) : $onehot(c3_q.sel)));
+  // Without confidence bits no demote enters the pipeline and no bit is ever set.
+  if (ConfBits == 0) begin : gen_no_conf_check
+    logic w_any_conf;
+    always_comb begin
+      w_any_conf = 1'b0;
+      for (int w = 0; w < NumWays; w++) w_any_conf |= w_q.row[w].conf;
+    end
+    NoConfidence_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+        !t0_q.demote && !w_any_conf);
+  end
   // Updates of one set are at least three cycles apart (the interlock).
   SameSetSpacing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c1_q.req.valid |-> !(c2_q.req.valid && c2_q.req.idx == c1_q.req.idx) &&

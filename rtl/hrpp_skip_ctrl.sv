@@ -22,7 +22,8 @@ module hrpp_skip_ctrl
   parameter int unsigned IdxWidth = $clog2(DefaultNumSets), /// set index bits
   parameter int unsigned TagWidth = DefaultTagWidth,        /// stored tag bits
   parameter int unsigned NodeIdWidth = DefaultNodeIdWidth,  /// node id bits
-  parameter int unsigned FifoDepth = DefaultSkipFifoDepth   /// skip decision FIFO entries
+  parameter int unsigned FifoDepth = DefaultSkipFifoDepth,  /// skip decision FIFO entries
+  parameter int unsigned ConfBits = DefaultConfBits         /// confidence bits: demotes if 1
 ) (
   input  logic                   clk_i,
   input  logic                   rst_ni,
@@ -48,12 +49,14 @@ module hrpp_skip_ctrl
   output logic [IdWidth-1:0]     ksf_id_o,
   input  logic [IdxWidth-1:0]    ksf_idx_i,
   input  logic [TagWidth-1:0]    ksf_tag_i,
+  input  logic                   ksf_pred_i,  /// the outcome's ray was given a prediction
   // Table write requests (the table's update: node_o becomes the most recently used node)
   output logic                   tbl_wr_valid_o,
   input  logic                   tbl_wr_ready_i,
   output logic [IdxWidth-1:0]    tbl_wr_idx_o,
   output logic [TagWidth-1:0]    tbl_wr_tag_o,
   output logic [NodeIdWidth-1:0] tbl_wr_node_o,
+  output logic                   tbl_wr_demote_o,  /// the first request is a demote
   output logic                   tbl_wr2_valid_o,  /// a second request, behind the first
   input  logic                   tbl_wr2_ready_i,  /// room for both requests
   output logic [IdxWidth-1:0]    tbl_wr2_idx_o,
@@ -68,6 +71,7 @@ module hrpp_skip_ctrl
 
   // P0 and F0: the registered messages and their rays' keys
   logic                   p0_valid_q, p0_hit_q, p0_any_hit_q, f0_valid_q, f0_hit_q;
+  logic                   f0_demote_q;  // ConfBits = 1: the outcome requests a demote
   logic [IdWidth-1:0]     p0_id_q;
   logic [IdxWidth-1:0]    p0_idx_q, f0_idx_q;
   logic [TagWidth-1:0]    p0_tag_q, f0_tag_q;
@@ -89,18 +93,23 @@ module hrpp_skip_ctrl
 
   // The table's request ports: a final outcome first, a predicted-walk result behind it.
   assign p_needs        = action == ActSkip;
-  assign f_req          = f0_valid_q && f0_hit_q;
+  // A final outcome requests an update when it hit, a demote (ConfBits = 1) when its ray was given
+  // a prediction and missed: an outcome follows only a predicted-walk result without a hit
+  // (ActFull; ActShrink's answer is at least the predicted hit, so its outcome hits), so the
+  // prediction failed (docs/predictor.md, "One ray", step 6).
+  assign f_req          = f0_valid_q && (f0_hit_q || f0_demote_q);
   assign p_req          = p0_valid_q && p_needs && !fifo_full;
   assign tbl_wr_valid_o = f_req || p_req;
   assign tbl_wr_idx_o   = f_req ? f0_idx_q : p0_idx_q;
   assign tbl_wr_tag_o   = f_req ? f0_tag_q : p0_tag_q;
   assign tbl_wr_node_o  = f_req ? f0_node_q : p0_node_q;
+  assign tbl_wr_demote_o = f_req && f0_demote_q;
   assign tbl_wr2_valid_o = f_req && p_req;
   assign tbl_wr2_idx_o   = p0_idx_q;
   assign tbl_wr2_tag_o   = p0_tag_q;
   assign tbl_wr2_node_o  = p0_node_q;
 
-  assign f_advance       = f0_valid_q && (!f0_hit_q || tbl_wr_ready_i);
+  assign f_advance       = f0_valid_q && (!(f0_hit_q || f0_demote_q) || tbl_wr_ready_i);
   assign p_advance       = p0_valid_q && !fifo_full &&
                            (!p_needs || (f_req ? tbl_wr2_ready_i : tbl_wr_ready_i));
   assign pw_ready_o      = enable_i && (!p0_valid_q || p_advance);
@@ -117,6 +126,7 @@ module hrpp_skip_ctrl
       p0_any_hit_q <= 1'b0;
       f0_valid_q   <= 1'b0;
       f0_hit_q     <= 1'b0;
+      f0_demote_q  <= 1'b0;
       f0_node_q    <= '0;
       f0_idx_q     <= '0;
       f0_tag_q     <= '0;
@@ -133,6 +143,7 @@ module hrpp_skip_ctrl
       if (outcome_ready_o) begin
         f0_valid_q <= outcome_valid_i;
         f0_hit_q   <= outcome_hit_i;
+        f0_demote_q <= ConfBits > 0 && ksf_pred_i && !outcome_hit_i;
         f0_node_q  <= outcome_node_i;
         f0_idx_q   <= ksf_idx_i;
         f0_tag_q   <= ksf_tag_i;
@@ -169,7 +180,11 @@ module hrpp_skip_ctrl
       skip_valid_o && !skip_ready_i |=> skip_valid_o && $stable({skip_id_o, skip_action_o}));
   // A message that needs the table port is never dropped: it advances only when accepted.
   NoDroppedUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      (f_advance && f0_hit_q) |-> tbl_wr_valid_o && tbl_wr_ready_i);
+      (f_advance && (f0_hit_q || f0_demote_q)) |-> tbl_wr_valid_o && tbl_wr_ready_i);
+  if (ConfBits == 0) begin : gen_no_conf_check
+    DemoteOnlyWithConfidence_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+        !f0_demote_q);
+  end
   NoDroppedRefresh_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       (p_advance && p_needs) |-> (f_req ? tbl_wr2_valid_o && tbl_wr2_ready_i && tbl_wr_ready_i
                                         : tbl_wr_valid_o && tbl_wr_ready_i));

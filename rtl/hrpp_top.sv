@@ -34,6 +34,7 @@ module hrpp_top
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// update queue entries, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
+  parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bit per table way: 0 or 1
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
@@ -260,7 +261,8 @@ module hrpp_top
   logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes;
   // Table write requests (updates: the node becomes its entry's most recently used): the skip
   // controller's (sc_tbl_wr_*), queued (U) before the table (tbl_wr_*).
-  logic                                      tbl_wr_valid, tbl_wr_ready;
+  logic                                      tbl_wr_valid, tbl_wr_ready, tbl_wr_demote;
+  logic                                      sc_tbl_wr_demote;
   logic [IdxWidth-1:0]                       tbl_wr_idx;
   logic [TagWidth-1:0]                       tbl_wr_tag;
   logic [NodeIdWidth-1:0]                    tbl_wr_node;
@@ -272,13 +274,14 @@ module hrpp_top
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
-    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault)
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault),
+    .ConfBits(ConfBits)
   ) u_table (
     .clk_i, .rst_ni, .init_done_o(init_done),
     .lk_valid_i(b_valid_q && !b_invalid_q), .lk_idx_i(b_idx_q), .lk_tag_i(b_tag_q),
     .lk_valid_o(lk_valid), .lk_count_o(lk_count), .lk_nodes_o(lk_nodes),
     .tbl_wr_valid_i(tbl_wr_valid), .tbl_wr_ready_o(tbl_wr_ready), .tbl_wr_idx_i(tbl_wr_idx),
-    .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node)
+    .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node), .tbl_wr_demote_i(tbl_wr_demote)
   );
 
   // Update queue (UpdateQueueDepth entries, registers): takes up to two requests per cycle (a
@@ -292,6 +295,7 @@ module hrpp_top
     logic [IdxWidth-1:0]    idx;
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
+    logic                   demote;  // a demote (ConfBits = 1), not an update
   } uq_req_t;
   uq_req_t                 uq_mem_q[UpdateQueueDepth];
   uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
@@ -301,8 +305,10 @@ module hrpp_top
 
   assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
   assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
-  assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node};
-  assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node};
+  assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node,
+                      demote: ConfBits > 0 && sc_tbl_wr_demote};
+  assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node,
+                      demote: 1'b0};  // a predicted-walk result's refresh: always an update
   // Taken: the skip controller's messages advance.
   assign uq_take1 = sc_tbl_wr_valid && uq_room1;
   assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
@@ -339,7 +345,7 @@ module hrpp_top
     else uq_head_q <= uq_head_d;
   end
   assign tbl_wr_valid = uq_count_q != '0;
-  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node} = uq_head_q;
+  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node, tbl_wr_demote} = uq_head_q;
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
   logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
@@ -376,6 +382,22 @@ module hrpp_top
   assign pred_valid_o = !pred_empty;
   assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
 
+  // Confidence (ConfBits = 1): whether each ray in flight was given a prediction (a count > 0,
+  // after the table's confidence gating), by id, written as its lookup result enters the
+  // prediction FIFO and read with its final outcome's key (ksf_id: the outcome's id as it enters
+  // F0). A ray given a prediction whose final outcome has no hit demotes its entry (the skip
+  // controller; docs/predictor.md, "One ray", step 6).
+  logic ksf_pred;
+  if (ConfBits > 0) begin : gen_pred_given
+    (* ram_style = "distributed" *) logic pg_mem_q[2**IdWidth];
+    always_ff @(posedge clk_i) begin
+      if (d_valid_q[DLast]) pg_mem_q[d_id_q[DLast]] <= lk_count != '0;
+    end
+    assign ksf_pred = pg_mem_q[ksf_id];
+  end else begin : gen_no_pred_given
+    assign ksf_pred = 1'b0;
+  end
+
   always_comb begin
     in_flight = (PredCountWidth + 1)'(a_valid_q) + (PredCountWidth + 1)'(b_valid_q);
     for (int i = 0; i < HashLatency; i++) in_flight += (PredCountWidth + 1)'(h_valid_q[i]);
@@ -389,7 +411,7 @@ module hrpp_top
   // ---------------------------------------------------------------------------------------------
   hrpp_skip_ctrl #(
     .IdWidth(IdWidth), .IdxWidth(IdxWidth), .TagWidth(TagWidth), .NodeIdWidth(NodeIdWidth),
-    .FifoDepth(SkipFifoDepth)
+    .FifoDepth(SkipFifoDepth), .ConfBits(ConfBits)
   ) u_skip (
     .clk_i, .rst_ni, .enable_i(init_done), .cfg_mode_i,
     .pw_valid_i(sc_pw_valid), .pw_ready_o(sc_pw_ready), .pw_id_i(sc_pw_id),
@@ -398,9 +420,10 @@ module hrpp_top
     .outcome_id_i(sc_outcome_id), .outcome_hit_i(sc_outcome_hit),
     .outcome_node_i(sc_outcome_node),
     .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
-    .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag),
+    .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag), .ksf_pred_i(ksf_pred),
     .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_tbl_wr_idx),
     .tbl_wr_tag_o(sc_tbl_wr_tag), .tbl_wr_node_o(sc_tbl_wr_node),
+    .tbl_wr_demote_o(sc_tbl_wr_demote),
     .tbl_wr2_valid_o(sc_tbl_wr2_valid), .tbl_wr2_ready_i(uq_room2),
     .tbl_wr2_idx_o(sc_tbl_wr2_idx), .tbl_wr2_tag_o(sc_tbl_wr2_tag),
     .tbl_wr2_node_o(sc_tbl_wr2_node),
@@ -416,6 +439,9 @@ module hrpp_top
   if (Stages != PredictionLatency) begin : gen_latency_check
     $error("hrpp_top predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
            PredictionLatency);
+  end
+  if (ConfBits > 1) begin : gen_conf_check
+    $error("ConfBits %0d: the RTL has 0 or 1 confidence bits per way", ConfBits);
   end
   if (UpdateQueueDepth < 2 || (UpdateQueueDepth & (UpdateQueueDepth - 1)) != 0)
   begin : gen_update_queue_check

@@ -28,7 +28,8 @@ DutIn probe_ray(uint32_t id) {
 
 }  // namespace
 
-std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, Latencies* out) {
+std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, Latencies* out,
+                              bool confidence) {
   *out = Latencies{};
   constexpr uint32_t kNode = 5;
   const uint64_t limit = sets + 1000;
@@ -37,6 +38,39 @@ std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, 
   // The table's reset clear.
   for (o = cycle(DutIn{}); !o.ray_ready; o = cycle(DutIn{}))
     if (++now > limit) return "ray_ready_o never rose after reset";
+  if (confidence) {
+    // The node written once first (its way's confidence bit 0: no prediction yet) by a ray of
+    // the last id: its prediction, predicted-walk result (no hit) and final outcome (a hit), each
+    // taken when offered; then enough idle cycles for the write to land.
+    const uint32_t id = (1u << id_bits) - 1;
+    DutIn in = probe_ray(id);
+    in.pred_ready = in.skip_ready = true;
+    bool sent_pw = false, sent_outcome = false;
+    for (uint64_t n = 0; n < limit && !sent_outcome; ++n) {
+      const bool pred_seen = o.pred_valid && o.pred_id == id;
+      if (pred_seen && o.pred_count != 0) return "a prediction before the node was written";
+      if (pred_seen) {
+        in.pw_valid = true;
+        in.pw_id = id;
+      }
+      if (sent_pw) {
+        in.outcome_valid = true;
+        in.outcome_id = id;
+        in.outcome_hit = true;
+        in.outcome_node = kNode;
+      }
+      const DutIn now_in = in;
+      o = cycle(now_in);
+      if (now_in.ray_valid && o.ray_ready) in.ray_valid = false;
+      if (now_in.pw_valid && o.pw_ready) {
+        in.pw_valid = false;
+        sent_pw = true;
+      }
+      if (now_in.outcome_valid && o.outcome_ready) sent_outcome = true;
+    }
+    if (!sent_outcome) return "the first write of the probe's node was not taken";
+    for (int i = 0; i < 64; ++i) o = cycle(DutIn{.pred_ready = true, .skip_ready = true});
+  }
   // Ray 0: acceptance to its prediction (the output is not taken until seen).
   now = 0;
   o = cycle(probe_ray(0));  // accepted: ray_ready_o was high

@@ -28,7 +28,10 @@ using CycleFn = std::function<DutOut(const DutIn&)>;
 
 /// Measures the latencies through `cycle` (ray ids below 2^id_bits; node ids below 2^node_bits).
 /// Returns "" or what went wrong (no answer within the time limit, a wrong node written).
-std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, Latencies* out);
+/// `confidence` (a confidence bit per way): the probe's node is written once before the
+/// measurement, so that the measured write (a confirmation) is the one that makes it predict.
+std::string measure_latencies(const CycleFn& cycle, int id_bits, uint32_t sets, Latencies* out,
+                              bool confidence = false);
 
 /// "" when `measured` equals `declared`, else which latencies differ.
 std::string compare_latencies(const Latencies& measured, const Latencies& declared);

@@ -35,9 +35,9 @@ def runs(shared, own):
     balls = os.path.join(own, "spd_balls.glb")
     modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec",
              "mobile": "anyhit", "default_x2": "closest-exact", "default_x4": "closest-spec",
-             "oct": "anyhit"}
+             "oct": "anyhit", "secondary": "anyhit"}
     every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000, "default_x2": 5000,
-             "default_x4": 5000, "oct": 5000}
+             "default_x4": 5000, "oct": 5000, "secondary": 5000}
     out = []
     for cfg, mode in modes.items():
         for seed in (1, 2):

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "Vhrpp_conf.h"
 #include "Vhrpp_default.h"
 #include "Vhrpp_default_x2.h"
 #include "Vhrpp_default_x4.h"
@@ -204,6 +205,7 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
   if (name == "default") return f.template operator()<Vhrpp_default>();
   if (name == "oct") return f.template operator()<Vhrpp_oct>();
+  if (name == "secondary") return f.template operator()<Vhrpp_secondary>();
   throw std::invalid_argument("no one-lane Verilated model of RTL configuration " + name);
 }
 

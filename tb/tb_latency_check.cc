@@ -26,7 +26,7 @@ Latencies measure_dut_latencies(const CycleConfig& cc, std::string* error) {
     return o;
   };
   Latencies l;
-  *error = measure_latencies(cycle, cc.id_bits, cc.table.sets, &l);
+  *error = measure_latencies(cycle, cc.id_bits, cc.table.sets, &l, cc.table.conf_bits > 0);
   if (error->empty() && ctx->gotFinish()) *error = "the simulation finished early (an assertion?)";
   dut->final();
   return l;
@@ -47,7 +47,8 @@ int check_latencies(const RtlConfig& rc, PredictMode mode) {
     return o;
   };
   Latencies model;
-  model_error = measure_latencies(model_cycle, cc.id_bits, cc.table.sets, &model);
+  model_error =
+      measure_latencies(model_cycle, cc.id_bits, cc.table.sets, &model, cc.table.conf_bits > 0);
   const Latencies declared = declared_latencies(rc);
   std::printf(
       "latency: config %s (cycles: ray accepted to pred_valid_o, predicted-walk result "

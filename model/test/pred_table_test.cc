@@ -158,5 +158,167 @@ TEST(GoUpLevel, AncestorSelection) {
   }
 }
 
+// ---- confidence counters (docs/hash.md, "Confidence") -----------------------------------------
+
+TableConfig confident(uint32_t ways, uint32_t k, int bits, int threshold) {
+  TableConfig c = small(4, ways, k);
+  c.conf_bits = bits;
+  c.conf_threshold = threshold;
+  return c;
+}
+
+TEST(PredTableConfidence, ANewEntryPredictsOnlyOnceConfirmed) {
+  PredTable t(confident(2, 2, 2, 2));
+  t.update(1, 7, 0, 100);  // allocated: counter 0, below the threshold
+  Prediction p = t.lookup(1, 7, 0);
+  EXPECT_EQ(p.count, 0u);
+  EXPECT_TRUE(p.suppressed);
+  EXPECT_EQ(p.way, 0);
+  EXPECT_EQ(p.conf, 0u);
+  EXPECT_EQ(t.entries_used(), 1u);
+  t.update(1, 7, 0, 100);  // confirmed (the node is in the list): 1, still below T = 2
+  EXPECT_EQ(t.lookup(1, 7, 0).count, 0u);
+  EXPECT_EQ(t.lookup(1, 7, 0).conf, 1u);
+  t.update(1, 7, 0, 100);  // 2: predicts
+  p = t.lookup(1, 7, 0);
+  EXPECT_FALSE(p.suppressed);
+  EXPECT_EQ(p.conf, 2u);
+  EXPECT_EQ(nodes(p), (std::vector<uint32_t>{100}));
+  // No entry: not suppressed, nothing matched.
+  EXPECT_FALSE(t.lookup(1, 8, 0).suppressed);
+  EXPECT_EQ(t.lookup(1, 8, 0).way, -1);
+}
+
+TEST(PredTableConfidence, ConfirmationSaturatesAndAnyListedNodeConfirms) {
+  PredTable t(confident(2, 2, 2, 1));
+  t.update(0, 3, 0, 10);
+  for (int i = 0; i < 5; ++i) t.update(0, 3, 0, 10);
+  EXPECT_EQ(t.way(0, 0).conf, 3u);  // 2 bits: saturates at 3
+  t.update(0, 3, 0, 20);            // inserted: reset
+  EXPECT_EQ(t.way(0, 0).conf, 0u);
+  EXPECT_EQ(nodes(t.lookup(0, 3, 0)), (std::vector<uint32_t>{}));
+  t.update(0, 3, 0, 10);  // the older node of the list confirms too (and moves to the front)
+  EXPECT_EQ(t.way(0, 0).conf, 1u);
+  EXPECT_EQ(nodes(t.lookup(0, 3, 0)), (std::vector<uint32_t>{10, 20}));
+  t.update(0, 3, 0, 30);  // inserted, the LRU node (20) dropped: reset
+  EXPECT_EQ(t.way(0, 0).conf, 0u);
+  EXPECT_EQ(t.lookup(0, 3, 0).count, 0u);
+}
+
+TEST(PredTableConfidence, AnEvictedWayStartsAtZero) {
+  PredTable t(confident(2, 1, 1, 1));
+  t.update(0, 1, 0, 11);
+  t.update(0, 1, 0, 11);  // way 0: 1
+  t.update(0, 2, 0, 12);
+  t.update(0, 2, 0, 12);  // way 1: 1
+  EXPECT_EQ(t.way(0, 0).conf, 1u);
+  EXPECT_EQ(t.way(0, 1).conf, 1u);
+  t.update(0, 3, 0, 13);  // evicts tag 1 (way 0, the LRU): the new entry starts at 0
+  EXPECT_EQ(t.way(0, 0).tag, 3u);
+  EXPECT_EQ(t.way(0, 0).conf, 0u);
+  EXPECT_TRUE(t.lookup(0, 3, 0).suppressed);
+  EXPECT_EQ(nodes(t.lookup(0, 2, 0)), (std::vector<uint32_t>{12}));
+}
+
+TEST(PredTableConfidence, DemoteCountsDownAndNeverAllocatesOrTouchesRecency) {
+  PredTable t(confident(2, 2, 2, 2));
+  EXPECT_FALSE(t.demote(0, 5, 0));  // no entry: nothing allocated
+  EXPECT_EQ(t.entries_used(), 0u);
+  t.update(0, 5, 0, 50);
+  t.update(0, 5, 0, 50);
+  t.update(0, 5, 0, 50);  // 2
+  t.update(0, 6, 0, 60);  // way 1, most recently used; way 0 (tag 5) now the LRU
+  const uint32_t age0 = t.age(0, 0), age1 = t.age(0, 1);
+  EXPECT_EQ(t.lookup(0, 5, 0).count, 1u);
+  EXPECT_TRUE(t.demote(0, 5, 0));  // 1: below the threshold
+  EXPECT_EQ(t.way(0, 0).conf, 1u);
+  EXPECT_TRUE(t.lookup(0, 5, 0).suppressed);
+  EXPECT_EQ(t.age(0, 0), age0);  // recency unchanged
+  EXPECT_EQ(t.age(0, 1), age1);
+  EXPECT_EQ(t.way(0, 0).count, 1u);  // the node list unchanged
+  EXPECT_EQ(t.way(0, 0).nodes[0], 50u);
+  EXPECT_TRUE(t.demote(0, 5, 0));
+  EXPECT_TRUE(t.demote(0, 5, 0));  // saturates at 0
+  EXPECT_EQ(t.way(0, 0).conf, 0u);
+  EXPECT_FALSE(t.demote(0, 7, 0));  // another tag of the set: nothing
+  EXPECT_EQ(t.entries_used(), 2u);
+  t.update(0, 5, 0, 50);  // a confirmation after demotes counts up again
+  EXPECT_EQ(t.way(0, 0).conf, 1u);
+}
+
+TEST(PredTableConfidence, OneBitDemotesAreIdempotentUpdatesNot) {
+  // C = 1, T = 1: an update leaves 1 when the node was listed, 0 when inserted; a demote leaves 0.
+  // A demote applied twice is applied once, and so is an update of a listed node; an update that
+  // inserts is not: the same update again sets the bit (so the RTL drops only repeated demotes).
+  PredTable t(confident(2, 1, 1, 1));
+  t.update(2, 9, 0, 90);
+  EXPECT_EQ(t.way(2, 0).conf, 0u);
+  t.update(2, 9, 0, 90);  // the identical update again: a confirmation
+  EXPECT_EQ(t.way(2, 0).conf, 1u);
+  t.update(2, 9, 0, 90);
+  EXPECT_EQ(t.way(2, 0).conf, 1u);
+  EXPECT_EQ(nodes(t.lookup(2, 9, 0)), (std::vector<uint32_t>{90}));
+  t.demote(2, 9, 0);
+  t.demote(2, 9, 0);
+  EXPECT_EQ(t.way(2, 0).conf, 0u);
+  EXPECT_EQ(t.lookup(2, 9, 0).count, 0u);
+}
+
+TEST(PredTableConfidence, UnboundedTableKeepsACounterPerKey) {
+  TableConfig u = confident(1, 2, 1, 1);
+  u.unbounded = true;
+  PredTable t(u);
+  t.update(0, 0, 42, 7);
+  EXPECT_TRUE(t.lookup(0, 0, 42).suppressed);
+  t.update(0, 0, 42, 7);
+  EXPECT_EQ(nodes(t.lookup(0, 0, 42)), (std::vector<uint32_t>{7}));
+  EXPECT_TRUE(t.demote(0, 0, 42));
+  EXPECT_TRUE(t.lookup(0, 0, 42).suppressed);
+  EXPECT_FALSE(t.demote(0, 0, 43));
+  EXPECT_EQ(t.entries_used(), 1u);
+}
+
+TEST(PredTableConfidence, WithoutCountersNothingChanges) {
+  // C = 0: every entry predicts at once, a demote is a no-op; the same state as before.
+  PredTable t(small(4, 2, 2));
+  t.update(1, 7, 0, 100);
+  Prediction p = t.lookup(1, 7, 0);
+  EXPECT_EQ(nodes(p), (std::vector<uint32_t>{100}));
+  EXPECT_FALSE(p.suppressed);
+  t.update(1, 7, 0, 100);
+  EXPECT_EQ(t.way(1, 0).conf, 0u);
+  EXPECT_FALSE(t.demote(1, 7, 0));
+  EXPECT_EQ(nodes(t.lookup(1, 7, 0)), (std::vector<uint32_t>{100}));
+}
+
+TEST(PredTableConfidence, StorageAndValidation) {
+  TableConfig c = confident(4, 1, 0, 1);
+  const int base = c.entry_bits();
+  for (int bits : {1, 2, 3}) {
+    c.conf_bits = bits;
+    EXPECT_EQ(c.entry_bits(), base + bits);
+    EXPECT_EQ(c.total_bits(), uint64_t{4} * 4 * (base + bits + 2));
+  }
+  // The study's 256 x 4, K = 1 table with 1 confidence bit: 1,024 bits more.
+  TableConfig m = small(256, 4, 1);
+  m.node_bits = 21;
+  m.tag_bits = 8;
+  const uint64_t without = m.total_bits();
+  m.conf_bits = 1;
+  EXPECT_EQ(m.total_bits(), without + 1024);
+  TableConfig u = confident(1, 4, 2, 1);
+  u.unbounded = true;
+  u.key_bits = 30;
+  EXPECT_EQ(u.entry_bits(), 30 + 3 + 4 * 10 + 2);
+  EXPECT_EQ(confident(4, 1, 1, 1).validate(), "");
+  EXPECT_EQ(confident(4, 1, 3, 7).validate(), "");
+  EXPECT_EQ(confident(4, 1, 0, 5).validate(), "");  // the threshold is unused without counters
+  EXPECT_NE(confident(4, 1, 4, 1).validate().find("confidence bits must be 0..3"),
+            std::string::npos);
+  EXPECT_NE(confident(4, 1, -1, 1).validate().find("confidence bits"), std::string::npos);
+  EXPECT_NE(confident(4, 1, 1, 2).validate().find("threshold must be 1..1"), std::string::npos);
+  EXPECT_NE(confident(4, 1, 2, 0).validate().find("threshold must be 1..3"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -317,5 +317,179 @@ TEST(EngineSide, ClassifyCountsEachOutcome) {
   EXPECT_EQ(st.wasted, Counters{});
 }
 
+// ---- confidence counters (docs/predictor.md, "One ray", step 6) --------------------------------
+
+// One entry that every ray's key maps to (1 set, 1 way, no stored tag bits): rays toward the
+// scene's target hit, rays away from it miss; C = 2 bits, threshold 2.
+struct OneEntry {
+  Scene s = load_scene(test::own_scenes().front());
+  Bvh bvh = build_bvh(s.triangles);
+  PredictorConfig cfg;
+  RayRecord toward, away;
+  explicit OneEntry(uint32_t update_delay = 0) {
+    cfg.hash.variant = HashVariant::kImproved;
+    cfg.hash.combine = CombineMode::kConcat;
+    cfg.table.sets = 1;
+    cfg.table.ways = 1;
+    cfg.table.nodes_per_entry = 1;
+    cfg.table.conf_bits = 2;
+    cfg.table.conf_threshold = 2;
+    cfg.update_delay = update_delay;
+    EXPECT_EQ(resolve_for_scene(s, bvh, &cfg, {.tag_bits = 0}), "");
+    toward.ray.org = away.ray.org = s.camera.eye;
+    toward.ray.dir = glm::normalize(s.camera.target - s.camera.eye);
+    away.ray.dir = -toward.ray.dir;
+  }
+};
+
+TEST(PredictorConfidence, RootWalksConfirmUntilTheEntryPredicts) {
+  OneEntry e;
+  Predictor pred(e.bvh, e.cfg);
+  const RayResult first = pred.process(e.toward);  // allocates: counter 0
+  ASSERT_TRUE(first.answer.hit());
+  EXPECT_FALSE(first.predicted);
+  EXPECT_FALSE(first.suppressed);
+  const RayResult second = pred.process(e.toward);  // suppressed; its root walk confirms: 1
+  EXPECT_FALSE(second.predicted);
+  EXPECT_TRUE(second.suppressed);
+  EXPECT_EQ(second.update_node, first.update_node);
+  EXPECT_EQ(pred.table().way(0, 0).conf, 1u);
+  EXPECT_TRUE(pred.process(e.toward).suppressed);  // 2
+  const RayResult fourth = pred.process(e.toward);
+  EXPECT_TRUE(fourth.predicted);
+  EXPECT_TRUE(fourth.verified);
+  EXPECT_EQ(pred.table().way(0, 0).conf, 3u);
+  const PredictStats& t = pred.total();
+  EXPECT_EQ(t.suppressed_lookups, 2u);
+  EXPECT_EQ(t.true_positive, 1u);
+  EXPECT_EQ(t.false_negative, 3u);
+  EXPECT_EQ(t.table_demotes, 0u);
+  EXPECT_EQ(t.table_updates, 4u);
+  const nlohmann::json j = pred.to_json();
+  EXPECT_EQ(j["suppressed_lookups"], 2u);
+  EXPECT_EQ(j["config"]["confidence_bits"], 2);
+  EXPECT_EQ(j["config"]["confidence_threshold"], 2);
+}
+
+TEST(PredictorConfidence, FailedPredictionsThatMissDemote) {
+  OneEntry e;
+  Predictor pred(e.bvh, e.cfg);
+  for (int i = 0; i < 4; ++i) pred.process(e.toward);  // counter 3
+  ASSERT_EQ(pred.table().way(0, 0).conf, 3u);
+  const uint32_t node = pred.table().way(0, 0).nodes[0];
+  const RayResult miss = pred.process(e.away);  // predicted, fails, writes nothing: 2
+  ASSERT_FALSE(miss.answer.hit());
+  EXPECT_TRUE(miss.predicted);
+  EXPECT_FALSE(miss.verified);
+  EXPECT_EQ(miss.update_node, kNoNode);
+  EXPECT_TRUE(miss.demoted);
+  EXPECT_EQ(pred.table().way(0, 0).conf, 2u);
+  EXPECT_TRUE(pred.process(e.away).demoted);  // 1: below the threshold
+  EXPECT_EQ(pred.table().way(0, 0).conf, 1u);
+  const RayResult unoffered = pred.process(e.away);  // suppressed: no prediction, no demote
+  EXPECT_TRUE(unoffered.suppressed);
+  EXPECT_FALSE(unoffered.predicted);
+  EXPECT_FALSE(unoffered.demoted);
+  EXPECT_EQ(pred.table().way(0, 0).conf, 1u);
+  EXPECT_EQ(pred.table().way(0, 0).nodes[0], node);  // demotes leave the node list
+  EXPECT_EQ(pred.table().way(0, 0).count, 1u);
+  const PredictStats& t = pred.total();
+  EXPECT_EQ(t.table_demotes, 2u);
+  EXPECT_EQ(t.false_positive, 2u);
+  EXPECT_EQ(t.suppressed_lookups, 3u);  // the second and third toward rays, the last away ray
+  EXPECT_EQ(t.table_updates, 4u);       // the misses wrote nothing
+}
+
+TEST(PredictorConfidence, DelayedDemotesLandInOrderWithUpdates) {
+  OneEntry e(2);  // a ray's write lands before the lookup of the ray 3 after it
+  Predictor pred(e.bvh, e.cfg);
+  // Rays 0..3 toward (writes land before rays 3..6), 4..5 away.
+  for (int i = 0; i < 4; ++i) pred.process(e.toward);
+  // Ray 4 looks up after the writes of rays 0 and 1: counter 1, suppressed.
+  EXPECT_TRUE(pred.process(e.away).suppressed);
+  // Ray 5: the writes of rays 0..2: counter 2, predicted; it fails and misses: a demote pending.
+  const RayResult r5 = pred.process(e.away);
+  EXPECT_TRUE(r5.predicted);
+  EXPECT_TRUE(r5.demoted);
+  // Ray 6: rays 0..3 landed: counter 3; predicted (verified: it hits).
+  EXPECT_TRUE(pred.process(e.toward).verified);
+  pred.process(e.toward);  // ray 7: ray 4 landed (nothing); ray 5's demote not yet
+  EXPECT_EQ(pred.table().way(0, 0).conf, 3u);
+  pred.process(e.toward);  // ray 8: ray 5's demote landed: 2
+  EXPECT_EQ(pred.table().way(0, 0).conf, 2u);
+  pred.process(e.toward);  // ray 9: ray 6's confirmation landed: 3
+  EXPECT_EQ(pred.table().way(0, 0).conf, 3u);
+  EXPECT_EQ(pred.total().table_demotes, 1u);
+}
+
+// Without counters (C = 0) the predictor never suppresses or demotes: every counter as before.
+TEST(PredictorConfidence, ZeroBitsPredictAtOnceAndNeverDemote) {
+  OneEntry e;
+  e.cfg.table.conf_bits = 0;
+  Predictor pred(e.bvh, e.cfg);
+  pred.process(e.toward);
+  EXPECT_TRUE(pred.process(e.toward).verified);
+  const RayResult miss = pred.process(e.away);
+  EXPECT_TRUE(miss.predicted);
+  EXPECT_FALSE(miss.demoted);
+  EXPECT_TRUE(pred.process(e.away).predicted);
+  EXPECT_EQ(pred.total().table_demotes, 0u);
+  EXPECT_EQ(pred.total().suppressed_lookups, 0u);
+}
+
+// A table driven by the engine-side pieces and the rule (update, else demotes(): demote) stays
+// equal to the predictor's on a whole workload, and the counts agree.
+TEST(PredictorConfidence, PiecesAndTheRuleMakeThePredictor) {
+  Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/spd_balls.glb");
+  Bvh bvh = build_bvh(s.triangles);
+  for (PredictMode mode : {PredictMode::kAnyHit, PredictMode::kClosestExact}) {
+    SCOPED_TRACE(predict_mode_name(mode));
+    PredictorConfig c = config(s, bvh, mode, false, HashVariant::kImproved);
+    c.table.sets = 16;  // small, so that entries are evicted, fail and get demoted
+    c.table.conf_bits = 1;
+    c.table.conf_threshold = 1;
+    ASSERT_EQ(resolve_for_scene(s, bvh, &c), "");
+    Predictor pred(bvh, c);
+    PredTable table(c.table);
+    uint64_t demoted = 0, suppressed = 0, offered = 0;
+    WorkloadOptions wo;
+    wo.width = wo.height = 48;
+    generate_rays(s, bvh, wo, [&](const RayRecord& r, const Hit*) {
+      const RayResult res = pred.process(r);
+      if (res.invalid) return;
+      EngineRay er;
+      set_query(r.kind, mode, &er);
+      const HashKey k = hash_ray(r.ray, c.hash);
+      const Prediction p = table.lookup(k.index, k.tag, k.key);
+      suppressed += p.suppressed;
+      offered += p.count > 0;
+      walk_predicted(bvh, r.ray, p.nodes.data(), p.count, &er);
+      const Action a = decide(er, mode);
+      walk_from_root(bvh, r.ray, a, &er);
+      finish(bvh, a, &er);
+      const uint32_t node = update_node(bvh, er, c.go_up);
+      EXPECT_EQ(node, res.update_node);
+      EXPECT_EQ(er.predicted, res.predicted);
+      if (node != kNoNode) {
+        table.update(k.index, k.tag, k.key, node);
+      } else if (er.predicted && !er.verified) {
+        table.demote(k.index, k.tag, k.key);
+        ++demoted;
+      }
+    });
+    const PredictStats& t = pred.total();
+    EXPECT_EQ(t.table_demotes, demoted);
+    EXPECT_EQ(t.suppressed_lookups, suppressed);
+    EXPECT_EQ(t.true_positive + t.false_positive, offered);
+    EXPECT_GT(demoted, 0u);
+    EXPECT_GT(suppressed, 0u);
+    for (uint32_t set = 0; set < c.table.sets; ++set)
+      for (uint32_t w = 0; w < c.table.ways; ++w) {
+        EXPECT_EQ(table.way(set, w).conf, pred.table().way(set, w).conf);
+        EXPECT_EQ(table.age(set, w), pred.table().age(set, w));
+      }
+  }
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -138,7 +138,13 @@ class RtlConfig(unittest.TestCase):
                ({"default": {**self.BASE, "variant": "x"}}, "variant must be one of"),
                ({"default": {**self.BASE, "key_store_bram": 1}},
                 "key_store_bram must be true or false"),
-               ({"a": {"base": "default"}, "default": self.BASE}, "base default is not defined")]
+               ({"a": {"base": "default"}, "default": self.BASE}, "base default is not defined"),
+               ({"default": {**self.BASE, "confidence_bits": 2}},
+                "confidence_bits must be 0 or 1, got 2"),
+               ({"default": {**self.BASE, "confidence_bits": True}},
+                "confidence_bits must be 0 or 1"),
+               ({"default": {**self.BASE, "confidence_bits": 1, "lanes": 2}},
+                "confidence_bits is not available with lanes > 1")]
         for configs, message in bad:
             with self.assertRaises(rtl_config.ConfigError) as e:
                 self.load(configs)
@@ -169,6 +175,17 @@ class RtlConfig(unittest.TestCase):
             with self.assertRaises(rtl_config.ConfigError) as e:
                 self.load({"default": {**self.BASE, **bad}})
             self.assertIn(message, str(e.exception))
+
+    def test_confidence_bits(self):
+        data = self.load({"default": self.BASE, "conf": {"base": "default", "confidence_bits": 1}})
+        default, conf = rtl_config.config("default", data), rtl_config.config("conf", data)
+        self.assertEqual(default["confidence_bits"], 0)  # absent: 0
+        self.assertEqual(rtl_config.hrpp_top_params(default)["ConfBits"], 0)
+        self.assertEqual(rtl_config.hrpp_top_params(conf)["ConfBits"], 1)
+        # The hrpp predict options: only with the bit, so every other configuration's are as before.
+        self.assertNotIn("--confidence-bits", rtl_config.predict_args(default))
+        self.assertEqual(rtl_config.predict_args(conf, ("table",))[-4:],
+                         ["--confidence-bits", "1", "--confidence-threshold", "1"])
 
     def test_the_project_file_loads(self):
         self.assertIn("default", rtl_config.load()["configurations"])

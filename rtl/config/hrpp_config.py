@@ -117,7 +117,9 @@ def cpp_header(data: dict) -> str:
             "  uint32_t sets, ways, nodes_per_entry;",
             "  int tag_bits, node_id_width, id_width, pred_fifo_depth, skip_fifo_depth, update_queue_depth;",
             "  bool key_store_bram;  // +1 cycle of decision and update latency",
-            "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle", "};",
+            "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle",
+            "  int confidence_bits;  // a confidence bit per table way (threshold 1): 0 or 1",
+            "};",
             "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
     for name, c in cfgs.items():
@@ -129,7 +131,8 @@ def cpp_header(data: dict) -> str:
             f"{c['node_id_width']}, {c['id_width']}, {c['pred_fifo_depth']}, "
             f"{c['skip_fifo_depth']}, {c['update_queue_depth']}, "
             f"{'true' if c['key_store_bram'] else 'false'}, "
-            f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}}},")
+            f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}, "
+            f"{c['confidence_bits']}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]

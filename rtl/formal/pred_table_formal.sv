@@ -11,6 +11,10 @@
 // the abstract one (valid bits and ages; tag, count and the first `count` node ids of valid
 // ways). A lookup returns what the abstract table holds after the writes of its read's cycle
 // (the same-cycle write is forwarded): its count and first `count` node ids, four cycles later.
+// ConfBits = 1 (tasks *_conf): every way's confidence bit too (docs/hash.md, "Confidence", C = 1,
+// T = 1): requests are updates or demotes (free), the abstract table applies the golden rule of
+// each (a dropped request too), the bits of valid ways must equal it, and a lookup of a way whose
+// bit is 0 returns no prediction.
 module pred_table_formal
   import hrpp_pkg::*;
 #(
@@ -19,6 +23,7 @@ module pred_table_formal
   parameter int unsigned NodesPerEntry = 2,
   parameter int unsigned NodeIdWidth = 2,
   parameter int unsigned TagWidth = 2,
+  parameter int unsigned ConfBits = 0,
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -30,7 +35,8 @@ module pred_table_formal
   input logic                   tbl_wr_valid_i,
   input logic [IdxWidth-1:0]    tbl_wr_idx_i,
   input logic [TagWidth-1:0]    tbl_wr_tag_i,
-  input logic [NodeIdWidth-1:0] tbl_wr_node_i
+  input logic [NodeIdWidth-1:0] tbl_wr_node_i,
+  input logic                   tbl_wr_demote_i
 );
   logic init_q = 1'b1;
   always_ff @(posedge clk_i) init_q <= 1'b0;
@@ -43,13 +49,17 @@ module pred_table_formal
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
-    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth)
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .ConfBits(ConfBits)
   ) dut (.*);
+
+  // Without confidence bits there are no demotes (hrpp_top ties the input to 0).
+  always_comb if (ConfBits == 0) assume (!tbl_wr_demote_i);
 
   // Lookups start once the reset clear is over (hrpp_top accepts rays only then).
   always_comb if (rst_ni && !init_done_o) assume (!lk_valid_i);
 
-  // The table's row layout (as in hrpp_pred_table).
+  // The table's row layout in its RAM word (as in hrpp_pred_table), without the confidence bits,
+  // which follow it in the word with ConfBits = 1 (one per way, way 0 first).
   typedef struct packed {
     logic                                      valid;
     logic [TagWidth-1:0]                       tag;
@@ -59,10 +69,38 @@ module pred_table_formal
   } way_t;
   typedef way_t [NumWays-1:0] row_t;
   typedef row_t [NumSets-1:0] table_t;
+  typedef logic [NumWays-1:0] conf_t;  // a set's confidence bits
+  typedef conf_t [NumSets-1:0] conf_table_t;
+  localparam int unsigned BaseRowWidth = $bits(row_t);
+  localparam int unsigned RamWordWidth = BaseRowWidth + ConfBits * NumWays;
 
   // ---------------------------------------------------------------------------------------------
   // The golden update rule, written out plainly
   // ---------------------------------------------------------------------------------------------
+  // The confidence bit an update leaves (C = 1): 1 when the tag's way held the node, else 0.
+  function automatic logic golden_update_conf(row_t r, logic [TagWidth-1:0] tag,
+                                              logic [NodeIdWidth-1:0] node);
+    logic present;
+    present = 1'b0;
+    for (int i = 0; i < NumWays; i++)
+      if (r[i].valid && r[i].tag == tag)
+        for (int k = 0; k < NodesPerEntry; k++)
+          if (k < int'(r[i].count) && r[i].nodes[k] == node) present = 1'b1;
+    return present;
+  endfunction
+  // The way an update writes (the tag's, else the victim), as golden_update picks it.
+  function automatic int golden_update_way(row_t r, logic [TagWidth-1:0] tag);
+    int sel;
+    sel = -1;
+    for (int i = 0; i < NumWays; i++)
+      if (sel < 0 && r[i].valid && r[i].tag == tag) sel = i;
+    for (int i = 0; i < NumWays; i++)
+      if (sel < 0 && !r[i].valid) sel = i;
+    for (int i = 0; i < NumWays; i++)
+      if (sel < 0 && r[i].age == AgeWidth'(NumWays - 1)) sel = i;
+    return sel;
+  endfunction
+
   function automatic row_t golden_update(row_t r, logic [TagWidth-1:0] tag,
                                          logic [NodeIdWidth-1:0] node);
     int   sel, pos, found;
@@ -100,15 +138,15 @@ module pred_table_formal
     return r;
   endfunction
 
-  // Equal as the golden model sees it: valid bits and ages; tags, counts and the first `count`
-  // node ids of valid ways.
-  function automatic logic same_row(row_t a, row_t b);
+  // Equal as the golden model sees it: valid bits and ages; tags, counts, the first `count`
+  // node ids and the confidence bits of valid ways.
+  function automatic logic same_row(row_t a, conf_t ac, row_t b, conf_t bc);
     logic ok;
     ok = 1'b1;
     for (int w = 0; w < NumWays; w++) begin
       ok &= a[w].valid == b[w].valid && a[w].age == b[w].age;
       if (a[w].valid) begin
-        ok &= a[w].tag == b[w].tag && a[w].count == b[w].count;
+        ok &= a[w].tag == b[w].tag && a[w].count == b[w].count && ac[w] == bc[w];
         for (int i = 0; i < NodesPerEntry; i++)
           if (i < int'(a[w].count)) ok &= a[w].nodes[i] == b[w].nodes[i];
       end
@@ -138,30 +176,42 @@ module pred_table_formal
     logic [IdxWidth-1:0]    idx;
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
+    logic                   demote;
   } req_t;
   req_t [UpdateStages-1:0] req_q;  // [UpdateStages-1]: the request in W
-  table_t model_q, model_next;
-  row_t   init;
+  table_t      model_q, model_next;
+  conf_table_t mconf_q, mconf_next;  // the abstract table's confidence bits
+  row_t        init;
+  req_t        wreq;
 
   always_comb begin
     init = '0;
     for (int w = 0; w < NumWays; w++) init[w].age = AgeWidth'(w);
     model_next = model_q;
-    if (req_q[UpdateStages-1].valid)
-      model_next[req_q[UpdateStages-1].idx] =
-          golden_update(model_q[req_q[UpdateStages-1].idx], req_q[UpdateStages-1].tag,
-                        req_q[UpdateStages-1].node);
+    mconf_next = mconf_q;
+    wreq = req_q[UpdateStages-1];
+    if (wreq.valid && wreq.demote) begin  // the tag's way's bit cleared, nothing else
+      for (int w = 0; w < NumWays; w++)
+        if (model_q[wreq.idx][w].valid && model_q[wreq.idx][w].tag == wreq.tag)
+          mconf_next[wreq.idx][w] = 1'b0;
+    end else if (wreq.valid) begin
+      model_next[wreq.idx] = golden_update(model_q[wreq.idx], wreq.tag, wreq.node);
+      mconf_next[wreq.idx][golden_update_way(model_q[wreq.idx], wreq.tag)] =
+          ConfBits > 0 && golden_update_conf(model_q[wreq.idx], wreq.tag, wreq.node);
+    end
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       req_q <= '0;
       for (int s = 0; s < NumSets; s++) model_q[s] <= init;
+      mconf_q <= '0;
     end else begin
       req_q <= {req_q[UpdateStages-2:0],
                 req_t'{tbl_wr_valid_i && tbl_wr_ready_o, tbl_wr_idx_i, tbl_wr_tag_i,
-                       tbl_wr_node_i}};
+                       tbl_wr_node_i, tbl_wr_demote_i}};
       model_q <= model_next;
+      mconf_q <= mconf_next;
     end
   end
 
@@ -175,7 +225,8 @@ module pred_table_formal
     exp_count = '0;
     exp_nodes = '0;
     for (int w = 0; w < NumWays; w++)
-      if (model_next[lk_idx_i][w].valid && model_next[lk_idx_i][w].tag == lk_tag_i) begin
+      if (model_next[lk_idx_i][w].valid && model_next[lk_idx_i][w].tag == lk_tag_i &&
+          (ConfBits == 0 || mconf_next[lk_idx_i][w])) begin
         exp_count = model_next[lk_idx_i][w].count;
         exp_nodes = model_next[lk_idx_i][w].nodes;
       end
@@ -197,14 +248,23 @@ module pred_table_formal
   // ---------------------------------------------------------------------------------------------
   localparam int unsigned L = LookupLatency - 1;
   logic inv_ok, model_ok, nodes_ok;
+  // A RAM word's row (without the confidence bits) and its confidence bits (0 without them).
+  function automatic row_t ram_row(logic [RamWordWidth-1:0] d);
+    return row_t'(d[BaseRowWidth-1:0]);
+  endfunction
+  function automatic conf_t ram_conf(logic [RamWordWidth-1:0] d);
+    return ConfBits > 0 ? conf_t'(d >> BaseRowWidth) : '0;
+  endfunction
   always_comb begin
     inv_ok = 1'b1;
     model_ok = 1'b1;
     for (int s = 0; s < NumSets; s++) begin
-      inv_ok &= row_invariants(row_t'(dut.u_lookup_ram.mem_q[s])) &&
-                row_invariants(row_t'(dut.u_update_ram.mem_q[s]));
-      model_ok &= same_row(model_q[s], row_t'(dut.u_lookup_ram.mem_q[s])) &&
-                  same_row(model_q[s], row_t'(dut.u_update_ram.mem_q[s]));
+      inv_ok &= row_invariants(ram_row(dut.u_lookup_ram.mem_q[s])) &&
+                row_invariants(ram_row(dut.u_update_ram.mem_q[s]));
+      model_ok &= same_row(model_q[s], mconf_q[s], ram_row(dut.u_lookup_ram.mem_q[s]),
+                           ram_conf(dut.u_lookup_ram.mem_q[s])) &&
+                  same_row(model_q[s], mconf_q[s], ram_row(dut.u_update_ram.mem_q[s]),
+                           ram_conf(dut.u_update_ram.mem_q[s]));
     end
     nodes_ok = 1'b1;
     for (int i = 0; i < NodesPerEntry; i++)

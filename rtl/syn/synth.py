@@ -85,10 +85,11 @@ def read_configs() -> dict[str, dict[str, int]]:
 
 def table_geometry(p: dict[str, int]) -> dict[str, int]:
     """The golden model's accounting (TableConfig::total_bits, model/src/predictor/pred_table.cc):
-    sets * ways * (1 + tag_bits + ceil(log2(K+1)) + K * node_bits + ceil(log2 ways))."""
+    sets * ways * (1 + tag_bits + ceil(log2(K+1)) + K * node_bits + C + ceil(log2 ways)), C the
+    confidence bits (ConfBits)."""
     sets, ways, k, tag = p["NumSets"], p["NumWays"], p["NodesPerEntry"], p["TagWidth"]
     node_bits = p["NodeIdWidth"]
-    way_bits = 1 + tag + clog2(k + 1) + k * node_bits + clog2(ways)
+    way_bits = 1 + tag + clog2(k + 1) + k * node_bits + p.get("ConfBits", 0) + clog2(ways)
     row = ways * way_bits
     return {"sets": sets, "ways": ways, "k": k, "tag_bits": tag, "node_bits": node_bits,
             "way_bits": way_bits, "row_bits": row, "table_bits": sets * row}
@@ -102,7 +103,9 @@ def describe(p: dict[str, int]) -> str:
         h = f"faithful P={p.get('Precision', 6)} E={p.get('ExpBits', 3)}"
     h += " concat" if p.get("Combine", 0) else " xor"
     lanes = f", {p['Lanes']} lanes" if p.get("Lanes", 1) > 1 else ""
-    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}{lanes}")
+    conf = ", confidence bit" if p.get("ConfBits", 0) else ""
+    return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}{lanes}"
+            f"{conf}")
 
 
 def read_slang_cmd(top: str, params: dict[str, int], files: list[str]) -> str:

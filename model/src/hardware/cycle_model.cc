@@ -17,11 +17,20 @@ std::string CycleConfig::validate() const {
   if (id_bits < 1 || id_bits > 16) return "id bits must be 1..16";
   if (lanes != 1 && lanes != 2 && lanes != 4) return "lanes must be 1, 2 or 4";
   if (table.sets / uint32_t(lanes) < 2) return "the RTL needs at least 2 sets per bank (lane)";
+  if (table.conf_bits != 0 && (table.conf_bits != 1 || table.conf_threshold != 1))
+    return "the RTL has 0 or 1 confidence bits per way (threshold 1), not " +
+           std::to_string(table.conf_bits) + " bits, threshold " +
+           std::to_string(table.conf_threshold);
+  if (table.conf_bits != 0 && lanes != 1) return "confidence bits need one lane (hrpp_top)";
   return {};
 }
 
 CycleModel::CycleModel(const CycleConfig& cfg)
-    : cfg_(cfg), table_(cfg.table), key_store_(size_t{1} << cfg.id_bits), requested_(cfg.table) {
+    : cfg_(cfg),
+      table_(cfg.table),
+      key_store_(size_t{1} << cfg.id_bits),
+      pred_given_(size_t{1} << cfg.id_bits, 0),
+      requested_(cfg.table) {
   if (cfg.lanes != 1)
     throw std::invalid_argument("CycleModel models one lane; " + std::to_string(cfg.lanes) +
                                 " lanes: LanesCycleModel (hrpp/hardware/cycle_model_lanes.h)");
@@ -67,18 +76,19 @@ CycleModel::Decision CycleModel::decide() const {
   d.action = skip_action(p0_.hit, kp.any_hit, cfg_.mode);
   const bool fifo_full = skip_fifo_.size() >= size_t(cfg_.skip_fifo_depth);
   const bool p_needs = d.action == Action::kSkip;
-  // The request ports: a final outcome's first, a predicted-walk result's behind it.
-  d.f_req = f0_.valid && f0_.hit;
+  // The request ports: a final outcome's first (an update when it hit, else a demote when its ray
+  // was given a prediction, with confidence bits), a predicted-walk result's behind it.
+  d.f_req = f0_.valid && (f0_.hit || f0_.demote);
   d.p_req = p0_.valid && p_needs && !fifo_full;
   if (d.f_req)
-    d.update = Op{kf.idx, kf.tag, f0_.node};
+    d.update = Op{kf.idx, kf.tag, f0_.node, 0, f0_.demote};
   else if (d.p_req)
     d.update = Op{kp.idx, kp.tag, p0_.node};
   if (d.f_req && d.p_req) d.update2 = Op{kp.idx, kp.tag, p0_.node};
   // The update queue's room, from its count alone.
   d.room1 = update_queue_.size() + 1 <= size_t(cfg_.update_queue_depth);
   d.room2 = update_queue_.size() + 2 <= size_t(cfg_.update_queue_depth);
-  d.f_advance = f0_.valid && (!f0_.hit || d.room1);
+  d.f_advance = f0_.valid && (!d.f_req || d.room1);
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
   d.p_take = !clearing_ && (!p0_.valid || d.p_advance);
   d.f_take = !clearing_ && (!f0_.valid || d.f_advance);
@@ -151,8 +161,12 @@ void CycleModel::tick(const DutIn& in) {
       full &= way.valid;
     }
     stats_.updates++;
-    stats_.evictions += !hit && full;
-    table_.update(w.idx, w.tag, 0, w.node);
+    if (w.demote) {  // no allocation: never an eviction
+      table_.demote(w.idx, w.tag, 0);
+    } else {
+      stats_.evictions += !hit && full;
+      table_.update(w.idx, w.tag, 0, w.node);
+    }
     check_against_requests(w);
   }
   std::optional<Pred> looked_up;
@@ -168,9 +182,14 @@ void CycleModel::tick(const DutIn& in) {
     looked_up = p;
   }
 
-  // Prediction FIFO.
+  // Prediction FIFO (and, with confidence bits, whether the ray was given a prediction: written
+  // after this cycle's reads below, as the RTL's register array).
   if (o.pred_valid && in.pred_ready) pred_fifo_.pop_front();
-  if (d_[kLookupLatency - 1]) pred_fifo_.push_back(*d_[kLookupLatency - 1]);
+  std::optional<std::pair<uint32_t, bool>> given;
+  if (d_[kLookupLatency - 1]) {
+    pred_fifo_.push_back(*d_[kLookupLatency - 1]);
+    given.emplace(d_[kLookupLatency - 1]->id, d_[kLookupLatency - 1]->count > 0);
+  }
 
   // The table takes the update queue's head unless it is of the set of an update accepted in
   // either of the two previous cycles (T0, T1: the same-set interlock); if it is identical to
@@ -181,10 +200,13 @@ void CycleModel::tick(const DutIn& in) {
     const std::optional<Op>& t0 = up_[0];
     const std::optional<Op>& t1 = up_[1];
     const Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
+    // With confidence bits only a demote is dropped: a demote applied twice is applied once, an
+    // update is not (an insertion clears the bit, the same update again sets it; docs/hash.md).
+    const bool droppable = cfg_.table.conf_bits == 0 || head.demote;
     if (!newer) {
       issued = head;
       update_queue_.pop_front();
-    } else if (newer->same_update(head)) {
+    } else if (droppable && newer->same_update(head)) {
       drop_queue_head();
     } else {
       stats_.interlock_cycles++;
@@ -209,15 +231,27 @@ void CycleModel::tick(const DutIn& in) {
   // message and key move on to P0 / F0 when those take it (block RAM: the RAM's output holds).
   Msg& pw_to = cfg_.key_store_bram ? kp_ : p0_;
   Msg& outcome_to = cfg_.key_store_bram ? kf_ : f0_;
+  // Confidence: a final outcome entering F0 requests a demote when its ray was given a
+  // prediction (read by id as it enters F0) and it has no hit.
+  const bool conf = cfg_.table.conf_bits > 0;
+  auto demotes_in_f0 = [&](const Msg& m) {
+    return conf && m.valid && !m.hit && pred_given_[m.id] != 0;
+  };
   if (cfg_.key_store_bram) {
     if (dec.p_take) p0_ = kp_;
-    if (dec.f_take) f0_ = kf_;
+    if (dec.f_take) {
+      f0_ = kf_;
+      f0_.demote = demotes_in_f0(f0_);
+    }
   }
   if (o.pw_ready) pw_to = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
-  if (o.outcome_ready)
+  if (o.outcome_ready) {
     outcome_to = Msg{in.outcome_valid, in.outcome_id, in.outcome_hit, in.outcome_node,
                      key_store_[in.outcome_id]};
+    if (!cfg_.key_store_bram) f0_.demote = demotes_in_f0(f0_);
+  }
 
+  if (given && cfg_.table.conf_bits > 0) pred_given_[given->first] = given->second;
   // Key store write (B), after U0's read above.
   if (b_) {
     key_store_[b_->id] = {b_->idx, b_->tag, b_->any_hit};

@@ -1,5 +1,6 @@
 #include "hrpp/predictor/pred_table.h"
 
+#include <algorithm>
 #include <bit>
 
 namespace hrpp {
@@ -13,6 +14,11 @@ std::string TableConfig::validate() const {
     return "nodes per entry must be 1.." + std::to_string(kMaxNodesPerEntry) + ", got " +
            std::to_string(nodes_per_entry);
   if (node_bits < 1 || node_bits > 32) return "node id width must be 1..32 bits";
+  if (conf_bits < 0 || conf_bits > 3)
+    return "confidence bits must be 0..3, got " + std::to_string(conf_bits);
+  if (conf_bits > 0 && (conf_threshold < 1 || uint32_t(conf_threshold) > conf_max()))
+    return "the confidence threshold must be 1.." + std::to_string(conf_max()) + " with " +
+           std::to_string(conf_bits) + " confidence bits, got " + std::to_string(conf_threshold);
   if (unbounded) return {};
   if (sets == 0 || !std::has_single_bit(sets))
     return "the number of sets must be a power of two (>= 1), got " + std::to_string(sets);
@@ -25,7 +31,7 @@ int TableConfig::count_bits() const { return clog2(uint64_t{nodes_per_entry} + 1
 int TableConfig::age_bits() const { return clog2(ways); }
 int TableConfig::entry_bits() const {
   const int id = unbounded ? key_bits : 1 + tag_bits;
-  return id + count_bits() + static_cast<int>(nodes_per_entry) * node_bits;
+  return id + count_bits() + static_cast<int>(nodes_per_entry) * node_bits + conf_bits;
 }
 uint64_t TableConfig::set_bits() const { return uint64_t{ways} * (entry_bits() + age_bits()); }
 uint64_t TableConfig::total_bits(uint64_t unbounded_entries) const {
@@ -79,15 +85,30 @@ Prediction PredTable::lookup(uint32_t index, uint64_t tag, uint64_t key) const {
     }
   }
   if (w) {
-    p.count = w->count;
-    p.nodes = w->nodes;
+    p.conf = w->conf;
+    if (cfg_.conf_bits > 0 && w->conf < uint32_t(cfg_.conf_threshold)) {
+      p.suppressed = true;  // not confident: no prediction
+    } else {
+      p.count = w->count;
+      p.nodes = w->nodes;
+    }
   }
   return p;
 }
 
+// The confidence rule of an update: `node` already in the list confirms the entry (count up,
+// saturating), else it resets the counter (node inserted, or the entry new). Before promote_node.
+static void update_conf(Way& w, uint32_t node, uint32_t conf_max) {
+  bool present = false;
+  for (uint32_t i = 0; i < w.count; ++i) present |= w.nodes[i] == node;
+  w.conf = present ? std::min(w.conf + 1, conf_max) : 0;
+}
+
 void PredTable::update(uint32_t index, uint64_t tag, uint64_t key, uint32_t node) {
   if (cfg_.unbounded) {
-    promote_node(map_[key], node, cfg_.nodes_per_entry);
+    Way& w = map_[key];
+    update_conf(w, node, cfg_.conf_max());
+    promote_node(w, node, cfg_.nodes_per_entry);
     return;
   }
   tag = stored_tag(tag);
@@ -107,11 +128,29 @@ void PredTable::update(uint32_t index, uint64_t tag, uint64_t key, uint32_t node
     set[victim].tag = tag;
     hit = victim;
   }
+  update_conf(set[hit], node, cfg_.conf_max());
   promote_node(set[hit], node, cfg_.nodes_per_entry);
   const uint8_t a = age[hit];
   for (uint32_t i = 0; i < cfg_.ways; ++i)
     if (age[i] < a) age[i]++;
   age[hit] = 0;
+}
+
+bool PredTable::demote(uint32_t index, uint64_t tag, uint64_t key) {
+  if (cfg_.conf_bits == 0) return false;
+  Way* w = nullptr;
+  if (cfg_.unbounded) {
+    auto it = map_.find(key);
+    if (it != map_.end()) w = &it->second;
+  } else {
+    tag = stored_tag(tag);
+    Way* set = &ways_[size_t{index} * cfg_.ways];
+    for (uint32_t i = 0; i < cfg_.ways && !w; ++i)
+      if (set[i].valid && set[i].tag == tag) w = &set[i];
+  }
+  if (!w) return false;
+  if (w->conf > 0) w->conf--;
+  return true;
 }
 
 uint64_t PredTable::entries_used() const {

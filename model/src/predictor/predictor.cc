@@ -79,6 +79,8 @@ PredictStats& PredictStats::operator+=(const PredictStats& o) {
   exact_mismatches += o.exact_mismatches;
   baseline_hits += o.baseline_hits;
   table_updates += o.table_updates;
+  table_demotes += o.table_demotes;
+  suppressed_lookups += o.suppressed_lookups;
   unoffered_rays += o.unoffered_rays;
   baseline_ns += o.baseline_ns;
   hrpp_ns += o.hrpp_ns;
@@ -128,6 +130,8 @@ nlohmann::json PredictStats::to_json() const {
           {"exact_mismatches", exact_mismatches},
           {"baseline_hits", baseline_hits},
           {"table_updates", table_updates},
+          {"table_demotes", table_demotes},
+          {"suppressed_lookups", suppressed_lookups},
           {"unoffered_rays", unoffered_rays},
           {"baseline_ns", baseline_ns},
           {"hrpp_ns", hrpp_ns}};
@@ -166,7 +170,10 @@ RayResult Predictor::process(const RayRecord& rec) {
   // Writes of rays issued update_delay or more rays ago have landed.
   while (!pending_.empty() && pending_.front().due <= ray_no) {
     const PendingUpdate& u = pending_.front();
-    table_.update(u.index, u.tag, u.key, u.node);
+    if (u.demote)
+      table_.demote(u.index, u.tag, u.key);
+    else
+      table_.update(u.index, u.tag, u.key, u.node);
     pending_.pop_front();
   }
   using Clock = std::chrono::steady_clock;
@@ -213,6 +220,8 @@ RayResult Predictor::process(const RayRecord& rec) {
   if (timed) t0 = Clock::now();
   res.key = hash_ray(ray, cfg_.hash);
   const Prediction p = table_.lookup(res.key.index, res.key.tag, res.key.key);
+  res.suppressed = p.suppressed;
+  s.suppressed_lookups += p.suppressed;
   walk_predicted(bvh_, ray, p.nodes.data(), p.count, &er);
   const uint64_t lookup_ns = timed ? ns_since(t0) : 0;
   const Action action = decide(er, cfg_.mode);
@@ -240,6 +249,15 @@ RayResult Predictor::process(const RayRecord& rec) {
     else
       pending_.push_back({ray_no + 1 + cfg_.update_delay, res.key.index, res.key.tag, res.key.key,
                           res.update_node});
+  } else if (demotes(cfg_.table, er.predicted, er.verified, res.update_node)) {
+    // Confidence: the prediction failed and the ray writes nothing: its entry counts down.
+    res.demoted = true;
+    s.table_demotes += 1;
+    if (cfg_.update_delay == 0)
+      table_.demote(res.key.index, res.key.tag, res.key.key);
+    else
+      pending_.push_back(
+          {ray_no + 1 + cfg_.update_delay, res.key.index, res.key.tag, res.key.key, kNoNode, true});
   }
   if (timed) {
     s.hrpp_ns += hrpp_ns + lookup_ns + ns_since(t0);
@@ -280,6 +298,8 @@ nlohmann::json Predictor::to_json() const {
       {"sets", t.unbounded ? 0 : t.sets},
       {"ways", t.unbounded ? 0 : t.ways},
       {"nodes_per_entry", t.nodes_per_entry},
+      {"confidence_bits", t.conf_bits},
+      {"confidence_threshold", t.conf_bits > 0 ? t.conf_threshold : 0},
       {"node_bits", t.node_bits},
       {"tag_bits", t.unbounded ? 0 : t.tag_bits},
       {"full_tag_bits", t.unbounded ? 0 : h.tag_bits()},

@@ -82,7 +82,8 @@ class Simulator {
       for (uint32_t u = 0; u < g_.units; ++u) {
         std::unique_ptr<PortModel> m =
             opt.port_model ? opt.port_model(u) : std::make_unique<CyclePortModel>(opt.cycle);
-        pred_.push_back(std::make_unique<PortPredictor>(rays, std::move(m), opt.cycle.id_bits));
+        pred_.push_back(std::make_unique<PortPredictor>(rays, std::move(m), opt.cycle.id_bits,
+                                                        opt.cycle.table.conf_bits > 0));
       }
     } else if (opt.kind == PredictorKind::kTimed) {
       for (uint32_t u = 0; u < g_.units; ++u)
@@ -464,6 +465,8 @@ SimStats Simulator::run() {
     st_.predictor.lookups += ps.lookups;
     st_.predictor.stall_cycles += ps.stall_cycles;
     st_.predictor.updates += ps.updates;
+    st_.predictor.demotes += ps.demotes;
+    st_.predictor.suppressed_lookups += ps.suppressed_lookups;
     st_.predictor.mismatches += ps.mismatches;
     st_.predictor.entry_wait += ps.entry_wait;
   }
@@ -496,6 +499,10 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
       nlohmann::json v = predict[k].to_json();
       v.erase("baseline_ns");
       v.erase("hrpp_ns");
+      // Counted by the unit's predictor, not per kind: "predictor" holds them (demotes,
+      // suppressed_lookups).
+      v.erase("table_demotes");
+      v.erase("suppressed_lookups");
       v["rays"] = by_kind[k].rays;
       v["mean_latency"] = rate(by_kind[k].latency, by_kind[k].rays);
       kinds[std::string(ray_kind_name(RayKind(k)))] = v;
@@ -536,6 +543,8 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
             {"skipped_interior_fraction", p.skipped_interior_fraction()},
             {"lookups", predictor.lookups},
             {"updates", predictor.updates},
+            {"demotes", predictor.demotes},
+            {"suppressed_lookups", predictor.suppressed_lookups},
             {"stall_cycles", predictor.stall_cycles},
             {"entry_wait_cycles", predictor.entry_wait},
             {"bypassed_rays", predictor.bypassed},

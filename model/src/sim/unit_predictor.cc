@@ -9,11 +9,13 @@ namespace hrpp::sim {
 // ---- PortPredictor ---------------------------------------------------------------------------
 
 PortPredictor::PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model,
-                             int id_bits)
+                             int id_bits, bool confidence)
     : rays_(rays),
       model_(std::move(model)),
       ray_of_(size_t{1} << id_bits, 0),
-      in_use_(size_t{1} << id_bits, 0) {
+      in_use_(size_t{1} << id_bits, 0),
+      confidence_(confidence),
+      predicted_(size_t{1} << id_bits, 0) {
   for (uint32_t i = 0; i < (1u << id_bits); ++i) free_ids_.push_back(i);
 }
 
@@ -91,6 +93,7 @@ void PortPredictor::cycle(uint64_t now, UnitIo* io) {
         p.count = 0;
       }
       for (uint32_t i = 0; i < p.count; ++i) p.nodes[i] = out.pred_nodes[i];
+      predicted_[out.pred_id] = p.count > 0;
       io->predictions.emplace_back(ray_of_[out.pred_id], p);
     }
   }
@@ -106,9 +109,14 @@ void PortPredictor::cycle(uint64_t now, UnitIo* io) {
       }
     }
   }
-  if (in.pw_valid && out.pw_ready) io->pw.pop_front();
+  if (in.pw_valid && out.pw_ready) {
+    if (in.pw_hit) predicted_[in.pw_id] = 0;  // not a failed prediction
+    io->pw.pop_front();
+  }
   if (in.outcome_valid && out.outcome_ready) {
     stats_.updates += in.outcome_hit;
+    // With confidence counters, a failed prediction without a node to write demotes its entry.
+    stats_.demotes += !in.outcome_hit && predicted_[in.outcome_id] && confidence_;
     io->outcomes.pop_front();
     release(in.outcome_id);
   }
@@ -181,15 +189,21 @@ Prediction TimedPredictor::predict(uint32_t ray) {
     return p;
   }
   const HashKey key = hash_ray(r.ray, pc_.hash);
-  key_of_[ray] = key;
-  return table_.lookup(key.index, key.tag, key.key);
+  p = table_.lookup(key.index, key.tag, key.key);
+  held_of_[ray] = {key, p.count > 0, false};
+  stats_.suppressed_lookups += p.suppressed;
+  return p;
 }
 
 void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
-  // Writes visible by this cycle land before this cycle's lookups.
+  // Writes visible by this cycle land before this cycle's lookups (updates and demotes in the
+  // order the rays finished).
   while (!writes_.empty() && writes_.front().due <= now) {
     const Write& w = writes_.front();
-    table_.update(w.key.index, w.key.tag, w.key.key, w.node);
+    if (w.demote)
+      table_.demote(w.key.index, w.key.tag, w.key.key);
+    else
+      table_.update(w.key.index, w.key.tag, w.key.key, w.node);
     writes_.pop_front();
   }
   const bool waiting = !io->entering.empty();
@@ -211,17 +225,27 @@ void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
   }
   auto write = [&](uint32_t ray, uint32_t node) {
     if (tc_.oracle) return;
-    writes_.push_back({now + tc_.update_latency, key_of_.at(ray), node});
+    writes_.push_back({now + tc_.update_latency, held_of_.at(ray).key, node});
     stats_.updates++;
   };
+  // Confidence: a ray given a prediction whose predicted walks found no hit and whose outcome is
+  // a miss (no node to write) demotes its entry (PredTable::demote).
+  auto demote = [&](uint32_t ray) {
+    if (tc_.oracle) return;
+    const Held& h = held_of_.at(ray);
+    if (!demotes(pc_.table, h.predicted, h.pw_hit, kNoNode)) return;
+    writes_.push_back({now + tc_.update_latency, h.key, 0, true});
+    stats_.demotes++;
+  };
   auto release = [&](uint32_t ray) {
-    key_of_.erase(ray);
+    held_of_.erase(ray);
     --held_;
   };
   for (uint32_t n = 0; n < tc_.lookups_per_cycle && !io->pw.empty(); ++n) {
     const EngineMsg m = io->pw.front();
     io->pw.pop_front();
     const RayRecord& r = rays_[m.ray];
+    if (const auto h = held_of_.find(m.ray); h != held_of_.end()) h->second.pw_hit = m.hit;
     const Action a = skip_action(m.hit, answers_any_hit(r.kind, pc_.mode), pc_.mode);
     decisions_.push_back({now + tc_.decision_latency, m.ray, a, m.node});
   }
@@ -237,7 +261,10 @@ void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
   for (uint32_t n = 0; n < tc_.updates_per_cycle && !io->outcomes.empty(); ++n) {
     const EngineMsg m = io->outcomes.front();
     io->outcomes.pop_front();
-    if (m.hit) write(m.ray, m.node);
+    if (m.hit)
+      write(m.ray, m.node);
+    else
+      demote(m.ray);
     release(m.ray);
   }
 }

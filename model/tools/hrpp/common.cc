@@ -341,6 +341,16 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
   app->add_option("--nodes-per-entry", a.nodes_per_entry, "node ids per table entry (K)")
       ->check(CLI::Range(1, kMaxNodesPerEntry))
       ->capture_default_str();
+  app->add_option("--confidence-bits", a.confidence_bits,
+                  "bits of the confidence counter per table way (0: none, every entry predicts; "
+                  "else an entry predicts only when its counter reaches --confidence-threshold)")
+      ->check(CLI::Range(0, 3))
+      ->capture_default_str();
+  app->add_option("--confidence-threshold", a.confidence_threshold,
+                  "the counter value from which an entry predicts (1..2^bits - 1; with "
+                  "--confidence-bits > 0)")
+      ->check(CLI::Range(1, 7))
+      ->capture_default_str();
   app->add_option("--mode", a.mode, "how closest-hit rays use predictions")
       ->check(CLI::IsMember({"anyhit", "closest-exact", "closest-spec"}))
       ->capture_default_str();
@@ -350,9 +360,10 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                   "update, and count as not predicted)")
       ->check(CLI::IsMember({"all", "any-hit"}))
       ->capture_default_str();
-  for (const char* o : {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits",
-                        "--dir-code", "--combine", "--table", "--tag-bits", "--nodes-per-entry",
-                        "--go-up", "--mode", "--predict-kinds"})
+  for (const char* o :
+       {"--hash", "--precision", "--exp-bits", "--origin-bits", "--dir-bits", "--dir-code",
+        "--combine", "--table", "--tag-bits", "--nodes-per-entry", "--confidence-bits",
+        "--confidence-threshold", "--go-up", "--mode", "--predict-kinds"})
     a.given[o] = app->get_option(o);
 }
 
@@ -385,6 +396,8 @@ std::map<std::string, OptionField> option_fields(PredictorArgs& a) {
           {"--table", {.text = &a.table}},
           {"--tag-bits", {.number = &a.tag_bits}},
           {"--nodes-per-entry", {.unsigned_number = &a.nodes_per_entry}},
+          {"--confidence-bits", {.number = &a.confidence_bits}},
+          {"--confidence-threshold", {.number = &a.confidence_threshold}},
           {"--go-up", {.unsigned_number = &a.go_up}},
           {"--mode", {.text = &a.mode}},
           {"--predict-kinds", {.text = &a.predict_kinds}}};
@@ -410,6 +423,8 @@ void apply_named_preset(PredictorArgs& a, const std::string& name) {
                   : std::to_string(t.sets) + "x" + std::to_string(t.ways));
   set("--nodes-per-entry", &a.nodes_per_entry, t.nodes_per_entry);
   set("--tag-bits", &a.tag_bits, p.tag_bits);
+  set("--confidence-bits", &a.confidence_bits, t.conf_bits);
+  set("--confidence-threshold", &a.confidence_threshold, t.conf_threshold);
   if (p.go_up) set("--go-up", &a.go_up, *p.go_up);
   if (p.mode) set("--mode", &a.mode, std::string(predict_mode_name(*p.mode)));
   if (p.any_hit_only)
@@ -557,6 +572,9 @@ bool check_applicable(const char* cmd, const PredictorArgs& a) {
        a.hash},
       {"--tag-bits", a.table != "unbounded", "a set-associative table (--table SETSxWAYS)", "table",
        "--table", a.table},
+      {"--confidence-threshold", a.confidence_bits > 0,
+       "confidence counters (--confidence-bits 1..3)", "confidence bits", "--confidence-bits",
+       std::to_string(a.confidence_bits)},
   };
   for (const Rule& r : rules)
     if (!r.applies && option_given(a, r.opt)) {
@@ -590,6 +608,15 @@ bool parse_predictor_args(const char* cmd, const PredictorArgs& a, PredictorConf
   cfg->any_hit_only = a.predict_kinds == "any-hit";
   TableConfig& t = cfg->table;
   t.nodes_per_entry = a.nodes_per_entry;
+  t.conf_bits = a.confidence_bits;
+  t.conf_threshold = a.confidence_threshold;
+  if (t.conf_bits > 0 && uint32_t(t.conf_threshold) > t.conf_max()) {
+    std::fprintf(stderr,
+                 "hrpp %s: --confidence-threshold %d: with %d confidence bits the threshold must "
+                 "be 1..%u\n",
+                 cmd, t.conf_threshold, t.conf_bits, t.conf_max());
+    return false;
+  }
   if (a.table == "unbounded") {
     t.unbounded = true;
   } else if (!parse_wxh(a.table, &t.sets, &t.ways)) {
@@ -647,9 +674,13 @@ std::string predictor_line(const PredictorArgs& a, const PredictorConfig& cfg, u
       a.hash.c_str(), hash.c_str(), h.key_bits(),
       t.unbounded ? "unbounded" : (std::to_string(t.sets) + "x" + std::to_string(t.ways)).c_str(),
       t.nodes_per_entry, t.node_bits, used.c_str(), cfg.go_up, a.mode.c_str());
-  // Only when restricted, so that the line of every other configuration stays as it was.
-  if (cfg.any_hit_only) return std::string(b) + ", any-hit rays only";
-  return b;
+  std::string line = b;
+  // Only when set, so that the line of every other configuration stays as it was.
+  if (t.conf_bits > 0)
+    line += ", confidence " + std::to_string(t.conf_bits) + (t.conf_bits == 1 ? " bit" : " bits") +
+            " (threshold " + std::to_string(t.conf_threshold) + ")";
+  if (cfg.any_hit_only) line += ", any-hit rays only";
+  return line;
 }
 
 }  // namespace hrpp::cli

@@ -82,6 +82,7 @@ struct PredictorArgs {
   int precision = 6, exp_bits = 3, origin_bits = 5, dir_bits = 3;
   uint32_t go_up = 0, nodes_per_entry = 1;
   int tag_bits = -1;
+  int confidence_bits = 0, confidence_threshold = 1;  // TableConfig::conf_bits, conf_threshold
   // --preset: a named preset (preset_names(): rtl-NAME, micro21, study2019) or a JSON file; after
   // resolve_preset, `preset` is the named preset in effect (a file's base "preset", or empty),
   // `preset_file` the file and `label` what reports call the configuration.

@@ -22,15 +22,19 @@ namespace hrpp {
 
 /// The cycle models' self-check (CycleModel, LanesCycleModel): every request in `requests` up to
 /// `written` (by sequence number; the requests dropped before it too) is applied to `requested`,
-/// the golden model's table with every request applied, and popped; each set they touch must
-/// then equal `table`'s. The first difference is written to *error (if it is empty).
+/// the golden model's table with every request applied (updates, and demotes with confidence
+/// bits), and popped; each set they touch must then equal `table`'s (confidence counters too).
+/// The first difference is written to *error (if it is empty).
 template <typename Op>
 void check_against_requests(std::deque<Op>& requests, const Op& written, PredTable& requested,
                             const PredTable& table, uint32_t ways, std::string* error) {
   std::vector<uint32_t> sets;
   while (!requests.empty() && requests.front().seq <= written.seq) {
     const Op& op = requests.front();
-    requested.update(op.idx, op.tag, 0, op.node);
+    if (op.demote)
+      requested.demote(op.idx, op.tag, 0);
+    else
+      requested.update(op.idx, op.tag, 0, op.node);
     sets.push_back(op.idx);
     requests.pop_front();
   }
@@ -40,7 +44,7 @@ void check_against_requests(std::deque<Op>& requests, const Op& written, PredTab
       const Way& b = requested.way(s, i);
       bool same = a.valid == b.valid && table.age(s, i) == requested.age(s, i);
       if (a.valid && same) {
-        same = a.tag == b.tag && a.count == b.count;
+        same = a.tag == b.tag && a.count == b.count && a.conf == b.conf;
         for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
       }
       if (!same && error->empty())
@@ -63,6 +67,8 @@ struct CycleConfig {
   /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
   /// cycle_model_lanes.h).
   int lanes = 1;
+  // table.conf_bits: 0, or 1 with threshold 1 (ConfBits: a confidence bit per way, demotes from
+  // final outcomes of predicted rays that missed; hrpp_top only).
   std::string validate() const;
 };
 
@@ -140,8 +146,13 @@ class CycleModel {
     uint32_t idx = 0;
     uint64_t tag = 0;
     uint32_t node = 0;
-    uint64_t seq = 0;  // the request's number in the order the update queue took them
-    bool same_update(const Op& o) const { return idx == o.idx && tag == o.tag && node == o.node; }
+    uint64_t seq = 0;     // the request's number in the order the update queue took them
+    bool demote = false;  // a demote (confidence bits), not an update
+    /// The same request: a demote of the same set and tag, or an update of the same set, tag
+    /// and node (hrpp_pred_table's wr_same_as_t0 / t1).
+    bool same_update(const Op& o) const {
+      return idx == o.idx && tag == o.tag && demote == o.demote && (demote || node == o.node);
+    }
   };
   struct KeyEntry {
     uint32_t idx = 0;
@@ -154,6 +165,7 @@ class CycleModel {
     bool hit = false;
     uint32_t node = 0;
     KeyEntry key;
+    bool demote = false;  // F0: the final outcome requests a demote (confidence bits)
   };
   struct Decision {  // what P0 and F0 do this cycle (combinational in the RTL)
     Action action = Action::kFull;
@@ -194,6 +206,7 @@ class CycleModel {
   std::array<std::optional<Pred>, kLookupLatency> d_;
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;      // no reset, as in the RTL
+  std::vector<uint8_t> pred_given_;      // by id: the ray was given a prediction (ConfBits)
   std::vector<bool> key_store_written_;  // since the last reset
   std::string error_;
   CycleStats stats_;

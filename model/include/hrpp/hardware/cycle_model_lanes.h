@@ -56,7 +56,8 @@ class LanesCycleModel {
     uint32_t idx = 0;  // the full set index (bank = idx mod lanes)
     uint64_t tag = 0;
     uint32_t node = 0;
-    uint64_t seq = 0;  // the request's number in the order its bank took them
+    uint64_t seq = 0;     // the request's number in the order its bank took them
+    bool demote = false;  // never: lanes have no confidence bits (check_against_requests reads it)
     bool same_update(const Op& o) const { return idx == o.idx && tag == o.tag && node == o.node; }
   };
   struct KeyEntry {

@@ -52,7 +52,8 @@ struct RtlConfig {
            std::to_string(table.sets) + "x" + std::to_string(table.ways) +
            " table, K=" + std::to_string(table.nodes_per_entry) + ", " +
            std::to_string(table.tag_bits) + "-bit tags" +
-           (lanes > 1 ? ", " + std::to_string(lanes) + " lanes" : "");
+           (lanes > 1 ? ", " + std::to_string(lanes) + " lanes" : "") +
+           (table.conf_bits > 0 ? ", confidence bit" : "");
   }
   /// The predictor of this configuration (go-up 0, closest-exact mode).
   PredictorConfig predictor() const {
@@ -102,6 +103,8 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.table.ways = d.ways;
   c.table.nodes_per_entry = d.nodes_per_entry;
   c.table.tag_bits = d.tag_bits;
+  c.table.conf_bits = d.confidence_bits;  // 0 or 1 (the generator refuses more), threshold 1
+  c.table.conf_threshold = 1;
   c.table.node_bits = d.node_id_width;
   c.table.key_bits = c.hash.key_bits();
   c.node_id_width = d.node_id_width;

@@ -1,7 +1,8 @@
 // The predictor table (docs/hash.md, "Predictor table"). Finite: S sets x W ways, each way a
-// valid bit, a tag, a node count and up to K node ids in most-recently-used-first order; each set
-// has W age counters for true LRU replacement of ways. Unbounded: one entry per key (the limit
-// study). This class is shared by the untimed model and the cycle model.
+// valid bit, a tag, a node count, up to K node ids in most-recently-used-first order and a C-bit
+// confidence counter (C = 0: none); each set has W age counters for true LRU replacement of ways.
+// Unbounded: one entry per key (the limit study). This class is shared by the untimed model and
+// the cycle model.
 #pragma once
 
 #include <array>
@@ -24,13 +25,19 @@ struct TableConfig {
                                  // different keys of one set may alias: documented, counted as
                                  // false positives when the prediction fails)
   int key_bits = 30;             // unbounded table: the whole key is stored
+  // Confidence (docs/hash.md, "Confidence"): a C-bit saturating counter per way (0..3 bits; 0:
+  // none, every entry predicts); an entry predicts only when its counter is >= the threshold T
+  // (1..2^C - 1; unused when C = 0).
+  int conf_bits = 0;       // C
+  int conf_threshold = 1;  // T
 
   std::string validate() const;
   /// Bits of storage, counted as the RTL stores them.
-  int count_bits() const;     // node count field: ceil(log2(K + 1))
-  int age_bits() const;       // per way: ceil(log2(W))
-  int entry_bits() const;     // valid + tag + count + K node ids (+ the key for unbounded)
-  uint64_t set_bits() const;  // W entries + W ages
+  int count_bits() const;  // node count field: ceil(log2(K + 1))
+  int age_bits() const;    // per way: ceil(log2(W))
+  int entry_bits() const;  // valid + tag + count + K node ids + C (the key for unbounded)
+  uint32_t conf_max() const { return (1u << conf_bits) - 1; }  // the counter's saturation
+  uint64_t set_bits() const;                                   // W entries + W ages
   uint64_t total_bits(uint64_t unbounded_entries = 0) const;
 };
 
@@ -38,9 +45,11 @@ struct TableConfig {
 int node_bits_for(size_t num_nodes);
 
 struct Prediction {
-  uint32_t count = 0;
+  uint32_t count = 0;                               // 0 also when suppressed
   std::array<uint32_t, kMaxNodesPerEntry> nodes{};  // MRU first
   int way = -1;                                     // finite table: the way that matched
+  uint32_t conf = 0;        // the matching entry's confidence counter (0 when none matched)
+  bool suppressed = false;  // an entry matched, its counter below the threshold: no prediction
 };
 
 struct Way {
@@ -48,21 +57,29 @@ struct Way {
   uint64_t tag = 0;
   uint32_t count = 0;
   std::array<uint32_t, kMaxNodesPerEntry> nodes{};
+  uint32_t conf = 0;  // the confidence counter (always 0 when conf_bits = 0)
 };
 
 class PredTable {
  public:
   explicit PredTable(const TableConfig& cfg);
 
-  /// Read-only lookup.
+  /// Read-only lookup. A matching entry whose confidence counter is below the threshold returns
+  /// no nodes (count 0, `suppressed`; `way` and `conf` are still set).
   Prediction lookup(uint32_t index, uint64_t tag, uint64_t key) const;
   /// The part of a tag the table stores (its low tag_bits bits).
   uint64_t stored_tag(uint64_t tag) const;
   /// Update after a ray's walk: `node` becomes the most recently used node of the key's entry
   /// (moved to the front if present, else inserted at the front, the LRU node dropped when the
   /// entry is full). A missing entry is allocated (the first invalid way of the set, else the
-  /// least recently used way). The way becomes the set's most recently used.
+  /// least recently used way). The way becomes the set's most recently used. Confidence: when
+  /// `node` was already in the entry's list, the counter counts up (saturating); when it is
+  /// inserted (or the entry allocated), the counter becomes 0.
   void update(uint32_t index, uint64_t tag, uint64_t key, uint32_t node);
+  /// A prediction the ray was given failed and the ray wrote nothing: the matching entry's
+  /// confidence counter counts down (saturating at 0). Nothing else changes: no recency change,
+  /// no allocation; no entry, or conf_bits = 0: nothing at all. Returns whether an entry matched.
+  bool demote(uint32_t index, uint64_t tag, uint64_t key);
 
   void clear();
   uint64_t entries_used() const;

@@ -83,7 +83,12 @@ struct PredictStats {
   uint64_t baseline_wrong_results = 0;
   uint64_t exact_mismatches = 0;  // exact modes: answer differs from the baseline (must be 0)
   uint64_t baseline_hits = 0;
-  uint64_t table_updates = 0;   // rays whose outcome wrote the table
+  uint64_t table_updates = 0;  // rays whose outcome wrote the table
+  // Confidence (TableConfig::conf_bits > 0; always 0 without): rays whose failed prediction
+  // demoted their entry (PredTable::demote, requested: the entry may be gone when it lands), and
+  // lookups whose matching entry was below the threshold (no prediction given).
+  uint64_t table_demotes = 0;
+  uint64_t suppressed_lookups = 0;
   uint64_t unoffered_rays = 0;  // any_hit_only: closest-hit rays never offered to the predictor
   uint64_t baseline_ns = 0;     // measure_time: CPU time of the baseline walks
   uint64_t hrpp_ns = 0;         // measure_time: hash, lookup, predicted and full walks, update
@@ -104,7 +109,16 @@ struct RayResult {
   Counters base_counters, hrpp_counters;
   HashKey key;
   uint32_t update_node = kNoNode;  // what was written to the table (kNoNode: nothing)
+  bool demoted = false;            // a demote was requested (failed prediction, nothing written)
+  bool suppressed = false;         // the matching entry was below the confidence threshold
 };
+
+/// The confidence rule's demote (docs/predictor.md, "One ray"): with confidence counters, a ray
+/// that was given a prediction (er.predicted) that failed (not verified) and that has no node to
+/// write (update_node returned kNoNode) demotes its entry.
+inline bool demotes(const TableConfig& t, bool predicted, bool verified, uint32_t update_node) {
+  return t.conf_bits > 0 && predicted && !verified && update_node == kNoNode;
+}
 
 class Predictor {
  public:
@@ -131,6 +145,7 @@ class Predictor {
     uint32_t index;
     uint64_t tag, key;
     uint32_t node;
+    bool demote = false;  // a demote (PredTable::demote), not an update
   };
   std::deque<PendingUpdate> pending_;  // update_delay > 0: writes not yet in the table
   uint64_t issued_ = 0;                // rays processed (valid or not)

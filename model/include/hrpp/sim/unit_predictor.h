@@ -48,8 +48,13 @@ struct UnitPredictorStats {
   uint64_t stall_cycles = 0;  // cycles in which a ray waited to enter and none was taken
   uint64_t entry_wait = 0;    // sum over the rays of the cycles they waited to enter
   uint64_t updates = 0;       // table writes
-  uint64_t mismatches = 0;    // --rtl: cycles in which the RTL's outputs differed from the model's
-  uint64_t bypassed = 0;      // rays that gave up waiting to enter (SimOptions::entry_timeout)
+  // Confidence counters (TableConfig::conf_bits > 0): demote requests (a predicted ray whose
+  // predicted walks found no hit and whose outcome is a miss), and lookups whose matching entry
+  // was below the threshold (TimedPredictor only: the RTL's ports do not show them).
+  uint64_t demotes = 0;
+  uint64_t suppressed_lookups = 0;
+  uint64_t mismatches = 0;  // --rtl: cycles in which the RTL's outputs differed from the model's
+  uint64_t bypassed = 0;    // rays that gave up waiting to enter (SimOptions::entry_timeout)
 };
 
 class UnitPredictor {
@@ -92,7 +97,9 @@ class CyclePortModel : public PortModel {
 /// decisions always accepted.
 class PortPredictor : public UnitPredictor {
  public:
-  PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model, int id_bits);
+  /// `confidence`: the model's table has confidence counters (counts demotes in the stats).
+  PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model, int id_bits,
+                bool confidence = false);
   void cycle(uint64_t now, UnitIo* io) override;
   bool busy() const override;
   const UnitPredictorStats& stats() const override { return stats_; }
@@ -107,6 +114,8 @@ class PortPredictor : public UnitPredictor {
   std::vector<uint8_t> in_use_;                           // by id
   std::optional<std::pair<uint32_t, uint32_t>> offered_;  // id, ray
   std::unordered_map<uint32_t, uint32_t> id_of_;          // ray (stream index) -> id
+  bool confidence_;
+  std::vector<uint8_t> predicted_;  // by id: given a prediction, its predicted walks found no hit
   UnitPredictorStats stats_;
   std::string error_;
 };
@@ -152,6 +161,12 @@ class TimedPredictor : public UnitPredictor {
     uint64_t due;
     HashKey key;
     uint32_t node;
+    bool demote = false;  // PredTable::demote (confidence), not an update
+  };
+  struct Held {  // a ray taken and not yet finished
+    HashKey key;
+    bool predicted = false;  // given a prediction (count > 0)
+    bool pw_hit = false;     // its predicted walks found a hit
   };
   Prediction predict(uint32_t ray);
   const Bvh& bvh_;
@@ -162,8 +177,8 @@ class TimedPredictor : public UnitPredictor {
   std::deque<Pending> preds_;
   std::deque<Decision> decisions_;
   std::deque<Write> writes_;
-  std::unordered_map<uint32_t, HashKey> key_of_;  // rays held: their keys, for the table write
-  uint64_t held_ = 0;                             // rays taken, not yet finished (credits)
+  std::unordered_map<uint32_t, Held> held_of_;  // rays held: their keys, for the table write
+  uint64_t held_ = 0;                           // rays taken, not yet finished (credits)
   UnitPredictorStats stats_;
 };
 
