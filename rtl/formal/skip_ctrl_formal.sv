@@ -44,6 +44,7 @@ module skip_ctrl_formal
   input logic                   ksp_any_hit_i,
   input logic [IdxWidth-1:0]    ksf_idx_i,
   input logic [TagWidth-1:0]    ksf_tag_i,
+  input logic                   ksf_pred_i,  // free; ignored with the default ConfBits = 0
   input logic                   tbl_wr_ready_i,
   input logic                   tbl_wr2_ready_i,
   input logic                   skip_ready_i,
@@ -72,6 +73,7 @@ module skip_ctrl_formal
   end
 
   logic                   pw_ready_o, outcome_ready_o, tbl_wr_valid_o, tbl_wr2_valid_o;
+  logic                   tbl_wr_demote_o;  // never set with ConfBits = 0
   logic                   skip_valid_o;
   logic [IdWidth-1:0]     ksp_id_o, ksf_id_o, skip_id_o;
   logic [IdxWidth-1:0]    tbl_wr_idx_o, tbl_wr2_idx_o;
