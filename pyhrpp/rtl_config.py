@@ -38,8 +38,10 @@ BOOLS = ("key_store_bram", "inject_fault")
 # (docs/microarchitecture.md, "Lanes"); one lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which
 # has hrpp_top's parameters and Lanes. dir_code: the improved hash's direction code (docs/hash.md).
 # confidence_bits: a confidence bit per table way (0 or 1: docs/hash.md, "Confidence", with
-# threshold 1; hrpp_top only).
-OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid", "confidence_bits": 0}
+# threshold 1; hrpp_top only). predict_kinds: which rays the RT unit offers the predictor ("all",
+# or "any-hit": shadow and AO rays only, as MICRO 2021's unit does); the rtl-NAME preset's
+# --predict-kinds (the RTL predicts whatever it is offered).
+OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid", "confidence_bits": 0, "predict_kinds": "all"}
 FIELDS = [f for f, _ in PARAMS if f not in OPTIONAL_FIELDS]
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
@@ -87,6 +89,8 @@ def _check(name: str, c: dict) -> None:
                           "applying it twice equals applying it once: a demote of a 1-bit "
                           "counter; more bits are the golden model's only, hrpp predict "
                           "--confidence-bits)")
+    if c["predict_kinds"] not in ("all", "any-hit"):
+        raise ConfigError(f"configuration {name}: predict_kinds must be \"all\" or \"any-hit\"")
     if c["lanes"] != 1 and conf:
         raise ConfigError(f"configuration {name}: confidence_bits is not available with lanes > 1 "
                           "(hrpp_lanes has no confidence bits)")
@@ -199,6 +203,8 @@ def predict_options(c: dict, parts: tuple[str, ...] = ("hash", "table")) -> dict
         if c.get("confidence_bits", 0):  # only when set: every other configuration's as before
             o["confidence-bits"] = str(c["confidence_bits"])
             o["confidence-threshold"] = "1"
+    if "kinds" in parts and c.get("predict_kinds", "all") != "all":
+        o["predict-kinds"] = c["predict_kinds"]
     return o
 
 
@@ -213,5 +219,6 @@ def describe(c: dict) -> str:
         h += f" {c['dir_code']}"
     lanes = f", {c['lanes']} lanes" if c.get("lanes", 1) != 1 else ""
     conf = ", confidence bit" if c.get("confidence_bits", 0) else ""
+    kinds = ", any-hit rays only" if c.get("predict_kinds", "all") != "all" else ""
     return (f"{c['sets']}x{c['ways']}x{c['nodes_per_entry']}, tag {c['tag_bits']}, {h} "
-            f"{c['combine']}{lanes}{conf}")
+            f"{c['combine']}{lanes}{conf}{kinds}")

@@ -12,7 +12,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "Vhrpp_conf.h"
 #include "Vhrpp_default.h"
 #include "Vhrpp_default_x2.h"
 #include "Vhrpp_default_x4.h"
@@ -20,6 +19,7 @@
 #include "Vhrpp_mobile.h"
 #include "Vhrpp_mutant.h"
 #include "Vhrpp_oct.h"
+#include "Vhrpp_secondary.h"
 #include "Vhrpp_small.h"
 #include "hrpp/hardware/cycle_model.h"
 

@@ -235,6 +235,19 @@ TEST(Presets, RtlDefaultIsTheRtlConfiguration) {
   EXPECT_FALSE(c.any_hit_only);
 }
 
+// A configuration with predict_kinds "any-hit" (secondary) sets its preset's ray kinds; the
+// others leave them to the caller (above).
+TEST(Presets, RtlSecondaryPredictsAnyHitRaysOnly) {
+  const RtlConfig rc = rtl_config("secondary");
+  EXPECT_TRUE(rc.any_hit_only);
+  EXPECT_EQ(rc.table.conf_bits, 1);
+  const PredictorPreset p = predictor_preset("rtl-secondary");
+  ASSERT_TRUE(p.any_hit_only.has_value());
+  EXPECT_TRUE(*p.any_hit_only);
+  EXPECT_TRUE(apply_preset(p, PredictorConfig{}).any_hit_only);
+  EXPECT_FALSE(rtl_config("mobile").any_hit_only);
+}
+
 TEST(Presets, Micro21AndStudy2019) {
   const PredictorConfig m = apply_preset(predictor_preset("micro21"));
   EXPECT_EQ(m.hash.variant, HashVariant::kMicro21);

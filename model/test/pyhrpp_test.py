@@ -187,6 +187,22 @@ class RtlConfig(unittest.TestCase):
         self.assertEqual(rtl_config.predict_args(conf, ("table",))[-4:],
                          ["--confidence-bits", "1", "--confidence-threshold", "1"])
 
+    def test_predict_kinds(self):
+        """predict_kinds: "all" when absent; "any-hit" reaches the predict options (with the
+        "kinds" part) and the description, not the RTL's parameters."""
+        data = self.load({"default": self.BASE,
+                          "sec": {"base": "default", "predict_kinds": "any-hit"}})
+        default, sec = (rtl_config.config(n, data) for n in ("default", "sec"))
+        self.assertEqual((default["predict_kinds"], sec["predict_kinds"]), ("all", "any-hit"))
+        self.assertEqual(rtl_config.hrpp_top_params(default), rtl_config.hrpp_top_params(sec))
+        self.assertNotIn("--predict-kinds", rtl_config.predict_args(default, ("kinds",)))
+        self.assertEqual(rtl_config.predict_args(sec, ("kinds",)), ["--predict-kinds", "any-hit"])
+        self.assertNotIn("--predict-kinds", rtl_config.predict_args(sec))
+        self.assertIn("any-hit rays only", rtl_config.describe(sec))
+        with self.assertRaises(rtl_config.ConfigError) as e:
+            self.load({"default": {**self.BASE, "predict_kinds": "shadow"}})
+        self.assertIn("predict_kinds must be", str(e.exception))
+
     def test_the_project_file_loads(self):
         self.assertIn("default", rtl_config.load()["configurations"])
 

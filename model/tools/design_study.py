@@ -9,8 +9,7 @@ kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md
 
 A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
 (out/design_study/presets/NAME.json); its "sim_options" are `hrpp simulate`'s own (e.g.
-"entry_timeout"), its "gpus" limit it to some GPU configurations. Ray kinds
-as in sim_results.py (primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an
+"entry_timeout"), its "gpus" limit it to some GPU configurations. Ray kinds as in sim_results.py (primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an
 empty table. The first design (on every GPU) also runs the oracle. Storage: the table's bits as
 the golden model counts them (the largest over the scenes: node ids are as wide as the scene's
 BVH needs, 21 bits on happy_buddha_full; an rtl-NAME preset's are its configuration's).
@@ -52,7 +51,8 @@ def load_designs(path):
             if base is None:
                 raise SystemExit(f"design_study: {path}: {d['name']}: ablation_of "
                                  f"{d['ablation_of']!r} is not an earlier design")
-            opts = {**base["options"], **opts}
+            # null removes an option of the base design's
+            opts = {k: v for k, v in {**base["options"], **opts}.items() if v is not None}
             d = {**d, "sim_options": {**base.get("sim_options", {}), **d.get("sim_options", {})}}
         designs.append({**d, "options": opts})
     for k in ("winner", "baseline"):

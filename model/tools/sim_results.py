@@ -9,7 +9,7 @@ scene x ray kind x preset x GPU configuration, and the tables of docs/results.md
 Ray kinds, each simulated alone (`--kinds`, an empty table per run): primary; shadow (scenes
 with lights); ao: MICRO 2021's ambient occlusion (cosine hemisphere, unbounded, 1 spp); ao-short:
 the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-default, rtl-mobile
-(1,024 ray ids); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
+(1,024 ray ids), rtl-secondary (issue 17's winner: any-hit rays only, the confidence bit); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
 group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of all
 kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
 
@@ -42,7 +42,7 @@ KIND_TITLES = {
     "ao": "ambient occlusion as MICRO 2021 (cosine hemisphere, unbounded length, 1 spp)",
     "ao-short": "short ambient occlusion (5% of the scene diagonal)",
 }
-PRESETS = ["study2019", "micro21", "rtl-default", "rtl-mobile"]
+PRESETS = ["study2019", "micro21", "rtl-default", "rtl-mobile", "rtl-secondary"]
 RTL_PRESETS = [p for p in PRESETS if p.startswith("rtl-")]  # the RTL's cycle model: ray ids
 REPACK = ["micro21"] + RTL_PRESETS  # AO runs with --repack too
 MICRO21_AO_GAIN = 0.26  # MICRO 2021's geometric-mean AO speed-up (Liu et al., abstract)
@@ -170,7 +170,7 @@ def gpu_block(res, gpu, scenes, args):
              "cycles with no predictor / cycles with the preset, each ray kind simulated alone "
              "(an empty table at the start). Stall cycles: unit cycles in which a ray waited to "
              "enter the RTL predictor and none was taken (its ray ids all in use: 64 in "
-             "rtl-default, 1,024 in rtl-mobile; or its input pipeline full)."]
+             "rtl-default, 1,024 in rtl-mobile and rtl-secondary; or its input pipeline full)."]
     means = {}
     for kind in KINDS:
         table, g = kind_table(res, gpu, scenes, kind)

@@ -119,6 +119,7 @@ def cpp_header(data: dict) -> str:
             "  bool key_store_bram;  // +1 cycle of decision and update latency",
             "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle",
             "  int confidence_bits;  // a confidence bit per table way (threshold 1): 0 or 1",
+            "  bool any_hit_only;  // the RT unit offers any-hit rays only (predict_kinds any-hit)",
             "};",
             "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
@@ -132,7 +133,8 @@ def cpp_header(data: dict) -> str:
             f"{c['skip_fifo_depth']}, {c['update_queue_depth']}, "
             f"{'true' if c['key_store_bram'] else 'false'}, "
             f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}, "
-            f"{c['confidence_bits']}}},")
+            f"{c['confidence_bits']}, "
+            f"{'true' if c['predict_kinds'] == 'any-hit' else 'false'}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]

@@ -23,6 +23,7 @@ PredictorPreset predictor_preset(const std::string& name) {
     p.hash = rc.hash;
     p.table = rc.table;
     p.tag_bits = rc.table.tag_bits;
+    if (rc.any_hit_only) p.any_hit_only = true;  // else left to the caller, as before
     return p;
   }
   if (name == "micro21") {

@@ -32,6 +32,7 @@ struct RtlConfig {
   bool key_store_bram = false;  // KeyStoreBram: one cycle more of decision and update latency
   bool inject_fault = false;    // test only (the "mutant" configuration)
   int lanes = 1;                // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
+  bool any_hit_only = false;    // predict_kinds "any-hit": the unit offers any-hit rays only
 
   /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
   /// the declared ones, and one cycle more with the key store in block RAM (its registered read).
@@ -104,6 +105,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.table.nodes_per_entry = d.nodes_per_entry;
   c.table.tag_bits = d.tag_bits;
   c.table.conf_bits = d.confidence_bits;  // 0 or 1 (the generator refuses more), threshold 1
+  c.any_hit_only = d.any_hit_only;
   c.table.conf_threshold = 1;
   c.table.node_bits = d.node_id_width;
   c.table.key_bits = c.hash.key_bits();
