@@ -175,21 +175,28 @@ formal: setup-venv
 synth-sweep: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only
 
-# The synthesized generic netlist of the default configuration through the parity testbench.
+# The synthesized generic netlists of the default and secondary configurations through the parity
+# testbench.
 # Not in `make test`: it needs a Yosys run and a Verilator build of the gate-level netlist (about
 # 2 to 4 minutes) whenever the RTL changes, and verilate() needs the netlist at configure time.
+# Each configuration of SYNTH_CHECK_CONFIGS in turn (secondary: issue 17's winner).
 NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
+SYNTH_CHECK_CONFIGS ?= default secondary
 synth-check: build
-	$(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs default
-	cmake -S . -B $(BUILD) > /dev/null
-	cmake --build $(BUILD) --target tb_hrpp_netlist -j $(JOBS)
-	@set -o pipefail; for r in $(NETLIST_RUNS); do set -- $$r; \
-	  $(BUILD)/tb_hrpp_netlist --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 --go-up 1 \
-	    --config default | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; done
-	@if [ -f $(SHARED)/scenes/bunny.glb ]; then set -o pipefail; \
-	  $(BUILD)/tb_hrpp_netlist --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config default \
-	    --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
-	else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi
+	@set -e; for c in $(SYNTH_CHECK_CONFIGS); do \
+	  echo "synth-check: configuration $$c"; \
+	  $(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs $$c; \
+	  cmake -S . -B $(BUILD) -DHRPP_NETLIST_CONFIG=$$c > /dev/null; \
+	  cmake --build $(BUILD) --target tb_hrpp_netlist -j $(JOBS); \
+	  set -o pipefail; for r in $(NETLIST_RUNS); do set -- $$r; \
+	    $(BUILD)/tb_hrpp_netlist --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 \
+	      --go-up 1 --config $$c | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
+	  done; \
+	  if [ -f $(SHARED)/scenes/bunny.glb ]; then \
+	    $(BUILD)/tb_hrpp_netlist --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config $$c \
+	      --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
+	  else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi; \
+	done
 
 # ---------------------------------------------------------------------------------------------
 # What accuracy costs in time (docs/cost_model.md, model/tools/sweep.py): predictor parameters

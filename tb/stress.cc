@@ -107,9 +107,23 @@ StressStream make_stress_stream(StressKind kind, const Scene& scene, const HashC
           if (validate_ray(v.ray) == RayError::kNone && hash_ray(v.ray, hash).key == k0.key) r = v;
         }
         break;
-      case StressKind::kEvict:
+      case StressKind::kEvict: {
+        // Aimed rays reach few direction codes of a coarse hash (a flat scene seen from inside
+        // its bounds); every second ray takes a uniform random direction instead, so that the
+        // keys outnumber the table's entries for every configuration's hash.
         r = aimed_ray(scene, rng, pos);
+        if (pos % 2 == 1) {
+          std::normal_distribution<float> g(0, 1);
+          for (Vec3 d;;) {
+            d = Vec3(g(rng), g(rng), g(rng));
+            if (glm::length(d) > 1e-3f) {
+              r.ray.dir = d / glm::length(d);
+              break;
+            }
+          }
+        }
         break;
+      }
       case StressKind::kSpread: {
         auto& want = by_set_mod4[pos % 4];
         while (want.empty()) {
