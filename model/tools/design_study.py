@@ -19,18 +19,15 @@ study-designs, study-ablation and study-goal of --doc.
 """
 import argparse
 import json
-import math
 import os
 import pathlib
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 sys.path.insert(0, str(ROOT / "model" / "tools"))
 from pyhrpp.docs import update_blocks  # noqa: E402
-from sim_results import KINDS, fx, geomean, label, pct, run, scenes_of  # noqa: E402
+from sim_results import KINDS, fx, geomean, label, pct, run_all, scenes_of  # noqa: E402
 
 KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
 
@@ -252,25 +249,7 @@ def main():
     scenes = scenes_of(args.shared, args.scenes)
     out = pathlib.Path(args.out)
     tasks = tasks_for(args, scenes, designs, out)
-    res, errors = {}, []
-    t0 = time.time()
-    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        futs = [pool.submit(run, t, args.resume) for t in tasks]
-        for n, f in enumerate(as_completed(futs), 1):
-            key, data, secs, err = f.result()
-            if err:
-                errors.append(err)
-                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
-                continue
-            res[key] = data
-            sp = f"{data['speedup']:.3f}x" if "speedup" in data else data.get("unsupported", "")
-            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
-                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
-    if errors:
-        for e in errors:
-            print(e, file=sys.stderr)
-        raise SystemExit(f"design_study: {len(errors)} of {len(tasks)} runs failed; "
-                         "docs untouched")
+    res = run_all(tasks, args.jobs, args.resume, "design_study")
     gpus = args.gpu.split(",")
     summ = summarize(res, gpus, scenes, designs)
     out.mkdir(parents=True, exist_ok=True)

@@ -111,6 +111,30 @@ def run(task, resume):
     return key, json.loads(path.read_text()), time.time() - t0, None
 
 
+def run_all(tasks, jobs, resume, tool):
+    """Every task on `jobs` threads, with a progress line per run; {key: report}. Exits naming
+    the failed runs (the docs untouched) when any failed."""
+    res, errors = {}, []
+    t0 = time.time()
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futs = [pool.submit(run, t, resume) for t in tasks]
+        for n, f in enumerate(as_completed(futs), 1):
+            key, data, secs, err = f.result()
+            if err:
+                errors.append(err)
+                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
+                continue
+            res[key] = data
+            sp = f"{data['speedup']:.3f}x" if "speedup" in data else data.get("unsupported", "")
+            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
+                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
+    if errors:
+        for e in errors:
+            print(e, file=sys.stderr)
+        raise SystemExit(f"{tool}: {len(errors)} of {len(tasks)} runs failed; docs untouched")
+    return res
+
+
 def geomean(xs):
     xs = [x for x in xs if x and x > 0]
     return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
@@ -245,24 +269,7 @@ def main():
     scenes = scenes_of(args.shared, args.scenes)
     out = pathlib.Path(args.out)
     tasks = tasks_for(args, scenes, out)
-    res, errors = {}, []
-    t0 = time.time()
-    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        futs = [pool.submit(run, t, args.resume) for t in tasks]
-        for n, f in enumerate(as_completed(futs), 1):
-            key, data, secs, err = f.result()
-            if err:
-                errors.append(err)
-                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
-                continue
-            res[key] = data
-            sp = f"{data['speedup']:.3f}x" if "speedup" in data else data.get("unsupported", "")
-            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
-                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
-    if errors:
-        for e in errors:
-            print(e, file=sys.stderr)
-        raise SystemExit(f"sim_results: {len(errors)} of {len(tasks)} runs failed; docs untouched")
+    res = run_all(tasks, args.jobs, args.resume, "sim_results")
     gpus = args.gpu.split(",")
     blocks, summary = {}, {"res": args.res, "gpus": gpus, "geomean": {}}
     cmd = (f"make sim-results SIM_RES={args.res}" if args.gpu == "mobile,desktop"
