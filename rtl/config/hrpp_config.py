@@ -168,8 +168,8 @@ def check_preset(hrpp: str, scene: str, data: dict) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for name, c in data["configurations"].items():
             for extra in ({}, {"table": "64x4"}):
-                explicit = [x for k, v in {**predict_options(c), **extra}.items()
-                            for x in (f"--{k}", v)]
+                opts = {**predict_options(c, ("hash", "table", "kinds")), **extra}
+                explicit = [x for k, v in opts.items() for x in (f"--{k}", v)]
                 over = [x for k, v in extra.items() for x in (f"--{k}", v)]
                 a = run(["--preset", f"rtl-{name}"] + over, Path(tmp) / "a.json")
                 b = run(explicit, Path(tmp) / "b.json")
