@@ -115,7 +115,7 @@ def main():
     # tb_hash --help prints help and does not run the test; a count still runs it.
     run([tb_hash, "--help"], 0, stdout_re=r"Usage:.*tb_hash.*\[count\]", limit=2,
         check=lambda p: ["ran the test"] if "mismatches" in p.stdout else [])
-    run([tb_hash, "1000"], 0, stdout_re=r"hash: \d+ vectors x 12 configurations, 0 mismatches",
+    run([tb_hash, "1000"], 0, stdout_re=r"hash: \d+ vectors x 13 configurations, 0 mismatches",
         limit=20)
     for tool in ("hrpp", "tb_hrpp", "hrpp_bench"):
         run([tools[tool], "--help"], 0, stdout_re=r"--version", limit=5)
