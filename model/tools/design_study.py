@@ -157,7 +157,8 @@ def designs_block(spec, designs, summ, gpus):
         cells += [fx(oracle[gpu][k]) for k in KINDS] + ["100.0%", ""]
     rows.append("| " + " | ".join(cells) + " |")
     legend = ["", "Designs (options as `hrpp simulate` takes them; timing: the golden predictor "
-              "behind the RTL's latencies unless the design is an rtl-NAME preset):", ""]
+              "behind the RTL's latencies, except `micro21` (its simulator's) and the rtl-NAME "
+              "presets (the RTL's cycle model)):", ""]
     for d in designs:
         if "ablation_of" in d:
             continue
