@@ -164,12 +164,12 @@ TEST(Sim, FewerWarpsPerUnitNeverGiveMoreThroughput) {
   }
 }
 
-SimOptions rtl_default(const World& w, PredictMode mode) {
+SimOptions rtl_default(const World& w, PredictMode mode, const char* config = "default") {
   SimOptions o;
   o.gpu = mobile();
   o.kind = sim::PredictorKind::kPort;
   o.pred.mode = mode;
-  EXPECT_EQ(rtl_config("default").cycle_for_scene(mode, w.scene, w.bvh, &o.cycle), "");
+  EXPECT_EQ(rtl_config(config).cycle_for_scene(mode, w.scene, w.bvh, &o.cycle), "");
   return o;
 }
 
@@ -257,9 +257,39 @@ TEST(Sim, RaysThatGiveUpEnteringWalkWithoutThePredictor) {
     EXPECT_GT(s.predictor.lookups, 0u) << timeout;
     EXPECT_EQ(s.predictor.lookups + s.predictor.bypassed, s.rays) << timeout;
     EXPECT_EQ(s.predict_total().exact_mismatches, 0u);
-    for (size_t i = 0; i < w.rays.size(); ++i)
-      if (validate_ray(w.rays[i].ray) == RayError::kNone)
+    for (size_t i = 0; i < w.rays.size(); ++i) {
+      if (validate_ray(w.rays[i].ray) == RayError::kNone) {
         ASSERT_TRUE(same_hit(answers[i], g.answers[i])) << "ray " << i;
+      }
+    }
+  }
+}
+
+// The multi-lane RTL configurations (hrpp_lanes' cycle model behind each lane's ports): every
+// ray is looked up on some lane and its messages go back on that lane (a message on another
+// lane would name an id that lane does not hold: an error), the answers stay the golden walks',
+// and with the RT units' rays spread over more lanes the rays wait fewer cycles to enter.
+TEST(Sim, LanesTakeEveryRayAndAnswerAsTheGoldenWalks) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  uint64_t wait_one_lane = 0;
+  for (const char* config : {"default", "default_x2", "default_x4"}) {
+    SimOptions o = rtl_default(w, PredictMode::kClosestExact, config);
+    std::vector<Hit> answers;
+    o.answers = &answers;
+    const SimStats s = run(w, o);
+    EXPECT_EQ(s.predictor.lookups, s.rays) << config;
+    EXPECT_EQ(s.predict_total().exact_mismatches, 0u) << config;
+    EXPECT_GT(s.predict_total().true_positive, 0u) << config;
+    for (size_t i = 0; i < w.rays.size(); ++i) {
+      if (validate_ray(w.rays[i].ray) == RayError::kNone) {
+        ASSERT_TRUE(same_hit(answers[i], g.answers[i])) << config << ", ray " << i;
+      }
+    }
+    if (o.cycle.lanes == 1)
+      wait_one_lane = s.predictor.entry_wait;
+    else
+      EXPECT_LT(s.predictor.entry_wait, wait_one_lane) << config;
   }
 }
 

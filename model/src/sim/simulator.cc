@@ -80,8 +80,13 @@ class Simulator {
     repack_since_.assign(g_.units, 0);
     if (opt.kind == PredictorKind::kPort) {
       for (uint32_t u = 0; u < g_.units; ++u) {
-        std::unique_ptr<PortModel> m =
-            opt.port_model ? opt.port_model(u) : std::make_unique<CyclePortModel>(opt.cycle);
+        std::unique_ptr<PortModel> m;
+        if (opt.port_model)
+          m = opt.port_model(u);
+        else if (opt.cycle.lanes > 1)
+          m = std::make_unique<LanesCyclePortModel>(opt.cycle);
+        else
+          m = std::make_unique<CyclePortModel>(opt.cycle);
         pred_.push_back(std::make_unique<PortPredictor>(rays, std::move(m), opt.cycle.id_bits,
                                                         opt.cycle.table.conf_bits > 0));
       }

@@ -1,6 +1,8 @@
 #include "hrpp/sim/unit_predictor.h"
 
+#include <algorithm>
 #include <bit>
+#include <functional>
 
 #include "hrpp/rtl_config_data.h"
 
@@ -10,19 +12,22 @@ namespace hrpp::sim {
 
 PortPredictor::PortPredictor(const std::vector<RayRecord>& rays, std::unique_ptr<PortModel> model,
                              int id_bits, bool confidence)
-    : rays_(rays),
-      model_(std::move(model)),
-      ray_of_(size_t{1} << id_bits, 0),
-      in_use_(size_t{1} << id_bits, 0),
-      confidence_(confidence),
-      predicted_(size_t{1} << id_bits, 0) {
-  for (uint32_t i = 0; i < (1u << id_bits); ++i) free_ids_.push_back(i);
+    : rays_(rays), model_(std::move(model)), confidence_(confidence) {
+  lanes_.resize(size_t(model_->lanes()));
+  for (Lane& l : lanes_) {
+    l.ray_of.assign(size_t{1} << id_bits, 0);
+    l.in_use.assign(size_t{1} << id_bits, 0);
+    l.predicted.assign(size_t{1} << id_bits, 0);
+    for (uint32_t i = 0; i < (1u << id_bits); ++i) l.free_ids.push_back(i);
+  }
 }
 
 bool PortPredictor::busy() const {
-  if (offered_) return true;
-  for (uint8_t u : in_use_)
-    if (u) return true;
+  for (const Lane& l : lanes_) {
+    if (l.offered) return true;
+    for (uint8_t u : l.in_use)
+      if (u) return true;
+  }
   return false;
 }
 
@@ -32,95 +37,126 @@ std::string PortPredictor::error() const {
 }
 
 void PortPredictor::cycle(uint64_t now, UnitIo* io) {
-  DutIn in;
-  // A ray, once offered, stays offered (same id and fields) until taken.
-  if (!offered_ && !io->entering.empty() && !free_ids_.empty()) {
-    offered_ = {free_ids_.front(), io->entering.front()};
-    free_ids_.pop_front();
-    io->entering.pop_front();
-  }
-  const bool waiting = offered_ || !io->entering.empty();
-  if (offered_) {
-    const RayRecord& r = rays_[offered_->second];
-    in.ray_valid = true;
-    in.ray_id = offered_->first;
-    in.ray_kind = static_cast<uint8_t>(r.kind);
-    for (int i = 0; i < 3; ++i) {
-      in.org[i] = std::bit_cast<uint32_t>(r.ray.org[i]);
-      in.dir[i] = std::bit_cast<uint32_t>(r.ray.dir[i]);
+  const size_t nl = lanes_.size();
+  std::vector<DutIn> in(nl);
+  // A ray, once offered, stays offered (same id and fields) until taken; each lane without one
+  // takes the next entering ray, lanes in order.
+  for (Lane& l : lanes_) {
+    if (!l.offered && !io->entering.empty() && !l.free_ids.empty()) {
+      l.offered = {l.free_ids.front(), io->entering.front()};
+      l.free_ids.pop_front();
+      io->entering.pop_front();
     }
   }
-  in.pred_ready = true;
-  in.skip_ready = true;
-  // The head of a message queue, offered on a port (held there until taken).
-  auto offer = [&](const std::deque<EngineMsg>& q, bool* valid, uint32_t* id, bool* hit,
-                   uint32_t* node) {
-    if (q.empty()) return;
-    *valid = true;
-    *id = id_of_.at(q.front().ray);
-    *hit = q.front().hit;
-    *node = q.front().node;
+  bool waiting = !io->entering.empty();
+  for (size_t k = 0; k < nl; ++k) {
+    const Lane& l = lanes_[k];
+    in[k].pred_ready = true;
+    in[k].skip_ready = true;
+    if (!l.offered) continue;
+    waiting = true;
+    const RayRecord& r = rays_[l.offered->second];
+    in[k].ray_valid = true;
+    in[k].ray_id = l.offered->first;
+    in[k].ray_kind = static_cast<uint8_t>(r.kind);
+    for (int i = 0; i < 3; ++i) {
+      in[k].org[i] = std::bit_cast<uint32_t>(r.ray.org[i]);
+      in[k].dir[i] = std::bit_cast<uint32_t>(r.ray.dir[i]);
+    }
+  }
+  // Per lane, the oldest message of its rays, offered on its port (held there until taken);
+  // at[k]: its place in the queue, or -1. One lane: the queue's head.
+  auto offer = [&](const std::deque<EngineMsg>& q, std::vector<int>* at, bool DutIn::*valid,
+                   uint32_t DutIn::*id, bool DutIn::*hit, uint32_t DutIn::*node) {
+    at->assign(nl, -1);
+    size_t open = nl;
+    for (size_t i = 0; i < q.size() && open > 0; ++i) {
+      const LaneId li = id_of_.at(q[i].ray);
+      if ((*at)[li.lane] >= 0) continue;
+      (*at)[li.lane] = int(i);
+      --open;
+      DutIn& d = in[li.lane];
+      d.*valid = true;
+      d.*id = li.id;
+      d.*hit = q[i].hit;
+      d.*node = q[i].node;
+    }
   };
-  offer(io->pw, &in.pw_valid, &in.pw_id, &in.pw_hit, &in.pw_node);
-  offer(io->outcomes, &in.outcome_valid, &in.outcome_id, &in.outcome_hit, &in.outcome_node);
-  const DutOut out = model_->outputs();
-  auto release = [&](uint32_t id) {
-    id_of_.erase(ray_of_[id]);
-    in_use_[id] = 0;
-    free_ids_.push_back(id);
-  };
+  std::vector<int> pw_at, outcome_at;
+  offer(io->pw, &pw_at, &DutIn::pw_valid, &DutIn::pw_id, &DutIn::pw_hit, &DutIn::pw_node);
+  offer(io->outcomes, &outcome_at, &DutIn::outcome_valid, &DutIn::outcome_id, &DutIn::outcome_hit,
+        &DutIn::outcome_node);
+  std::vector<int> pw_taken, outcomes_taken;  // places in the queues, removed after the lanes
   bool took = false;
-  if (in.ray_valid && out.ray_ready) {
-    const auto [id, ray] = *offered_;
-    ray_of_[id] = ray;
-    in_use_[id] = 1;
-    id_of_[ray] = id;
-    offered_.reset();
-    stats_.lookups++;
-    took = true;
+  for (size_t k = 0; k < nl; ++k) {
+    Lane& l = lanes_[k];
+    const DutOut out = model_->outputs(int(k));
+    auto release = [&](uint32_t id) {
+      id_of_.erase(l.ray_of[id]);
+      l.in_use[id] = 0;
+      l.free_ids.push_back(id);
+    };
+    if (in[k].ray_valid && out.ray_ready) {
+      const auto [id, ray] = *l.offered;
+      l.ray_of[id] = ray;
+      l.in_use[id] = 1;
+      id_of_[ray] = {uint32_t(k), id};
+      l.offered.reset();
+      stats_.lookups++;
+      took = true;
+    }
+    const std::string where = nl > 1 ? " on lane " + std::to_string(k) : "";
+    if (out.pred_valid) {
+      if (out.pred_id >= l.in_use.size() || !l.in_use[out.pred_id]) {
+        error_ = "cycle " + std::to_string(now) + ": prediction for ray id " +
+                 std::to_string(out.pred_id) + where + " that is not in flight";
+      } else {
+        Prediction p;
+        p.count = out.pred_invalid ? 0 : out.pred_count;
+        if (p.count > uint32_t(kMaxNodesPerEntry)) {
+          error_ = "cycle " + std::to_string(now) + ": prediction of " + std::to_string(p.count) +
+                   " nodes" + where;
+          p.count = 0;
+        }
+        for (uint32_t i = 0; i < p.count; ++i) p.nodes[i] = out.pred_nodes[i];
+        l.predicted[out.pred_id] = p.count > 0;
+        io->predictions.emplace_back(l.ray_of[out.pred_id], p);
+      }
+    }
+    if (out.skip_valid) {
+      if (out.skip_id >= l.in_use.size() || !l.in_use[out.skip_id]) {
+        error_ = "cycle " + std::to_string(now) + ": skip decision for ray id " +
+                 std::to_string(out.skip_id) + where + " that is not in flight";
+      } else {
+        io->decisions.emplace_back(l.ray_of[out.skip_id], out.skip_action);
+        if (out.skip_action == Action::kSkip) {  // the final result: no outcome follows
+          release(out.skip_id);
+          stats_.updates++;  // the skip controller refreshes the verified node
+        }
+      }
+    }
+    if (in[k].pw_valid && out.pw_ready) {
+      if (in[k].pw_hit) l.predicted[in[k].pw_id] = 0;  // not a failed prediction
+      pw_taken.push_back(pw_at[k]);
+    }
+    if (in[k].outcome_valid && out.outcome_ready) {
+      stats_.updates += in[k].outcome_hit;
+      // With confidence counters, a failed prediction without a node to write demotes its entry.
+      stats_.demotes += !in[k].outcome_hit && l.predicted[in[k].outcome_id] && confidence_;
+      outcomes_taken.push_back(outcome_at[k]);
+      release(in[k].outcome_id);
+    }
   }
   if (waiting && !took) stats_.stall_cycles++;
-  if (out.pred_valid) {
-    if (out.pred_id >= in_use_.size() || !in_use_[out.pred_id]) {
-      error_ = "cycle " + std::to_string(now) + ": prediction for ray id " +
-               std::to_string(out.pred_id) + " that is not in flight";
-    } else {
-      Prediction p;
-      p.count = out.pred_invalid ? 0 : out.pred_count;
-      if (p.count > uint32_t(kMaxNodesPerEntry)) {
-        error_ = "cycle " + std::to_string(now) + ": prediction of " + std::to_string(p.count) +
-                 " nodes";
-        p.count = 0;
-      }
-      for (uint32_t i = 0; i < p.count; ++i) p.nodes[i] = out.pred_nodes[i];
-      predicted_[out.pred_id] = p.count > 0;
-      io->predictions.emplace_back(ray_of_[out.pred_id], p);
-    }
-  }
-  if (out.skip_valid) {
-    if (out.skip_id >= in_use_.size() || !in_use_[out.skip_id]) {
-      error_ = "cycle " + std::to_string(now) + ": skip decision for ray id " +
-               std::to_string(out.skip_id) + " that is not in flight";
-    } else {
-      io->decisions.emplace_back(ray_of_[out.skip_id], out.skip_action);
-      if (out.skip_action == Action::kSkip) {  // the final result: no outcome follows
-        release(out.skip_id);
-        stats_.updates++;  // the skip controller refreshes the verified node
-      }
-    }
-  }
-  if (in.pw_valid && out.pw_ready) {
-    if (in.pw_hit) predicted_[in.pw_id] = 0;  // not a failed prediction
-    io->pw.pop_front();
-  }
-  if (in.outcome_valid && out.outcome_ready) {
-    stats_.updates += in.outcome_hit;
-    // With confidence counters, a failed prediction without a node to write demotes its entry.
-    stats_.demotes += !in.outcome_hit && predicted_[in.outcome_id] && confidence_;
-    io->outcomes.pop_front();
-    release(in.outcome_id);
-  }
-  stats_.entry_wait += io->entering.size() + (offered_ ? 1 : 0);  // the ray on offer waits too
+  auto remove = [](std::deque<EngineMsg>* q, std::vector<int> at) {
+    std::sort(at.begin(), at.end(), std::greater<>());
+    for (int i : at) q->erase(q->begin() + i);
+  };
+  remove(&io->pw, pw_taken);
+  remove(&io->outcomes, outcomes_taken);
+  // The rays on offer wait too.
+  for (const Lane& l : lanes_) stats_.entry_wait += l.offered ? 1 : 0;
+  stats_.entry_wait += io->entering.size();
   stats_.mismatches = model_->mismatches();
   model_->tick(in);
 }

@@ -55,9 +55,10 @@ bool predictor_sim_options(const char* cmd, const PredictorArgs& p, const Predic
     }
     opt->kind = sim::PredictorKind::kPort;
     opt->cycle = cc;
-    *timing = "the RTL's cycle model at its ports (" + std::to_string(1 << cc.id_bits) +
-              " ray ids, prediction " + std::to_string(rtl::kPredictionLatency) +
-              " cycles, decision " + std::to_string(rc.decision_latency()) + ")";
+    *timing = "the RTL's cycle model at its ports (" + rtl_lanes_text(cc) +
+              std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
+              std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
+              std::to_string(rc.decision_latency()) + ")";
     if (rtl_name) *rtl_name = rc.name;
     return true;
   }

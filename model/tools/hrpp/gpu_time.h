@@ -26,6 +26,11 @@ bool predictor_sim_options(const char* cmd, const PredictorArgs& p, const Predic
                            const Scene& scene, const Bvh& bvh, sim::SimOptions* opt,
                            std::string* timing, std::string* rtl_name = nullptr);
 
+/// "2 lanes, " for a multi-lane RTL configuration (its ray ids are per lane), else "".
+inline std::string rtl_lanes_text(const CycleConfig& cc) {
+  return cc.lanes > 1 ? std::to_string(cc.lanes) + " lanes, " : "";
+}
+
 /// predict's and render's time options: --timing simulate|cost-model and --gpu.
 struct TimingArgs {
   std::string timing = "simulate", gpu = "mobile";

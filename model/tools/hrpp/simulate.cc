@@ -239,7 +239,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
       };
       r.timing = "the Verilated RTL (configuration " + config +
                  ") at its ports, compared with its cycle model on every cycle (" +
-                 std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
+                 rtl_lanes_text(cc) + std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
                  std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
                  std::to_string(rtl::kDecisionLatency + int(cc.key_store_bram)) + ")";
 #else

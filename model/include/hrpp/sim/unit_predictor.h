@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hrpp/hardware/cycle_model.h"
+#include "hrpp/hardware/cycle_model_lanes.h"
 #include "hrpp/predictor/engine_side.h"
 #include "hrpp/predictor/pred_table.h"
 #include "hrpp/predictor/predictor.h"
@@ -69,12 +70,16 @@ class UnitPredictor {
   virtual std::string error() const { return {}; }
 };
 
-/// The RTL's ports, one cycle at a time (hrpp/hardware/cycle_model.h's DutIn / DutOut).
+/// The RTL's ports, one cycle at a time (hrpp/hardware/cycle_model.h's DutIn / DutOut): one lane
+/// (hrpp_top), or lanes() lanes (hrpp_lanes), each with hrpp_top's ports.
 class PortModel {
  public:
   virtual ~PortModel() = default;
-  virtual DutOut outputs() = 0;
-  virtual void tick(const DutIn& in) = 0;
+  virtual int lanes() const { return 1; }
+  /// Lane `lane`'s outputs in this cycle.
+  virtual DutOut outputs(int lane) = 0;
+  /// One clock edge with every lane's inputs (in.size() == lanes()).
+  virtual void tick(const std::vector<DutIn>& in) = 0;
   virtual std::string error() const { return {}; }
   virtual uint64_t mismatches() const { return 0; }
 };
@@ -83,8 +88,8 @@ class PortModel {
 class CyclePortModel : public PortModel {
  public:
   explicit CyclePortModel(const CycleConfig& cc) : m_(cc) {}
-  DutOut outputs() override { return m_.outputs(); }
-  void tick(const DutIn& in) override { m_.tick(in); }
+  DutOut outputs(int /*lane*/) override { return m_.outputs(); }
+  void tick(const std::vector<DutIn>& in) override { m_.tick(in.at(0)); }
   std::string error() const override { return m_.error(); }
   const CycleModel& model() const { return m_; }
 
@@ -92,9 +97,25 @@ class CyclePortModel : public PortModel {
   CycleModel m_;
 };
 
-/// The engine's side of the RTL's ports: ray ids (2^id_bits, the RTL's credits), one ray, one
-/// predicted-walk result and one outcome offered per cycle and held until taken, predictions and
-/// decisions always accepted.
+/// The cycle model of hrpp_lanes (cfg.lanes 2 or 4) behind its lanes' ports.
+class LanesCyclePortModel : public PortModel {
+ public:
+  explicit LanesCyclePortModel(const CycleConfig& cc) : m_(cc) {}
+  int lanes() const override { return m_.lanes(); }
+  DutOut outputs(int lane) override { return m_.outputs(lane); }
+  void tick(const std::vector<DutIn>& in) override { m_.tick(in); }
+  std::string error() const override { return m_.error(); }
+  const LanesCycleModel& model() const { return m_; }
+
+ private:
+  LanesCycleModel m_;
+};
+
+/// The engine's side of the RTL's ports: per lane, ray ids (2^id_bits, the RTL's credits), one
+/// ray, one predicted-walk result and one outcome offered per cycle and held until taken,
+/// predictions and decisions always accepted. With more than one lane, each lane without a ray
+/// on offer takes the next entering ray (lanes in order), and a ray's messages go back on its
+/// lane: each lane is offered the oldest waiting message of its rays.
 class PortPredictor : public UnitPredictor {
  public:
   /// `confidence`: the model's table has confidence counters (counts demotes in the stats).
@@ -107,15 +128,21 @@ class PortPredictor : public UnitPredictor {
   PortModel& model() { return *model_; }
 
  private:
+  struct Lane {
+    std::deque<uint32_t> free_ids;
+    std::vector<uint32_t> ray_of;                          // by id
+    std::vector<uint8_t> in_use;                           // by id
+    std::optional<std::pair<uint32_t, uint32_t>> offered;  // id, ray
+    std::vector<uint8_t> predicted;  // by id: given a prediction, its predicted walks found no hit
+  };
+  struct LaneId {
+    uint32_t lane = 0, id = 0;
+  };
   const std::vector<RayRecord>& rays_;
   std::unique_ptr<PortModel> model_;
-  std::deque<uint32_t> free_ids_;
-  std::vector<uint32_t> ray_of_;                          // by id
-  std::vector<uint8_t> in_use_;                           // by id
-  std::optional<std::pair<uint32_t, uint32_t>> offered_;  // id, ray
-  std::unordered_map<uint32_t, uint32_t> id_of_;          // ray (stream index) -> id
+  std::vector<Lane> lanes_;
+  std::unordered_map<uint32_t, LaneId> id_of_;  // ray (stream index) -> its lane and id
   bool confidence_;
-  std::vector<uint8_t> predicted_;  // by id: given a prediction, its predicted walks found no hit
   UnitPredictorStats stats_;
   std::string error_;
 };
