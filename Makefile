@@ -170,8 +170,9 @@ formal: setup-venv
 	$(VENV)/bin/python rtl/formal/run.py
 	$(VENV)/bin/python rtl/formal/run.py --planted
 
-# How Fmax and resources scale with sets, ways, nodes per entry and hash precision (about 25
-# minutes; speed grade 6 only); added to out/synth/report.{json,md}.
+# How Fmax and resources scale with sets, ways, nodes per entry, hash precision, ray ids, the
+# update queue's depth and lanes (about 50 minutes; speed grade 6 only); added to
+# out/synth/report.{json,md}.
 synth-sweep: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only
 

@@ -134,7 +134,9 @@ def sweep_doc(sweep: list[dict]) -> str:
          "; per-seed figures and critical paths in `out/synth/report.md`). One parameter "
          "changed from the default configuration "
          "(128 sets x 8 ways x 2 nodes, 8-bit tags, improved hash o5/d3 concat) at a time; "
-         "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR).", "",
+         "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR); "
+         "`idsN`: 2^N ray ids (`ids10` with the key store in block RAM); `uqN`: an update queue "
+         "of N entries; `lanes2`: two lanes (`hrpp_lanes`, as `default_x2`).", "",
          "| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "
          "ratio |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in sweep:

@@ -104,8 +104,12 @@ def describe(p: dict[str, int]) -> str:
     h += " concat" if p.get("Combine", 0) else " xor"
     lanes = f", {p['Lanes']} lanes" if p.get("Lanes", 1) > 1 else ""
     conf = ", confidence bit" if p.get("ConfBits", 0) else ""
+    ids = f", {2 ** p['IdWidth']:,} ray ids" if p.get("IdWidth", 6) != 6 else ""
+    ks = ", key store in block RAM" if p.get("KeyStoreBram", 0) else ""
+    uq = (f", update queue {p['UpdateQueueDepth']}" if p.get("UpdateQueueDepth", 8) != 8
+          else "")
     return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}{lanes}"
-            f"{conf}")
+            f"{conf}{ids}{ks}{uq}")
 
 
 def read_slang_cmd(top: str, params: dict[str, int], files: list[str]) -> str:
@@ -130,6 +134,14 @@ def sweep_variants(cfgs: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]
     for prec in (4, 6, 8):
         v[f"faithful-p{prec}"] = {**faithful, "Variant": 0, "Precision": prec, "ExpBits": 3,
                                   "Combine": 0}
+    # Issue 18's parameters: rays in flight (ids; 1,024 with the key store in block RAM, as the
+    # mobile configuration), the update queue's depth, and lanes (4 lanes: `default_x4` in
+    # `make synth`).
+    for ids, bram in ((8, 0), (10, 1)):
+        v[f"ids{ids}"] = {**base, "IdWidth": ids, "KeyStoreBram": bram}
+    for d in (4, 16):
+        v[f"uq{d}"] = {**base, "UpdateQueueDepth": d}
+    v["lanes2"] = {**base, "Lanes": 2}
     return v
 
 
