@@ -14,6 +14,13 @@ in --rates, on every shared scene x ray kind (primary; shadow where the scene ha
 MICRO 2021 runs it: cosine hemisphere, unbounded) x GPU. A unit needs N lookups per cycle when N
 gives the speed-up of the largest rate within 1% on every scene (the geometric mean is reported
 too). Writes OUT/GPU/SCENE-KIND-N.json and the block port-rate of --doc.
+
+The RTL as built (--built, block port-rate-built): the same scenes, kinds and GPUs with the RTL
+configurations' cycle models at their ports (`--preset rtl-NAME`): `default` (one lane, 64 ray
+ids), `default_x2` and `default_x4` (hrpp_lanes: 2 and 4 lookups and updates per cycle, 64 ids
+per lane) and `mobile` (one lane, 1,024 ids). Writes OUT/GPU/SCENE-KIND-rtl-NAME.json. A scene a
+configuration cannot run (its node ids cannot name the BVH) is left out of that configuration's
+mean and named. --resume keeps the reports already in OUT.
 """
 import argparse
 import json
@@ -43,6 +50,10 @@ def run(task):
     if p.returncode != 0:
         if "no rays of the kinds" in p.stderr:  # e.g. shadow rays of a scene without lights
             return key, None, time.time() - t0
+        if "node ids name at most" in p.stderr:  # the configuration cannot name the BVH's nodes
+            data = {"unsupported": p.stderr.strip().splitlines()[-1]}
+            path.write_text(json.dumps(data))
+            return key, data, time.time() - t0
         raise SystemExit(f"port_rate: {' '.join(map(str, cmd))} exited {p.returncode}:\n"
                          f"{p.stderr[-2000:]}")
     return key, json.loads(path.read_text()), time.time() - t0
@@ -91,6 +102,44 @@ def table(results, gpus, scenes, rates):
     return "\n".join(lines)
 
 
+def built_table(results, gpus, scenes, presets):
+    lines = [
+        "Regenerate with `make port-rate`. Speed-up over no predictor (geometric mean over the "
+        "scenes) with the RTL configurations as built: each one's cycle model at its ports in "
+        "every RT unit (`hrpp simulate --preset rtl-NAME`). `default`: one lookup and one update "
+        "per cycle, 64 ray ids; `default_x2`, `default_x4`: 2 and 4 lanes (`hrpp_lanes`), 64 ids "
+        "per lane; `mobile`: one lane, 1,024 ids. 'wait': the mean cycles a ray waits to enter.",
+        "",
+        "| GPU | rays | " + " | ".join(f"`{p.removeprefix('rtl-')}`" for p in presets) +
+        " | wait: " + " / ".join(f"`{p.removeprefix('rtl-')}`" for p in presets) + " |",
+        "|---|---|" + "---|" * len(presets) + "---|",
+    ]
+    left_out = {}
+    for gpu in gpus:
+        for kind in KINDS:
+            cells, waits = [], []
+            for p in presets:
+                sp, wait, rays = [], 0, 0
+                for s in scenes:
+                    r = results.get((gpu, s, kind, p))
+                    if r is None:
+                        continue
+                    if "unsupported" in r:
+                        left_out.setdefault(p, set()).add(s)
+                        continue
+                    sp.append(r["speedup"])
+                    wait += r["predictor"].get("entry_wait_cycles", 0)
+                    rays += r["predictor"].get("lookups", 0)
+                cells.append(f"{geomean(sp):.3f}x" if sp else "-")
+                waits.append(f"{wait / max(1, rays):.0f}" if sp else "-")
+            lines.append(f"| {gpu} | {kind} | {' | '.join(cells)} | {' / '.join(waits)} |")
+    if left_out:
+        lines += ["", "Left out of a configuration's means (its node ids cannot name the BVH): " +
+                  "; ".join(f"`{p.removeprefix('rtl-')}`: {', '.join(sorted(s))}"
+                            for p, s in left_out.items()) + "."]
+    return "\n".join(lines)
+
+
 def load(out, gpus, scenes, rates):
     """The reports of an earlier run in OUT."""
     r = {}
@@ -113,6 +162,11 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", default=str(ROOT / "out" / "port_rate"))
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"))
+    ap.add_argument("--built", default="rtl-default,rtl-default_x2,rtl-default_x4,rtl-mobile",
+                    help="RTL presets run through their cycle models (block port-rate-built); "
+                         "'' for none")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the reports already in --out; run only the missing ones")
     ap.add_argument("--tables-only", action="store_true",
                     help="rewrite the table from the reports already in --out; run nothing")
     args = ap.parse_args()
@@ -120,6 +174,7 @@ def main():
     if not scenes:
         sys.exit(f"port_rate: no scenes in {args.shared}/scenes (the shared folder is needed)")
     rates = sorted(int(n) for n in args.rates.split(","))
+    built = [p for p in args.built.split(",") if p]
     gpus = args.gpu.split(",")
     out = pathlib.Path(args.out)
     tasks = []
@@ -134,21 +189,31 @@ def main():
                            "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
                            "--no-per-kind", "--json", path] + kopts
                     tasks.append(((gpu, s.stem, kind, n), cmd, path))
+                for p in built:
+                    path = out / gpu / f"{s.stem}-{kind}-{p}.json"
+                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
+                           "--preset", p, "--no-oracle", "--no-per-kind", "--json", path] + kopts
+                    tasks.append(((gpu, s.stem, kind, p), cmd, path))
     results, t0 = {}, time.time()
-    if args.tables_only:
-        tasks = []
-        results = load(out, gpus, [s.stem for s in scenes], rates)
+    if args.tables_only or args.resume:
+        results = load(out, gpus, [s.stem for s in scenes], rates + built)
+        tasks = [] if args.tables_only else [t for t in tasks if results.get(t[0]) is None]
     with ThreadPoolExecutor(max_workers=args.jobs) as ex:
         for i, f in enumerate(as_completed([ex.submit(run, t) for t in tasks]), 1):
             key, data, secs = f.result()
             results[key] = data
-            sp = f"{data['speedup']:.3f}x" if data else "no rays"
+            sp = (f"{data['speedup']:.3f}x" if data and "speedup" in data
+                  else "cannot run" if data else "no rays")
             print(f"port_rate: [{i}/{len(tasks)}] {' '.join(map(str, key))}: {sp} ({secs:.1f} s; "
                   f"total {time.time() - t0:.0f} s)", flush=True)
     block = table(results, gpus, [s.stem for s in scenes], rates)
     print(block)
+    blocks = {"port-rate": block}
+    if built:
+        blocks["port-rate-built"] = built_table(results, gpus, [s.stem for s in scenes], built)
+        print(blocks["port-rate-built"])
     if args.doc:
-        update_blocks(pathlib.Path(args.doc), {"port-rate": block})
+        update_blocks(pathlib.Path(args.doc), blocks)
         print(f"port_rate: updated {args.doc}")
 
 
