@@ -35,6 +35,8 @@ module hrpp_pred_table
   parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits
   parameter bit InjectFault = 1'b0,  /// test only: a one-bit fault in the node update
   parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bits per way: 0 or 1
+  /// sets per RAM bank: a table of more sets is split into banks of this many (see Memories)
+  parameter int unsigned RamBankDepth = 2048,
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -140,18 +142,57 @@ module hrpp_pred_table
   // ---------------------------------------------------------------------------------------------
   // Memories
   // ---------------------------------------------------------------------------------------------
-  logic [RamWidth-1:0] lk_rdata, uram_rdata;
-  logic [IdxWidth-1:0] uram_raddr;
-  logic                uram_re;
+  // Each copy is RamBanks banks of BankDepth sets (set s in bank s / BankDepth). A block RAM
+  // holds at most 2,048 words of 9 bits or more (ECP5 DP16KD), so Yosys builds a deeper RAM from
+  // cascaded ones and a mux on the top address bits after their outputs, on the path out of the
+  // block RAM (its clock-to-output delay is most of a cycle) to the first register. With banks,
+  // every bank's data is registered straight out of its block RAM, beside the bank the read
+  // addressed, and the bank select is made one stage later: L3 for a lookup, T2 -> C1 for an
+  // update. With one bank (NumSets <= RamBankDepth) the bank is always 0: the plain RAM.
+  localparam int unsigned RamBanks = NumSets > RamBankDepth ? NumSets / RamBankDepth : 1;
+  localparam int unsigned BankDepth = NumSets / RamBanks;
+  localparam int unsigned BankIdxWidth = BankDepth <= 2 ? 1 : $clog2(BankDepth);
+  localparam int unsigned BankSelWidth = RamBanks <= 2 ? 1 : $clog2(RamBanks);
+  function automatic logic [BankSelWidth-1:0] bank_of(logic [IdxWidth-1:0] idx);
+    return RamBanks > 1 ? BankSelWidth'(idx >> $clog2(BankDepth)) : '0;
+  endfunction
 
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RamWidth)) u_lookup_ram (
-    .clk_i, .re_i(lk_valid_i), .raddr_i(lk_idx_i), .rdata_o(lk_rdata),
-    .we_i(we), .waddr_i(waddr), .wdata_i(to_ram(wdata))
-  );
-  hrpp_ram_1r1w #(.Depth(NumSets), .Width(RamWidth)) u_update_ram (
-    .clk_i, .re_i(uram_re), .raddr_i(uram_raddr), .rdata_o(uram_rdata),
-    .we_i(we), .waddr_i(waddr), .wdata_i(to_ram(wdata))
-  );
+  logic [RamBanks-1:0][RamWidth-1:0] lk_rdata, uram_rdata;  // per bank
+  logic [IdxWidth-1:0]               uram_raddr;
+  logic                              uram_re;
+  logic [BankIdxWidth-1:0]           lk_baddr, uram_baddr, baddr;  // addresses in a bank
+  assign lk_baddr   = lk_idx_i[BankIdxWidth-1:0];
+  assign uram_baddr = uram_raddr[BankIdxWidth-1:0];
+  assign baddr      = waddr[BankIdxWidth-1:0];
+  // The bank of the last read of each copy (the bank whose data lk_rdata / uram_rdata hold);
+  // with one bank these and the bank registers after them are constant and unused.
+  /* verilator lint_off UNUSEDSIGNAL */
+  logic [BankSelWidth-1:0]           l2_bank_q, t1_bank_q;
+  /* verilator lint_on UNUSEDSIGNAL */
+
+  for (genvar b = 0; b < RamBanks; b++) begin : gen_ram_bank
+    logic bank_we;
+    assign bank_we = we && bank_of(waddr) == BankSelWidth'(b);
+    hrpp_ram_1r1w #(.Depth(BankDepth), .Width(RamWidth)) u_lookup_ram (
+      .clk_i, .re_i(lk_valid_i), .raddr_i(lk_baddr), .rdata_o(lk_rdata[b]),
+      .we_i(bank_we), .waddr_i(baddr), .wdata_i(to_ram(wdata))
+    );
+    hrpp_ram_1r1w #(.Depth(BankDepth), .Width(RamWidth)) u_update_ram (
+      .clk_i, .re_i(uram_re), .raddr_i(uram_baddr), .rdata_o(uram_rdata[b]),
+      .we_i(bank_we), .waddr_i(baddr), .wdata_i(to_ram(wdata))
+    );
+  end
+
+  // The bank registers load with the RAMs' read enables, as the RAMs' outputs do.
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      l2_bank_q <= '0;
+      t1_bank_q <= '0;
+    end else begin
+      if (lk_valid_i) l2_bank_q <= bank_of(lk_idx_i);
+      if (uram_re) t1_bank_q <= bank_of(uram_raddr);
+    end
+  end
 
   // ---------------------------------------------------------------------------------------------
   // Lookup pipeline
@@ -162,10 +203,14 @@ module hrpp_pred_table
   logic                l2_valid_q, l2_collide_q;
   logic [TagWidth-1:0] l2_tag_q;
   row_t               l2_wrow_q;
-  // L3: the RAM data registered, beside the collision flag and row.
-  logic                l3_valid_q, l3_collide_q;
-  logic [TagWidth-1:0] l3_tag_q;
-  row_t               l3_ram_q, l3_wrow_q;
+  // L3: the RAM data registered (every bank's, beside the bank read), the collision flag, row.
+  logic                    l3_valid_q, l3_collide_q;
+  logic [TagWidth-1:0]     l3_tag_q;
+  /* verilator lint_off UNUSEDSIGNAL */
+  logic [BankSelWidth-1:0] l3_bank_q;  // with one bank, unused
+  /* verilator lint_on UNUSEDSIGNAL */
+  row_t [RamBanks-1:0]     l3_ram_q;
+  row_t                    l3_wrow_q;
   // L4: per way, whether it matches, and its count and nodes.
   logic                                                   l4_valid_q;
   logic [NumWays-1:0]                                     l4_match_q;
@@ -181,6 +226,7 @@ module hrpp_pred_table
       l3_valid_q   <= 1'b0;
       l3_collide_q <= 1'b0;
       l3_tag_q     <= '0;
+      l3_bank_q    <= '0;
       l3_ram_q     <= '0;
       l3_wrow_q    <= '0;
     end else begin
@@ -191,17 +237,24 @@ module hrpp_pred_table
       l3_valid_q   <= l2_valid_q;
       l3_collide_q <= l2_collide_q;
       l3_tag_q     <= l2_tag_q;
-      l3_ram_q     <= from_ram(lk_rdata);
+      l3_bank_q    <= l2_bank_q;
+      for (int b = 0; b < RamBanks; b++) l3_ram_q[b] <= from_ram(lk_rdata[b]);
       l3_wrow_q    <= l2_wrow_q;
     end
   end
 
-  // L3: the row (the colliding write, else the RAM data); per way, tag match (with ConfBits = 1
-  // only a way whose confidence bit is set predicts: a way below the threshold counts as none).
-  row_t               l3_row;
+  // L3: the row (the colliding write, else the RAM data of the bank read); per way, tag match
+  // (with ConfBits = 1 only a way whose confidence bit is set predicts: a way below the
+  // threshold counts as none).
+  row_t               l3_ram, l3_row;
   logic [NumWays-1:0] l3_match;
+  if (RamBanks > 1) begin : gen_l3_bank_sel
+    assign l3_ram = l3_ram_q[l3_bank_q];
+  end else begin : gen_l3_one_bank
+    assign l3_ram = l3_ram_q[0];
+  end
   always_comb begin
-    l3_row = l3_collide_q ? l3_wrow_q : l3_ram_q;
+    l3_row = l3_collide_q ? l3_wrow_q : l3_ram;
     for (int w = 0; w < NumWays; w++)
       l3_match[w] = l3_row[w].valid && l3_row[w].tag == l3_tag_q &&
                     (ConfBits == 0 || l3_row[w].conf);
@@ -252,13 +305,23 @@ module hrpp_pred_table
   // ---------------------------------------------------------------------------------------------
   // T0: the accepted request; its read address goes to the update RAM. T1: the RAM reads.
   upd_req_t t0_q, t1_q;
-  // T2: the RAM data, registered: the register has no other load, so it sits beside the block
-  // RAM; the long route to C1's logic gets a cycle of its own.
+  // T2: the RAM data (every bank's, beside the bank read), registered: the register has no
+  // other load, so it sits beside its block RAM; the long route to C1's logic (and the bank
+  // select, made on the way to C1) gets a cycle of its own.
   typedef struct packed {
-    upd_req_t req;
-    row_t     ram;
+    upd_req_t                req;
+    logic [BankSelWidth-1:0] bank;
+    row_t [RamBanks-1:0]     ram;
   } t2_t;
-  t2_t t2_q;
+  /* verilator lint_off UNUSEDSIGNAL */
+  t2_t  t2_q;  // with one bank, t2_q.bank is unused
+  /* verilator lint_on UNUSEDSIGNAL */
+  row_t t2_ram;  // the RAM data of the bank read
+  if (RamBanks > 1) begin : gen_t2_bank_sel
+    assign t2_ram = t2_q.ram[t2_q.bank];
+  end else begin : gen_t2_one_bank
+    assign t2_ram = t2_q.ram[0];
+  end
   // C1: the RAM data registered again, and the newest write C1's RAM read cannot see (selected
   // in T2).
   typedef struct packed {
@@ -343,9 +406,10 @@ module hrpp_pred_table
       t0_q.demote <= ConfBits > 0 && tbl_wr_demote_i;
       t1_q       <= t0_q;
       t2_q.req   <= t1_q;
-      t2_q.ram   <= from_ram(uram_rdata);
+      t2_q.bank  <= t1_bank_q;
+      for (int b = 0; b < RamBanks; b++) t2_q.ram[b] <= from_ram(uram_rdata[b]);
       c1_q.req   <= t2_q.req;
-      c1_q.ram   <= t2_q.ram;
+      c1_q.ram   <= t2_ram;
       // C1 needs the newest of four writes its RAM read (presented in T0, three cycles before
       // C1) cannot have seen: the row C3 computes now (written while C1 runs), the row W writes
       // now, and the rows written one (h1) and two (h2) cycles ago. The set compares are made in
@@ -505,6 +569,9 @@ module hrpp_pred_table
   end
   if (NumSets < 2 || (NumSets & (NumSets - 1)) != 0) begin : gen_sets_check
     $error("NumSets must be a power of two >= 2");
+  end
+  if (RamBankDepth < 2 || (RamBankDepth & (RamBankDepth - 1)) != 0) begin : gen_bank_check
+    $error("RamBankDepth must be a power of two >= 2");
   end
   if (NumWays < 2 || NumWays > 16) begin : gen_ways_check
     $error("NumWays must be 2..16");

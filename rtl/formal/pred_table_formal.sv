@@ -24,6 +24,7 @@ module pred_table_formal
   parameter int unsigned NodeIdWidth = 2,
   parameter int unsigned TagWidth = 2,
   parameter int unsigned ConfBits = 0,
+  parameter int unsigned RamBankDepth = 2048,  // tasks *_banks: 2 sets per RAM bank
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -49,7 +50,8 @@ module pred_table_formal
 
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
-    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .ConfBits(ConfBits)
+    .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .ConfBits(ConfBits),
+    .RamBankDepth(RamBankDepth)
   ) dut (.*);
 
   // Without confidence bits there are no demotes (hrpp_top ties the input to 0).
@@ -255,16 +257,23 @@ module pred_table_formal
   function automatic conf_t ram_conf(logic [RamWordWidth-1:0] d);
     return ConfBits > 0 ? conf_t'(d >> BaseRowWidth) : '0;
   endfunction
+  // Each copy's words, set by set (set s in RAM bank s / BankDepth, as in hrpp_pred_table).
+  localparam int unsigned RamBanks = NumSets > RamBankDepth ? NumSets / RamBankDepth : 1;
+  localparam int unsigned BankDepth = NumSets / RamBanks;
+  logic [NumSets-1:0][RamWordWidth-1:0] lk_mem, up_mem;
+  for (genvar b = 0; b < RamBanks; b++) begin : gen_bank
+    for (genvar i = 0; i < BankDepth; i++) begin : gen_set
+      assign lk_mem[b * BankDepth + i] = dut.gen_ram_bank[b].u_lookup_ram.mem_q[i];
+      assign up_mem[b * BankDepth + i] = dut.gen_ram_bank[b].u_update_ram.mem_q[i];
+    end
+  end
   always_comb begin
     inv_ok = 1'b1;
     model_ok = 1'b1;
     for (int s = 0; s < NumSets; s++) begin
-      inv_ok &= row_invariants(ram_row(dut.u_lookup_ram.mem_q[s])) &&
-                row_invariants(ram_row(dut.u_update_ram.mem_q[s]));
-      model_ok &= same_row(model_q[s], mconf_q[s], ram_row(dut.u_lookup_ram.mem_q[s]),
-                           ram_conf(dut.u_lookup_ram.mem_q[s])) &&
-                  same_row(model_q[s], mconf_q[s], ram_row(dut.u_update_ram.mem_q[s]),
-                           ram_conf(dut.u_update_ram.mem_q[s]));
+      inv_ok &= row_invariants(ram_row(lk_mem[s])) && row_invariants(ram_row(up_mem[s]));
+      model_ok &= same_row(model_q[s], mconf_q[s], ram_row(lk_mem[s]), ram_conf(lk_mem[s])) &&
+                  same_row(model_q[s], mconf_q[s], ram_row(up_mem[s]), ram_conf(up_mem[s]));
     end
     nodes_ok = 1'b1;
     for (int i = 0; i < NodesPerEntry; i++)

