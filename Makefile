@@ -148,9 +148,9 @@ design-study: build
 	python3 model/tools/design_study.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/design_study
 
-# How many lookups and updates per cycle the mobile and desktop RT units need from the predictor
-# (model/tools/port_rate.py; docs/results.md, "Lookups per cycle the RT units need"; about 10
-# minutes on 2 cores).
+# How many lookups and updates per cycle the mobile and desktop RT units need from the predictor,
+# and what the RTL's lane configurations give as built (model/tools/port_rate.py; docs/results.md,
+# "Lookups per cycle the RT units need"; about 20 minutes on 2 cores).
 port-rate: build
 	python3 model/tools/port_rate.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/port_rate
