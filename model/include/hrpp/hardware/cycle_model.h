@@ -2,7 +2,8 @@
 // docs/microarchitecture.md). It reuses the golden model's hash (hash.h) and table (pred_table.h):
 // the table's update pipeline forwards every hazard, so applying each update to a PredTable in
 // the cycle the RTL writes it reproduces the RTL's table, and a lookup sees every write presented
-// in the cycle of its read or earlier.
+// in the cycle of its read or earlier. Everything but the table is the lane (LaneModel,
+// lane_model.h: rtl/hrpp_lane.sv), which LanesCycleModel (cycle_model_lanes.h) uses too.
 #pragma once
 
 #include <array>
