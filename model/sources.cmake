@@ -12,6 +12,7 @@ set(HRPP_MODEL_SOURCES
   model/src/timing/cost_model.cc
   model/src/hardware/cycle_model.cc
   model/src/hardware/cycle_model_lanes.cc
+  model/src/hardware/lane_model.cc
   model/src/predictor/engine_side.cc
   model/src/predictor/hash.cc
   model/src/predictor/pred_table.cc

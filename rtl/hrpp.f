@@ -4,5 +4,6 @@ rtl/hrpp_fifo.sv
 rtl/hrpp_hash.sv
 rtl/hrpp_pred_table.sv
 rtl/hrpp_skip_ctrl.sv
+rtl/hrpp_lane.sv
 rtl/hrpp_lanes.sv
 rtl/hrpp_top.sv

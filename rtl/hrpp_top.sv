@@ -8,6 +8,8 @@
 //   predicted-walk results, final outcomes in ──> skip controller ──> update queue ──> table
 //                                                                 └──> skip decisions out
 //
+// Everything but the table is one lane (rtl/hrpp_lane.sv, which hrpp_lanes instantiates Lanes
+// times around a banked table); here its lookups and updates go straight to one hrpp_pred_table.
 // All outputs come from registers or FIFO heads; ready outputs depend on state only.
 module hrpp_top
   import hrpp_pkg::*;
@@ -36,9 +38,7 @@ module hrpp_top
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bit per table way: 0 or 1
   localparam int unsigned IdxWidth = $clog2(NumSets),
-  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
-  localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
-                                               Combine, DirCode)
+  localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
   input  logic                                       clk_i,
   input  logic                                       rst_ni,
@@ -81,393 +81,57 @@ module hrpp_top
   logic init_done;
 
   // ---------------------------------------------------------------------------------------------
-  // A: input registers
+  // The lane (rtl/hrpp_lane.sv): input registers, hash, key store, skip controller, prediction
+  // and skip FIFOs, update queue; its lookups go straight to the table, which takes every one.
   // ---------------------------------------------------------------------------------------------
-  logic               a_valid_q;
-  logic [IdWidth-1:0] a_id_q;
-  logic [2:0]         a_kind_q;
-  logic [2:0][31:0]   a_org_q, a_dir_q;
+  logic                                      lk_req, lk_due, lk_valid;
+  logic [IdxWidth-1:0]                       lk_idx;
+  logic [TagWidth-1:0]                       lk_tag;
+  logic [CountWidth-1:0]                     lk_count;
+  logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes;
+  logic                                      tbl_wr_valid, tbl_wr_ready, tbl_wr_demote;
+  logic [IdxWidth-1:0]                       tbl_wr_idx;
+  logic [TagWidth-1:0]                       tbl_wr_tag;
+  logic [NodeIdWidth-1:0]                    tbl_wr_node;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      a_valid_q <= 1'b0;
-      a_id_q    <= '0;
-      a_kind_q  <= '0;
-      a_org_q   <= '0;
-      a_dir_q   <= '0;
-    end else begin
-      a_valid_q <= ray_valid_i && ray_ready_o;
-      a_id_q    <= ray_id_i;
-      a_kind_q  <= ray_kind_i;
-      a_org_q   <= ray_org_i;
-      a_dir_q   <= ray_dir_i;
-    end
-  end
-
-  // ---------------------------------------------------------------------------------------------
-  // Hash (HashLatency stages; the id and query type travel beside it), then B: key registers
-  // ---------------------------------------------------------------------------------------------
-  logic [KeyWidth-1:0] key;
-  logic                key_invalid;
-
-  hrpp_hash #(
+  hrpp_lane #(
     .Variant(Variant), .Precision(Precision), .ExpBits(ExpBits), .OriginBits(OriginBits),
-    .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode)
-  ) u_hash (
-    .clk_i, .rst_ni, .org_i(a_org_q), .dir_i(a_dir_q), .cell_exp_i(cfg_cell_exp_i),
-    .key_o(key), .invalid_o(key_invalid)
+    .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode),
+    .NumSets(NumSets), .NodesPerEntry(NodesPerEntry), .NodeIdWidth(NodeIdWidth),
+    .TagWidth(TagWidth), .IdWidth(IdWidth), .KeyStoreBram(KeyStoreBram),
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+    .UpdateQueueDepth(UpdateQueueDepth), .ConfBits(ConfBits), .LookupQueue(1'b0)
+  ) u_lane (
+    .clk_i, .rst_ni, .init_done_i(init_done), .cfg_mode_i, .cfg_cell_exp_i,
+    .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
+    .pred_valid_o, .pred_ready_i, .pred_id_o, .pred_invalid_o, .pred_count_o, .pred_nodes_o,
+    .pw_valid_i, .pw_ready_o, .pw_id_i, .pw_hit_i, .pw_node_i,
+    .outcome_valid_i, .outcome_ready_o, .outcome_id_i, .outcome_hit_i, .outcome_node_i,
+    .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o,
+    .lk_valid_o(lk_req), .lk_ready_i(1'b1), .lk_idx_o(lk_idx), .lk_tag_o(lk_tag),
+    .lk_due_o(lk_due), .lk_count_i(lk_count), .lk_nodes_i(lk_nodes),
+    .tbl_wr_valid_o(tbl_wr_valid), .tbl_wr_ready_i(tbl_wr_ready), .tbl_wr_idx_o(tbl_wr_idx),
+    .tbl_wr_tag_o(tbl_wr_tag), .tbl_wr_node_o(tbl_wr_node), .tbl_wr_demote_o(tbl_wr_demote)
   );
-
-  logic [HashLatency-1:0]              h_valid_q, h_any_hit_q;
-  logic [HashLatency-1:0][IdWidth-1:0] h_id_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      h_valid_q   <= '0;
-      h_any_hit_q <= '0;
-      h_id_q      <= '0;
-    end else begin
-      h_valid_q   <= {h_valid_q[HashLatency-2:0], a_valid_q};
-      h_any_hit_q <= {h_any_hit_q[HashLatency-2:0],
-                      kind_is_any_hit(a_kind_q) || cfg_mode_i == ModeAnyHit};
-      h_id_q      <= {h_id_q[HashLatency-2:0], a_id_q};
-    end
-  end
-
-  // Set index: XOR of all IdxWidth-bit chunks of the key; tag: the key above the index.
-  logic [IdxWidth-1:0] key_idx;
-  logic [TagWidth-1:0] key_tag;
-  always_comb begin
-    key_idx = '0;
-    for (int i = 0; i < KeyWidth; i += IdxWidth) key_idx ^= IdxWidth'(key >> i);
-    key_tag = TagWidth'(key >> IdxWidth);
-  end
-
-  logic                b_valid_q, b_invalid_q, b_any_hit_q;
-  logic [IdWidth-1:0]  b_id_q;
-  logic [IdxWidth-1:0] b_idx_q;
-  logic [TagWidth-1:0] b_tag_q;
-
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      b_valid_q   <= 1'b0;
-      b_invalid_q <= 1'b0;
-      b_any_hit_q <= 1'b0;
-      b_id_q      <= '0;
-      b_idx_q     <= '0;
-      b_tag_q     <= '0;
-    end else begin
-      b_valid_q   <= h_valid_q[HashLatency-1];
-      b_invalid_q <= key_invalid;
-      b_any_hit_q <= h_any_hit_q[HashLatency-1];
-      b_id_q      <= h_id_q[HashLatency-1];
-      b_idx_q     <= key_idx;
-      b_tag_q     <= key_tag;
-    end
-  end
-
-  // Key store: each in-flight ray's set, tag and query type, by id, written in B. KeyStoreBram
-  // = 0: distributed RAM, read combinationally as a predicted-walk result or final outcome is
-  // accepted, into the skip controller's P0 / F0 registers. KeyStoreBram = 1 (many ray ids): two
-  // block-RAM copies (one per read port), read as the message is accepted into a register stage
-  // in front of the skip controller (K: the message, and the RAM's output register); the RAM's
-  // data goes straight into P0 / F0 one cycle later. The block RAM's slow clock-to-output thus
-  // starts no logic (the handshake paths start at P0 / F0 as before), at one cycle more of
-  // decision and update latency (docs/microarchitecture.md, "Key store").
-  localparam int unsigned KsWidth = IdxWidth + TagWidth + 1;
-  logic [IdWidth-1:0]  ksp_id, ksf_id;  // the skip controller's read addresses (distributed RAM)
-  logic [IdxWidth-1:0] ksp_idx, ksf_idx;
-  logic [TagWidth-1:0] ksp_tag, ksf_tag;
-  logic                ksp_any_hit, ksf_any_hit_unused;
-  logic [KsWidth-1:0]  ks_wdata;
-  assign ks_wdata = {b_idx_q, b_tag_q, b_any_hit_q};
-  // The skip controller's message inputs: the ports (distributed RAM) or K (block RAM).
-  logic                   sc_pw_valid, sc_pw_ready, sc_pw_hit;
-  logic                   sc_outcome_valid, sc_outcome_ready, sc_outcome_hit;
-  logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
-  logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
-
-  if (!KeyStoreBram) begin : gen_ks_distributed
-    (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
-    always_ff @(posedge clk_i) begin
-      if (b_valid_q) ks_mem_q[b_id_q] <= ks_wdata;
-    end
-    assign {ksp_idx, ksp_tag, ksp_any_hit} = ks_mem_q[ksp_id];
-    assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = ks_mem_q[ksf_id];
-    assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {pw_valid_i, pw_id_i, pw_hit_i,
-                                                             pw_node_i};
-    assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
-        {outcome_valid_i, outcome_id_i, outcome_hit_i, outcome_node_i};
-    assign pw_ready_o      = sc_pw_ready;
-    assign outcome_ready_o = sc_outcome_ready;
-  end else begin : gen_ks_bram
-    // K: a message waits here while its ray's key is read; it moves on to P0 / F0 when the skip
-    // controller takes it, and K takes the next (the RAM reads only then: its output holds).
-    logic                   kp_valid_q, kp_hit_q, kf_valid_q, kf_hit_q, kp_load, kf_load;
-    logic [IdWidth-1:0]     kp_id_q, kf_id_q;
-    logic [NodeIdWidth-1:0] kp_node_q, kf_node_q;
-    logic [IdWidth-1:0]     ks_unused;  // the skip controller's read addresses
-    assign ks_unused = ksp_id ^ ksf_id;
-    assign kp_load = init_done && (!kp_valid_q || sc_pw_ready);
-    assign kf_load = init_done && (!kf_valid_q || sc_outcome_ready);
-    always_ff @(posedge clk_i or negedge rst_ni) begin
-      if (!rst_ni) begin
-        kp_valid_q <= 1'b0;
-        kp_id_q    <= '0;
-        kp_hit_q   <= 1'b0;
-        kp_node_q  <= '0;
-        kf_valid_q <= 1'b0;
-        kf_id_q    <= '0;
-        kf_hit_q   <= 1'b0;
-        kf_node_q  <= '0;
-      end else begin
-        if (kp_load) begin
-          kp_valid_q <= pw_valid_i;
-          kp_id_q    <= pw_id_i;
-          kp_hit_q   <= pw_hit_i;
-          kp_node_q  <= pw_node_i;
-        end
-        if (kf_load) begin
-          kf_valid_q <= outcome_valid_i;
-          kf_id_q    <= outcome_id_i;
-          kf_hit_q   <= outcome_hit_i;
-          kf_node_q  <= outcome_node_i;
-        end
-      end
-    end
-    // An entry is never read in the cycle it is written: a ray's result arrives after its
-    // prediction left, and an id is reused only after its ray finished.
-    hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_pw (
-      .clk_i, .re_i(kp_load), .raddr_i(pw_id_i), .rdata_o({ksp_idx, ksp_tag, ksp_any_hit}),
-      .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
-    );
-    hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_outcome (
-      .clk_i, .re_i(kf_load), .raddr_i(outcome_id_i),
-      .rdata_o({ksf_idx, ksf_tag, ksf_any_hit_unused}),
-      .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
-    );
-    assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {kp_valid_q, kp_id_q, kp_hit_q,
-                                                             kp_node_q};
-    assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
-        {kf_valid_q, kf_id_q, kf_hit_q, kf_node_q};
-    assign pw_ready_o      = kp_load;
-    assign outcome_ready_o = kf_load;
-  end
 
   // ---------------------------------------------------------------------------------------------
   // Table
   // ---------------------------------------------------------------------------------------------
-  logic                                      lk_valid;
-  logic [CountWidth-1:0]                     lk_count;
-  logic [NodesPerEntry-1:0][NodeIdWidth-1:0] lk_nodes;
-  // Table write requests (updates: the node becomes its entry's most recently used): the skip
-  // controller's (sc_tbl_wr_*), queued (U) before the table (tbl_wr_*).
-  logic                                      tbl_wr_valid, tbl_wr_ready, tbl_wr_demote;
-  logic                                      sc_tbl_wr_demote;
-  logic [IdxWidth-1:0]                       tbl_wr_idx;
-  logic [TagWidth-1:0]                       tbl_wr_tag;
-  logic [NodeIdWidth-1:0]                    tbl_wr_node;
-  logic                                      sc_tbl_wr_valid, sc_tbl_wr2_valid;
-  logic [IdxWidth-1:0]                       sc_tbl_wr_idx, sc_tbl_wr2_idx;
-  logic [TagWidth-1:0]                       sc_tbl_wr_tag, sc_tbl_wr2_tag;
-  logic [NodeIdWidth-1:0]                    sc_tbl_wr_node, sc_tbl_wr2_node;
-  logic                                      uq_room1, uq_room2;
-
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
     .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault),
     .ConfBits(ConfBits)
   ) u_table (
     .clk_i, .rst_ni, .init_done_o(init_done),
-    .lk_valid_i(b_valid_q && !b_invalid_q), .lk_idx_i(b_idx_q), .lk_tag_i(b_tag_q),
+    .lk_valid_i(lk_req), .lk_idx_i(lk_idx), .lk_tag_i(lk_tag),
     .lk_valid_o(lk_valid), .lk_count_o(lk_count), .lk_nodes_o(lk_nodes),
     .tbl_wr_valid_i(tbl_wr_valid), .tbl_wr_ready_o(tbl_wr_ready), .tbl_wr_idx_i(tbl_wr_idx),
     .tbl_wr_tag_i(tbl_wr_tag), .tbl_wr_node_i(tbl_wr_node), .tbl_wr_demote_i(tbl_wr_demote)
   );
 
-  // Update queue (UpdateQueueDepth entries, registers): takes up to two requests per cycle (a
-  // final outcome's and a predicted-walk result's, in that order) and gives the table one. The
-  // skip controller sees only whether it has room for one and for two (from the count register),
-  // so its handshake does not wait for the table's same-set interlock, which looks at the
-  // queue's head (and drops a head identical to the newer same-set update in T0/T1).
-  localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
-  localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
-  typedef struct packed {
-    logic [IdxWidth-1:0]    idx;
-    logic [TagWidth-1:0]    tag;
-    logic [NodeIdWidth-1:0] node;
-    logic                   demote;  // a demote (ConfBits = 1), not an update
-  } uq_req_t;
-  uq_req_t                 uq_mem_q[UpdateQueueDepth];
-  uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
-  logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
-  logic [UqCountWidth-1:0] uq_count_q;
-  logic                    uq_take1, uq_take2, uq_pop;
-
-  assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
-  assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
-  assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node,
-                      demote: ConfBits > 0 && sc_tbl_wr_demote};
-  assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node,
-                      demote: 1'b0};  // a predicted-walk result's refresh: always an update
-  // Taken: the skip controller's messages advance.
-  assign uq_take1 = sc_tbl_wr_valid && uq_room1;
-  assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
-  assign uq_pop   = tbl_wr_valid && tbl_wr_ready;
-
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      uq_rd_q    <= '0;
-      uq_wr_q    <= '0;
-      uq_count_q <= '0;
-    end else begin
-      uq_rd_q    <= uq_rd_q + UqPtrWidth'(uq_pop);
-      uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_take1) + UqPtrWidth'(uq_take2);
-      uq_count_q <= uq_count_q + UqCountWidth'(uq_take1) + UqCountWidth'(uq_take2) -
-                    UqCountWidth'(uq_pop);
-    end
-  end
-  always_ff @(posedge clk_i) begin
-    if (uq_take1) uq_mem_q[uq_wr_q] <= uq_req1;
-    if (uq_take2) uq_mem_q[uq_wr_q + 1'b1] <= uq_req2;  // behind the first, taken too
-  end
-  // The head, registered (a copy of uq_mem_q[uq_rd_q]): the table's interlock compares it with
-  // T0 and T1 and pops it in the same cycle, so no read multiplexer sits in front of that. Its
-  // next value: the entry at the next read pointer after this cycle's writes.
-  function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
-    if (uq_take1 && uq_wr_q == i) return uq_req1;
-    if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
-    return stored;
-  endfunction
-  assign uq_head_d = uq_pop ? uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1])
-                            : uq_entry_after_writes(uq_rd_q, uq_head_q);
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) uq_head_q <= '0;
-    else uq_head_q <= uq_head_d;
-  end
-  assign tbl_wr_valid = uq_count_q != '0;
-  assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node, tbl_wr_demote} = uq_head_q;
-
-  // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
-  logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
-  logic [LookupLatency-1:0][IdWidth-1:0] d_id_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      d_valid_q   <= '0;
-      d_invalid_q <= '0;
-      d_id_q      <= '0;
-    end else begin
-      d_valid_q   <= {d_valid_q[LookupLatency-2:0], b_valid_q};
-      d_invalid_q <= {d_invalid_q[LookupLatency-2:0], b_invalid_q};
-      d_id_q      <= {d_id_q[LookupLatency-2:0], b_id_q};
-    end
-  end
-  localparam int unsigned DLast = LookupLatency - 1;
-
-  // ---------------------------------------------------------------------------------------------
-  // Prediction FIFO; rays are accepted only while every ray in flight has a FIFO place.
-  // ---------------------------------------------------------------------------------------------
-  localparam int unsigned PredWidth = IdWidth + 1 + CountWidth + NodesPerEntry * NodeIdWidth;
-  localparam int unsigned PredCountWidth = $clog2(PredFifoDepth + 1);
-  logic [PredWidth-1:0]      pred_out;
-  logic                      pred_empty;
-  logic [PredCountWidth-1:0] pred_count;
-  logic [PredCountWidth:0]   in_flight;
-
-  hrpp_fifo #(.Depth(PredFifoDepth), .Width(PredWidth)) u_pred_fifo (
-    .clk_i, .rst_ni,
-    .push_i(d_valid_q[DLast]), .data_i({d_id_q[DLast], d_invalid_q[DLast], lk_count, lk_nodes}),
-    .pop_i(pred_valid_o && pred_ready_i), .data_o(pred_out),
-    .empty_o(pred_empty), .full_o(), .count_o(pred_count)
-  );
-  assign pred_valid_o = !pred_empty;
-  assign {pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o} = pred_out;
-
-  // Confidence (ConfBits = 1): whether each ray in flight was given a prediction (a count > 0,
-  // after the table's confidence gating), by id, written as its lookup result enters the
-  // prediction FIFO and read with its final outcome's key (ksf_id: the outcome's id as it enters
-  // F0). A ray given a prediction whose final outcome has no hit demotes its entry (the skip
-  // controller; docs/predictor.md, "One ray", step 6).
-  logic ksf_pred;
-  if (ConfBits > 0) begin : gen_pred_given
-    (* ram_style = "distributed" *) logic pg_mem_q[2**IdWidth];
-    always_ff @(posedge clk_i) begin
-      if (d_valid_q[DLast]) pg_mem_q[d_id_q[DLast]] <= lk_count != '0;
-    end
-    assign ksf_pred = pg_mem_q[ksf_id];
-  end else begin : gen_no_pred_given
-    assign ksf_pred = 1'b0;
-  end
-
-  always_comb begin
-    in_flight = (PredCountWidth + 1)'(a_valid_q) + (PredCountWidth + 1)'(b_valid_q);
-    for (int i = 0; i < HashLatency; i++) in_flight += (PredCountWidth + 1)'(h_valid_q[i]);
-    for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountWidth + 1)'(d_valid_q[i]);
-  end
-  assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <
-                                    (PredCountWidth + 1)'(PredFifoDepth);
-
-  // ---------------------------------------------------------------------------------------------
-  // Skip controller
-  // ---------------------------------------------------------------------------------------------
-  hrpp_skip_ctrl #(
-    .IdWidth(IdWidth), .IdxWidth(IdxWidth), .TagWidth(TagWidth), .NodeIdWidth(NodeIdWidth),
-    .FifoDepth(SkipFifoDepth), .ConfBits(ConfBits)
-  ) u_skip (
-    .clk_i, .rst_ni, .enable_i(init_done), .cfg_mode_i,
-    .pw_valid_i(sc_pw_valid), .pw_ready_o(sc_pw_ready), .pw_id_i(sc_pw_id),
-    .pw_hit_i(sc_pw_hit), .pw_node_i(sc_pw_node),
-    .outcome_valid_i(sc_outcome_valid), .outcome_ready_o(sc_outcome_ready),
-    .outcome_id_i(sc_outcome_id), .outcome_hit_i(sc_outcome_hit),
-    .outcome_node_i(sc_outcome_node),
-    .ksp_id_o(ksp_id), .ksp_idx_i(ksp_idx), .ksp_tag_i(ksp_tag), .ksp_any_hit_i(ksp_any_hit),
-    .ksf_id_o(ksf_id), .ksf_idx_i(ksf_idx), .ksf_tag_i(ksf_tag), .ksf_pred_i(ksf_pred),
-    .tbl_wr_valid_o(sc_tbl_wr_valid), .tbl_wr_ready_i(uq_room1), .tbl_wr_idx_o(sc_tbl_wr_idx),
-    .tbl_wr_tag_o(sc_tbl_wr_tag), .tbl_wr_node_o(sc_tbl_wr_node),
-    .tbl_wr_demote_o(sc_tbl_wr_demote),
-    .tbl_wr2_valid_o(sc_tbl_wr2_valid), .tbl_wr2_ready_i(uq_room2),
-    .tbl_wr2_idx_o(sc_tbl_wr2_idx), .tbl_wr2_tag_o(sc_tbl_wr2_tag),
-    .tbl_wr2_node_o(sc_tbl_wr2_node),
-    .skip_valid_o, .skip_ready_i, .skip_id_o, .skip_action_o
-  );
-
-  // ---------------------------------------------------------------------------------------------
-  // Assertions
-  // ---------------------------------------------------------------------------------------------
-  // A ray accepted in cycle c is in A in c+1, then the hash's stages, B (the table's read), the
-  // lookup's stages, and at the prediction FIFO's head: the latency hrpp_pkg declares.
-  localparam int unsigned Stages = 1 + HashLatency + 1 + LookupLatency + 1;
-  if (Stages != PredictionLatency) begin : gen_latency_check
-    $error("hrpp_top predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
-           PredictionLatency);
-  end
-  if (ConfBits > 1) begin : gen_conf_check
-    $error("ConfBits %0d: the RTL has 0 or 1 confidence bits per way", ConfBits);
-  end
-  if (UpdateQueueDepth < 2 || (UpdateQueueDepth & (UpdateQueueDepth - 1)) != 0)
-  begin : gen_update_queue_check
-    $error("UpdateQueueDepth %0d is not a power of two >= 2", UpdateQueueDepth);
-  end
-
 `ifndef SYNTHESIS
-  // The table answers exactly when the id pipeline says it should.
-  LookupAligned_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      lk_valid == (d_valid_q[DLast] && !d_invalid_q[DLast]));
-  // The interfaces.
-  PredKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      pred_valid_o |-> !$isunknown({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
-  PredStable_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      pred_valid_o && !pred_ready_i |=> pred_valid_o &&
-      $stable({pred_id_o, pred_invalid_o, pred_count_o, pred_nodes_o}));
-  // The update queue never overflows nor underflows.
-  UpdateQueueBounds_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      uq_count_q <= UqCountWidth'(UpdateQueueDepth) && (!uq_pop || uq_count_q != '0));
-  // The registered head is the head entry.
-  uq_req_t uq_head_stored;
-  assign uq_head_stored = uq_mem_q[uq_rd_q];
-  UpdateQueueHead_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      uq_count_q != '0 |-> uq_head_q == uq_head_stored);
-  ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
+  // The table answers exactly when the lane's id pipeline says it should.
+  LookupAligned_A: assert property (@(posedge clk_i) disable iff (!rst_ni) lk_valid == lk_due);
 `endif
 
 endmodule

@@ -10,6 +10,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "hrpp/util/atomic_file.h"
 #include "hrpp/util/progress.h"
@@ -88,14 +89,6 @@ class Waveform {
   VerilatedFstC fst_;
 };
 
-// A reset begins: the engine drops the rays in flight (it offers them again); counted in `run`.
-void begin_reset(Engine& eng, Run& run) {
-  const uint64_t d = eng.reset();
-  run.resets++;
-  run.dropped += d;
-  run.resets_with_rays += d > 0;
-}
-
 // Resets in the middle of the stream: the first after `every` cycles on average (uniform in
 // [every/2, 3*every/2]), each 1..max_len cycles long, the next `every` cycles (again uniform)
 // after the previous one ends. Seeded, so the DUT run and the cycle-model run reset at the same
@@ -137,156 +130,8 @@ uint64_t cycle_limit(const CycleConfig& cc, size_t rays, const Run& run, const E
          4 * uint64_t(eo.max_latency);
 }
 
-// DUT and cycle model in lockstep.
-template <typename M>
-Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-            const EngineOptions& eo, const RunOptions& ro, const std::string& trace_path) {
-  auto ctx = std::make_unique<VerilatedContext>();
-  // +verilator+rand+reset+2 +verilator+seed+N: random values in every variable without a reset
-  // (they must be given before the model is constructed).
-  std::vector<const char*> args{"tb_hrpp"};
-  for (const std::string& a : ro.plusargs) args.push_back(a.c_str());
-  ctx->commandArgs(int(args.size()), args.data());
-  if (!ro.plusargs.empty())
-    std::printf("verilator: rand-reset %d, seed %d (uninitialised state %s)\n", ctx->randReset(),
-                ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
-  ctx->traceEverOn(!trace_path.empty());
-  auto dut = std::make_unique<M>(ctx.get());
-  std::unique_ptr<Waveform> wave;
-  if (!trace_path.empty()) {
-    wave = std::make_unique<Waveform>(trace_path);
-    wave->open(dut.get());
-  }
-  CycleModel model(cc);
-  Engine eng(bvh, rays, eo);
-  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
-  Run run;
-  uint64_t time = 0;
-  reset_dut(dut.get(), cc, [&] {
-    if (wave) wave->dump(time++);
-  });
-  // Progress on standard error for long runs (hrpp/util/progress.h): after 2 s, then in place
-  // on a terminal or every 5 s when piped.
-  Progress progress(stderr, "tb_hrpp", "rays", rays.size());
-  for (uint64_t cycle = 0; !eng.done(); ++cycle) {
-    if ((cycle & 0xFFF) == 0) progress.update(eng.rays_finished());
-    if (cycle > cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len)) {
-      std::printf("FAIL: no progress: %llu of %zu rays finished after %llu cycles\n",
-                  (unsigned long long)eng.rays_finished(), rays.size(), (unsigned long long)cycle);
-      run.ok = false;
-      break;
-    }
-    // Reset: rst_ni goes low (asynchronously, with the clock low) at the start of the cycle and
-    // rises at the start of the cycle after the last one; the cycle model is reset in every
-    // cycle of it, the engine once as it begins.
-    bool reset_starts = false;
-    const bool in_reset = resets.step(cycle, &reset_starts);
-    if (reset_starts) begin_reset(eng, run);
-    if (in_reset) {
-      run.reset_cycles++;
-      model.reset();
-    }
-    dut->rst_ni = !in_reset;
-    DutIn in;
-    eng.drive(cycle, &in);
-    apply(dut.get(), in);
-    dut->clk_i = 0;
-    dut->eval();
-    if (wave) wave->dump(time++);
-    const DutOut act = read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
-    const DutOut exp = model.outputs();
-    const std::string d = compare_outputs(exp, act, cc.table.nodes_per_entry);
-    if (!d.empty()) {
-      std::printf("MISMATCH at cycle %llu: %s\n", (unsigned long long)cycle, d.c_str());
-      run.mismatches++;
-      run.cycles = cycle;
-      break;  // the first mismatch stops the run
-    }
-    eng.observe(cycle, in, act);
-    if (!eng.error().empty()) {
-      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, eng.error().c_str());
-      run.ok = false;
-      break;
-    }
-    dut->clk_i = 1;
-    dut->eval();
-    if (wave) wave->dump(time++);
-    if (!in_reset) model.tick(in);
-    if (!model.error().empty()) {
-      std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
-      run.ok = false;
-      break;
-    }
-    run.cycles = cycle + 1;
-    if (ctx->gotFinish()) {
-      std::printf("FAIL: the simulation finished early (an assertion?) at cycle %llu\n",
-                  (unsigned long long)cycle);
-      run.ok = false;
-      break;
-    }
-  }
-  dut->final();
-  if (wave) wave->close();
-  run.stats = eng.stats();
-  run.exactly_once = eng.check_exactly_once();
-  run.max_in_flight = eng.max_in_flight();
-  for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = eng.stall_stats(p);
-  run.table = model.stats();
-  run.table_used = model.table().entries_used();
-  return run;
-}
-
-}  // namespace
-
-Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
-                 const std::vector<RayRecord>& rays, const EngineOptions& eo, const RunOptions& ro,
-                 const std::string& trace) {
-  return with_model(config, [&]<typename M>() { return run_dut<M>(cc, bvh, rays, eo, ro, trace); });
-}
-
-// The cycle model alone in the same closed loop.
-Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-              const EngineOptions& eo, const RunOptions& ro) {
-  CycleModel model(cc);
-  Engine eng(bvh, rays, eo);
-  ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
-  Run run;
-  for (uint64_t cycle = 0;
-       !eng.done() && cycle <= cycle_limit(cc, rays.size(), run, eo, ro.reset_max_len); ++cycle) {
-    bool reset_starts = false;
-    const bool in_reset = resets.step(cycle, &reset_starts);
-    if (reset_starts) begin_reset(eng, run);
-    if (in_reset) model.reset();
-    DutIn in;
-    eng.drive(cycle, &in);
-    eng.observe(cycle, in, model.outputs());
-    if (!in_reset) model.tick(in);
-    run.cycles = cycle + 1;
-  }
-  run.ok = eng.done() && eng.error().empty() && model.error().empty();
-  run.stats = eng.stats();
-  run.exactly_once = eng.check_exactly_once();
-  return run;
-}
-
-PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-                         uint32_t go_up, PredictMode mode) {
-  PredictorConfig pc;
-  pc.hash = cc.hash;
-  pc.table = cc.table;
-  pc.go_up = go_up;
-  pc.mode = mode;
-  Predictor untimed(bvh, pc);
-  for (const RayRecord& ray : rays) untimed.process(ray);
-  return untimed.total();
-}
-
-// ------------------------------------------------------------------------------------------------
-// More than one lane (rtl/hrpp_lanes.sv, LanesCycleModel)
-// ------------------------------------------------------------------------------------------------
-namespace {
-
-// One engine per lane; lane l takes the stream's rays l, l + lanes, ... in order.
+// One engine per lane; lane l takes the stream's rays l, l + lanes, ... in order (one lane: every
+// ray, the engine seeded with the run's seed).
 struct LaneEngines {
   LaneEngines(const Bvh& bvh, const std::vector<RayRecord>& rays, const EngineOptions& eo,
               int lanes)
@@ -301,11 +146,16 @@ struct LaneEngines {
   bool done() const {
     return std::all_of(engines.begin(), engines.end(), [](const auto& e) { return e->done(); });
   }
+  bool ok() const {
+    return std::all_of(engines.begin(), engines.end(),
+                       [](const auto& e) { return e->error().empty(); });
+  }
   uint64_t finished() const {
     uint64_t n = 0;
     for (const auto& e : engines) n += e->rays_finished();
     return n;
   }
+  // A reset begins: the engines drop the rays in flight (they offer them again); counted in `run`.
   void begin_reset(Run& run) {
     uint64_t d = 0;
     for (auto& e : engines) d += e->reset();
@@ -313,7 +163,16 @@ struct LaneEngines {
     run.dropped += d;
     run.resets_with_rays += d > 0;
   }
+  // The engines' statistics, summed over the lanes.
   void finish(Run& run) const {
+    if (engines.size() == 1) {
+      const Engine& e = *engines[0];
+      run.stats = e.stats();
+      run.exactly_once = e.check_exactly_once();
+      run.max_in_flight = e.max_in_flight();
+      for (int p = 0; p < kNumStallPorts; ++p) run.stalls[p] = e.stall_stats(p);
+      return;
+    }
     for (size_t l = 0; l < engines.size(); ++l) {
       const Engine& e = *engines[l];
       run.stats += e.stats();
@@ -332,35 +191,84 @@ struct LaneEngines {
   std::vector<std::unique_ptr<Engine>> engines;
 };
 
-template <typename M>
-Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
-                  const EngineOptions& eo, const RunOptions& ro) {
+// CycleModel (one lane, hrpp_top) with LanesCycleModel's interface: lane 0.
+class OneLaneModel {
+ public:
+  explicit OneLaneModel(const CycleConfig& cc) : m_(cc) {}
+  void reset() { m_.reset(); }
+  DutOut outputs(int) const { return m_.outputs(); }
+  void tick(const std::vector<DutIn>& in) { m_.tick(in[0]); }
+  const std::string& error() const { return m_.error(); }
+  const CycleStats& stats() const { return m_.stats(); }
+  const PredTable& table() const { return m_.table(); }
+
+ private:
+  CycleModel m_;
+};
+
+// DUT and cycle model in lockstep: one lane (M an hrpp_top model, CM OneLaneModel) or 2 or 4
+// (hrpp_lanes, LanesCycleModel), every lane's outputs compared on every cycle.
+template <typename M, typename CM>
+Run run_dut(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+            const EngineOptions& eo, const RunOptions& ro, const std::string& trace_path) {
+  constexpr bool kOneLane = std::is_same_v<CM, OneLaneModel>;
   auto ctx = std::make_unique<VerilatedContext>();
+  // +verilator+rand+reset+2 +verilator+seed+N: random values in every variable without a reset
+  // (they must be given before the model is constructed).
   std::vector<const char*> args{"tb_hrpp"};
   for (const std::string& a : ro.plusargs) args.push_back(a.c_str());
   ctx->commandArgs(int(args.size()), args.data());
   if (!ro.plusargs.empty())
     std::printf("verilator: rand-reset %d, seed %d (uninitialised state %s)\n", ctx->randReset(),
                 ctx->randSeed(), ctx->randReset() == 2 ? "random" : "constant");
+  ctx->traceEverOn(!trace_path.empty());
   auto dut = std::make_unique<M>(ctx.get());
+  std::unique_ptr<Waveform> wave;
+  if (!trace_path.empty()) {
+    wave = std::make_unique<Waveform>(trace_path);
+    wave->open(dut.get());
+  }
   const int lanes = cc.lanes;
   const LaneWidths w{cc.id_bits, cc.table.node_bits, cc.table.nodes_per_entry};
-  LanesCycleModel model(cc);
+  // Lane l's inputs and outputs (one lane: hrpp_top's ports).
+  auto apply_in = [&](const DutIn& in, int l) {
+    if constexpr (kOneLane)
+      apply(dut.get(), in);
+    else
+      apply_lane(dut.get(), in, l, w);
+  };
+  auto read_out = [&](int l) {
+    if constexpr (kOneLane)
+      return read(dut.get(), cc.table.nodes_per_entry, cc.table.node_bits);
+    else
+      return read_lane(dut.get(), l, w);
+  };
+  auto lane_name = [&](int l) {
+    return kOneLane ? std::string() : "lane " + std::to_string(l) + ": ";
+  };
+  CM model(cc);
   LaneEngines eng(bvh, rays, eo, lanes);
   ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
   Run run;
-  // The start of the run as reset_dut (tb_dut.h): every lane idle, two cycles in reset.
+  uint64_t time = 0;
+  auto dump = [&] {
+    if (wave) wave->dump(time++);
+  };
+  // The start of the run (as reset_dut, tb_dut.h): every lane idle, two cycles in reset.
   dut->cfg_mode_i = static_cast<uint8_t>(cc.mode);
   dut->cfg_cell_exp_i = static_cast<uint16_t>(cc.hash.origin_cell_exp) & 0x1FF;
-  for (int l = 0; l < lanes; ++l) apply_lane(dut.get(), DutIn{}, l, w);
+  for (int l = 0; l < lanes; ++l) apply_in(DutIn{}, l);
   dut->rst_ni = 0;
   for (int i = 0; i < 4; ++i) {
     dut->clk_i = i & 1;
     dut->eval();
+    dump();
   }
   dut->clk_i = 0;
   dut->rst_ni = 1;
   dut->eval();
+  // Progress on standard error for long runs (hrpp/util/progress.h): after 2 s, then in place
+  // on a terminal or every 5 s when piped.
   Progress progress(stderr, "tb_hrpp", "rays", rays.size());
   std::vector<DutIn> in(static_cast<size_t>(lanes));
   std::vector<DutOut> act(static_cast<size_t>(lanes));
@@ -372,6 +280,9 @@ Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRe
       run.ok = false;
       break;
     }
+    // Reset: rst_ni goes low (asynchronously, with the clock low) at the start of the cycle and
+    // rises at the start of the cycle after the last one; the cycle model is reset in every
+    // cycle of it, the engines once as it begins.
     bool reset_starts = false;
     const bool in_reset = resets.step(cycle, &reset_starts);
     if (reset_starts) eng.begin_reset(run);
@@ -382,20 +293,21 @@ Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRe
     dut->rst_ni = !in_reset;
     for (int l = 0; l < lanes; ++l) {
       eng.engines[size_t(l)]->drive(cycle, &in[size_t(l)]);
-      apply_lane(dut.get(), in[size_t(l)], l, w);
+      apply_in(in[size_t(l)], l);
     }
     dut->clk_i = 0;
     dut->eval();
+    dump();
     bool stop = false;
     for (int l = 0; l < lanes && !stop; ++l) {
-      act[size_t(l)] = read_lane(dut.get(), l, w);
+      act[size_t(l)] = read_out(l);
       const std::string d = compare_outputs(model.outputs(l), act[size_t(l)], w.k);
       if (!d.empty()) {
-        std::printf("MISMATCH at cycle %llu: lane %d: %s\n", (unsigned long long)cycle, l,
-                    d.c_str());
+        std::printf("MISMATCH at cycle %llu: %s%s\n", (unsigned long long)cycle,
+                    lane_name(l).c_str(), d.c_str());
         run.mismatches++;
         run.cycles = cycle;
-        stop = true;
+        stop = true;  // the first mismatch stops the run
       }
     }
     if (stop) break;
@@ -403,18 +315,21 @@ Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRe
       Engine& e = *eng.engines[size_t(l)];
       e.observe(cycle, in[size_t(l)], act[size_t(l)]);
       if (!e.error().empty()) {
-        std::printf("FAIL at cycle %llu: lane %d: %s\n", (unsigned long long)cycle, l,
+        std::printf("FAIL at cycle %llu: %s%s\n", (unsigned long long)cycle, lane_name(l).c_str(),
                     e.error().c_str());
         run.ok = false;
         stop = true;
       }
     }
     if (stop) break;
-    uint64_t in_flight = 0;  // all lanes' rays in flight at once
-    for (const auto& e : eng.engines) in_flight += e->in_flight();
-    run.max_in_flight = std::max(run.max_in_flight, in_flight);
+    if constexpr (!kOneLane) {
+      uint64_t in_flight = 0;  // all lanes' rays in flight at once
+      for (const auto& e : eng.engines) in_flight += e->in_flight();
+      run.max_in_flight = std::max(run.max_in_flight, in_flight);
+    }
     dut->clk_i = 1;
     dut->eval();
+    dump();
     if (!in_reset) model.tick(in);
     if (!model.error().empty()) {
       std::printf("FAIL at cycle %llu: %s\n", (unsigned long long)cycle, model.error().c_str());
@@ -430,25 +345,19 @@ Run run_dut_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRe
     }
   }
   dut->final();
-  eng.finish(run);
+  if (wave) wave->close();
+  eng.finish(run);  // one lane: the engine's own count of rays in flight
   run.table = model.stats();
-  run.lanes = model.lanes_stats();
+  if constexpr (!kOneLane) run.lanes = model.lanes_stats();
   run.table_used = model.table().entries_used();
   return run;
 }
 
-}  // namespace
-
-Run run_lockstep_lanes(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
-                       const std::vector<RayRecord>& rays, const EngineOptions& eo,
-                       const RunOptions& ro) {
-  return with_lanes_model(config,
-                          [&]<typename M>() { return run_dut_lanes<M>(cc, bvh, rays, eo, ro); });
-}
-
-Run run_model_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+// The cycle model alone in the same closed loop.
+template <typename CM>
+Run run_model_alone(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
                     const EngineOptions& eo, const RunOptions& ro) {
-  LanesCycleModel model(cc);
+  CM model(cc);
   LaneEngines eng(bvh, rays, eo, cc.lanes);
   ResetSchedule resets(ro.reset_every, ro.reset_max_len, eo.seed);
   Run run;
@@ -467,13 +376,50 @@ Run run_model_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<Ray
     if (!in_reset) model.tick(in);
     run.cycles = cycle + 1;
   }
-  bool engines_ok = true;
-  for (const auto& e : eng.engines) engines_ok &= e->error().empty();
-  run.ok = eng.done() && engines_ok && model.error().empty();
+  run.ok = eng.done() && eng.ok() && model.error().empty();
   eng.finish(run);
   run.table = model.stats();
-  run.lanes = model.lanes_stats();
+  if constexpr (!std::is_same_v<CM, OneLaneModel>) run.lanes = model.lanes_stats();
   return run;
+}
+
+}  // namespace
+
+Run run_lockstep(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
+                 const std::vector<RayRecord>& rays, const EngineOptions& eo, const RunOptions& ro,
+                 const std::string& trace) {
+  return with_model(
+      config, [&]<typename M>() { return run_dut<M, OneLaneModel>(cc, bvh, rays, eo, ro, trace); });
+}
+
+Run run_model(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+              const EngineOptions& eo, const RunOptions& ro) {
+  return run_model_alone<OneLaneModel>(cc, bvh, rays, eo, ro);
+}
+
+PredictStats run_untimed(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                         uint32_t go_up, PredictMode mode) {
+  PredictorConfig pc;
+  pc.hash = cc.hash;
+  pc.table = cc.table;
+  pc.go_up = go_up;
+  pc.mode = mode;
+  Predictor untimed(bvh, pc);
+  for (const RayRecord& ray : rays) untimed.process(ray);
+  return untimed.total();
+}
+
+// More than one lane (rtl/hrpp_lanes.sv, LanesCycleModel): the same loops.
+Run run_lockstep_lanes(const std::string& config, const CycleConfig& cc, const Bvh& bvh,
+                       const std::vector<RayRecord>& rays, const EngineOptions& eo,
+                       const RunOptions& ro) {
+  return with_lanes_model(
+      config, [&]<typename M>() { return run_dut<M, LanesCycleModel>(cc, bvh, rays, eo, ro, ""); });
+}
+
+Run run_model_lanes(const CycleConfig& cc, const Bvh& bvh, const std::vector<RayRecord>& rays,
+                    const EngineOptions& eo, const RunOptions& ro) {
+  return run_model_alone<LanesCycleModel>(cc, bvh, rays, eo, ro);
 }
 
 }  // namespace hrpp::tb

@@ -100,13 +100,14 @@ module top_formal
   always_comb begin
     if (rst_ni) begin
       Credits_A: assert (outstanding_q <= (CountWidth + 1)'(PredFifoDepth));
-      InFlight_A: assert (outstanding_q == (CountWidth + 1)'(dut.in_flight) +
-                                           (CountWidth + 1)'(dut.pred_count));
-      PredNoOverflow_A: assert (!dut.d_valid_q[LookupLatency-1] || !dut.u_pred_fifo.full_o);
+      InFlight_A: assert (outstanding_q == (CountWidth + 1)'(dut.u_lane.in_flight) +
+                                           (CountWidth + 1)'(dut.u_lane.pred_count));
+      PredNoOverflow_A: assert (!dut.u_lane.d_valid_q[LookupLatency-1] ||
+                                !dut.u_lane.u_pred_fifo.full_o);
       // Induction strengthening: the prediction FIFO's pointers agree with its count.
-      PredFifo_A: assert (dut.u_pred_fifo.count_q <= CountWidth'(PredFifoDepth) &&
-                          dut.u_pred_fifo.wr_q - dut.u_pred_fifo.rd_q ==
-                          dut.u_pred_fifo.count_q[$clog2(PredFifoDepth)-1:0]);
+      PredFifo_A: assert (dut.u_lane.u_pred_fifo.count_q <= CountWidth'(PredFifoDepth) &&
+                          dut.u_lane.u_pred_fifo.wr_q - dut.u_lane.u_pred_fifo.rd_q ==
+                          dut.u_lane.u_pred_fifo.count_q[$clog2(PredFifoDepth)-1:0]);
     end
   end
 `else

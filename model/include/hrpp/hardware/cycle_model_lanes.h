@@ -1,7 +1,7 @@
 // Cycle-accurate model of the multi-lane RTL (rtl/hrpp_lanes.sv; docs/microarchitecture.md,
-// "Lanes"): Lanes (2 or 4) copies of hrpp_top's lane (input registers, hash, key store, skip
-// controller, prediction and skip FIFOs, update queue) around a table split by set into Lanes
-// banks, each with hrpp_pred_table's lookup and update pipelines, and a lookup queue per lane.
+// "Lanes"): Lanes (2 or 4) copies of hrpp_top's lane (LaneModel, lane_model.h: input registers,
+// hash, key store, lookup queue, skip controller, prediction and skip FIFOs, update queue) around
+// a table split by set into Lanes banks, each with hrpp_pred_table's lookup and update pipelines.
 // Per bank and cycle one lookup and one update: round-robin among the lanes whose head asks for
 // the bank, the pointer moving past the lane taken. CycleModel (cycle_model.h) is the one-lane
 // design (hrpp_top); the interfaces of each lane are its DutIn / DutOut.
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hrpp/hardware/cycle_model.h"
+#include "hrpp/hardware/lane_model.h"
 
 namespace hrpp {
 
@@ -46,68 +47,14 @@ class LanesCycleModel {
   const PredTable& table() const { return table_; }
 
  private:
-  struct Pred {
-    uint32_t id = 0;
-    bool invalid = false;
-    uint32_t count = 0;
-    std::array<uint32_t, kMaxNodesPerEntry> nodes{};
-  };
-  struct Op {
-    uint32_t idx = 0;  // the full set index (bank = idx mod lanes)
-    uint64_t tag = 0;
-    uint32_t node = 0;
-    uint64_t seq = 0;     // the request's number in the order its bank took them
-    bool demote = false;  // never: lanes have no confidence bits (check_against_requests reads it)
-    bool same_update(const Op& o) const { return idx == o.idx && tag == o.tag && node == o.node; }
-  };
-  struct KeyEntry {
-    uint32_t idx = 0;
-    uint64_t tag = 0;
-    bool any_hit = false;
-  };
-  struct Msg {
-    bool valid = false;
-    uint32_t id = 0;
-    bool hit = false;
-    uint32_t node = 0;
-    KeyEntry key;
-  };
-  struct Decision {
-    Action action = Action::kFull;
-    bool f_req = false, p_req = false, p_advance = false, f_advance = false;
-    std::optional<Op> update, update2;
-    bool room1 = false, room2 = false;
-  };
-  struct B {  // key registers, and a lookup-queue entry
-    uint32_t id = 0, idx = 0;
-    uint64_t tag = 0;
-    bool invalid = false, any_hit = false;
-  };
-  static constexpr int kHashLatency = rtl::kHashStages;
-  static constexpr int kLookupLatency = rtl::kLookupStages;
+  using Op = LaneModel::Op;
   static constexpr int kUpdateStages = rtl::kUpdateStages;
-  struct Lane {
-    std::optional<DutIn> a;
-    std::array<std::optional<DutIn>, kHashLatency> h;
-    std::optional<B> b;
-    std::deque<B> lookup_queue;
-    std::array<std::optional<Pred>, kLookupLatency> d;
-    std::deque<Pred> pred_fifo;
-    std::vector<KeyEntry> key_store;      // no reset, as in the RTL
-    std::vector<bool> key_store_written;  // since the last reset
-    Msg p0, f0;
-    std::deque<Op> update_queue;
-    std::deque<std::pair<uint32_t, Action>> skip_fifo;
-  };
   struct Bank {
     std::array<std::optional<Op>, kUpdateStages> up;  // [0] = T0 ... [6] = W
     std::deque<Op> requests;  // taken (issued or dropped), not yet applied to requested_
     int lookup_rr = 0, update_rr = 0;
   };
 
-  Decision decide(const Lane& l) const;
-  DutOut outputs(const Lane& l, const Decision& d) const;
-  int in_flight(const Lane& l) const;
   uint32_t bank_of(uint32_t idx) const { return idx & uint32_t(cfg_.lanes - 1); }
   void check_against_requests(Bank& bank, const Op& written);
 
@@ -117,7 +64,7 @@ class LanesCycleModel {
   uint64_t cycle_ = 0;
   bool clearing_ = true;
   uint32_t clear_idx_ = 0;
-  std::vector<Lane> lanes_;
+  std::vector<LaneModel> lanes_;  // lane_model.h
   std::vector<Bank> banks_;
   uint64_t next_seq_ = 0;
   std::string error_;

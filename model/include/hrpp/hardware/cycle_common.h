@@ -1,0 +1,133 @@
+// What the cycle models of the RTL share (cycle_model.h: one lane, hrpp_top; lane_model.h: one
+// lane of it; cycle_model_lanes.h: 2 or 4 lanes, hrpp_lanes): their configuration, the DUT's
+// ports in one cycle, the table's statistics and the self-check against the golden model's table.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "hrpp/predictor/engine_side.h"  // Action: the skip decisions
+#include "hrpp/predictor/hash.h"
+#include "hrpp/predictor/pred_table.h"
+#include "hrpp/predictor/predictor.h"
+#include "hrpp/rtl_config_data.h"
+
+namespace hrpp {
+
+/// The cycle models' self-check (CycleModel, LanesCycleModel): every request in `requests` up to
+/// `written` (by sequence number; the requests dropped before it too) is applied to `requested`,
+/// the golden model's table with every request applied (updates, and demotes with confidence
+/// bits), and popped; each set they touch must then equal `table`'s (confidence counters too).
+/// The first difference is written to *error (if it is empty).
+template <typename Op>
+void check_against_requests(std::deque<Op>& requests, const Op& written, PredTable& requested,
+                            const PredTable& table, uint32_t ways, std::string* error) {
+  std::vector<uint32_t> sets;
+  while (!requests.empty() && requests.front().seq <= written.seq) {
+    const Op& op = requests.front();
+    if (op.demote)
+      requested.demote(op.idx, op.tag, 0);
+    else
+      requested.update(op.idx, op.tag, 0, op.node);
+    sets.push_back(op.idx);
+    requests.pop_front();
+  }
+  for (const uint32_t s : sets)
+    for (uint32_t i = 0; i < ways; ++i) {
+      const Way& a = table.way(s, i);
+      const Way& b = requested.way(s, i);
+      bool same = a.valid == b.valid && table.age(s, i) == requested.age(s, i);
+      if (a.valid && same) {
+        same = a.tag == b.tag && a.count == b.count && a.conf == b.conf;
+        for (uint32_t k = 0; k < a.count && same; ++k) same = a.nodes[k] == b.nodes[k];
+      }
+      if (!same && error->empty())
+        *error = "the table's set " + std::to_string(s) + " differs from the golden model's " +
+                 "with every update request applied (a dropped request changed the table)";
+    }
+}
+
+struct CycleConfig {
+  HashConfig hash;    // index_bits = log2(table.sets); origin_cell_exp = cfg_cell_exp_i
+  TableConfig table;  // finite; tag_bits = the RTL's TagWidth
+  PredictMode mode = PredictMode::kClosestExact;
+  int id_bits = rtl::kDefaultConfig.id_width;  // rtl_config.h: every configuration's
+  int pred_fifo_depth = rtl::kDefaultConfig.pred_fifo_depth;
+  int skip_fifo_depth = rtl::kDefaultConfig.skip_fifo_depth;
+  int update_queue_depth = rtl::kDefaultConfig.update_queue_depth;
+  // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
+  // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
+  bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
+  /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
+  /// cycle_model_lanes.h).
+  int lanes = 1;
+  // table.conf_bits: 0, or 1 with threshold 1 (ConfBits: a confidence bit per way, demotes from
+  // final outcomes of predicted rays that missed; hrpp_top only).
+  std::string validate() const;
+};
+
+/// The DUT's inputs in one cycle.
+struct DutIn {
+  bool ray_valid = false;
+  uint32_t ray_id = 0;
+  uint8_t ray_kind = 0;
+  std::array<uint32_t, 3> org{}, dir{};
+  bool pred_ready = false;
+  bool pw_valid = false;  // predicted-walk result
+  uint32_t pw_id = 0;
+  bool pw_hit = false;
+  uint32_t pw_node = 0;
+  bool outcome_valid = false;  // final outcome
+  uint32_t outcome_id = 0;
+  bool outcome_hit = false;
+  uint32_t outcome_node = 0;
+  bool skip_ready = false;
+};
+
+/// The DUT's outputs in one cycle (functions of the state only).
+struct DutOut {
+  bool ray_ready = false;
+  bool pred_valid = false;
+  uint32_t pred_id = 0;
+  bool pred_invalid = false;
+  uint32_t pred_count = 0;
+  std::array<uint32_t, kMaxNodesPerEntry> pred_nodes{};
+  bool pw_ready = false;
+  bool outcome_ready = false;
+  bool skip_valid = false;
+  uint32_t skip_id = 0;
+  Action skip_action = Action::kFull;
+};
+
+/// What the table saw (cumulative over resets; for the testbench's stress checks).
+struct CycleStats {
+  uint64_t updates = 0;           // rows written by updates (W)
+  uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
+  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
+  uint64_t dropped = 0;  // requests dropped as identical to the newer same-set one in T0/T1
+  uint64_t resets = 0;   // reset() calls after construction (cycles in reset)
+};
+
+/// The table's write (W) of a request taken from the update pipeline: an update, or a demote
+/// (confidence bits; no allocation, never an eviction), counted in `stats`.
+template <typename Op>
+void write_table(PredTable& table, const Op& w, CycleStats& stats) {
+  bool hit = false, full = true;
+  for (uint32_t i = 0; i < table.config().ways; ++i) {
+    const Way& way = table.way(w.idx, i);
+    hit |= way.valid && way.tag == w.tag;
+    full &= way.valid;
+  }
+  stats.updates++;
+  if (w.demote) {
+    table.demote(w.idx, w.tag, 0);
+  } else {
+    stats.evictions += !hit && full;
+    table.update(w.idx, w.tag, 0, w.node);
+  }
+}
+
+}  // namespace hrpp
