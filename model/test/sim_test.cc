@@ -7,6 +7,7 @@
 #include "hrpp/predictor/engine_side.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/sim/simulator.h"
+#include "hrpp/sim/unit_gate.h"
 #include "hrpp/trace/bvh.h"
 #include "hrpp/workload/workload.h"
 #include "test_util.h"
@@ -17,6 +18,7 @@ namespace {
 using sim::GpuConfig;
 using sim::SimOptions;
 using sim::SimStats;
+using sim::UnitGate;
 
 struct World {
   Scene scene;
@@ -256,6 +258,67 @@ TEST(Sim, RaysThatGiveUpEnteringWalkWithoutThePredictor) {
     EXPECT_GT(s.predictor.bypassed, 0u) << timeout;
     EXPECT_GT(s.predictor.lookups, 0u) << timeout;
     EXPECT_EQ(s.predictor.lookups + s.predictor.bypassed, s.rays) << timeout;
+    EXPECT_EQ(s.predict_total().exact_mismatches, 0u);
+    for (size_t i = 0; i < w.rays.size(); ++i) {
+      if (validate_ray(w.rays[i].ray) == RayError::kNone) {
+        ASSERT_TRUE(same_hit(answers[i], g.answers[i])) << "ray " << i;
+      }
+    }
+  }
+}
+
+// The gate's counter: closed after N lookups without a predicted hit, opened by one, and then
+// N more lookups before it closes again; N = 0 never closes.
+TEST(Sim, TheGateCountsLookupsSinceTheLastPredictedHit) {
+  UnitGate none;
+  for (int i = 0; i < 10; ++i) none.on_lookup();
+  EXPECT_FALSE(none.closed());
+  UnitGate g(3);
+  for (int round = 0; round < 2; ++round) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_FALSE(g.closed()) << round << " " << i;
+      g.on_lookup();
+    }
+    EXPECT_TRUE(g.closed()) << round;
+    g.on_lookup();  // saturates
+    EXPECT_TRUE(g.closed()) << round;
+    EXPECT_TRUE(g.on_predicted_hit()) << round;   // opened it
+    EXPECT_FALSE(g.on_predicted_hit()) << round;  // already open
+  }
+  g.on_lookup();
+  g.on_lookup();
+  g.on_predicted_hit();  // reloads before it closed
+  g.on_lookup();
+  g.on_lookup();
+  EXPECT_FALSE(g.closed());
+}
+
+// The unit's gate (SimOptions::gate): it closes after `gate` answered lookups without a predicted
+// hit, and then the rays that cannot enter at once walk without the predictor; a predicted hit
+// opens it again. Every ray is looked up or bypassed and the answers stay the golden walks'; a
+// gate that never closes within the run changes nothing.
+TEST(Sim, TheGateClosesWithoutPredictedHitsAndOpensOnOne) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  SimOptions open = rtl_default(w, PredictMode::kClosestExact);
+  const SimStats s0 = run(w, open);
+  open.gate = 1u << 24;  // more lookups than rays: never closes
+  const SimStats s1 = run(w, open);
+  EXPECT_EQ(s1.cycles, s0.cycles);
+  EXPECT_EQ(s1.predictor.lookups, s0.predictor.lookups);
+  EXPECT_EQ(s1.predictor.gate_closed_cycles, 0u);
+  EXPECT_EQ(s1.predictor.bypassed, 0u);
+  for (const uint32_t gate : {1u, 4u}) {
+    SimOptions o = rtl_default(w, PredictMode::kClosestExact);
+    o.gate = gate;
+    std::vector<Hit> answers;
+    o.answers = &answers;
+    const SimStats s = run(w, o);
+    EXPECT_GT(s.predictor.gate_closed_cycles, 0u) << gate;
+    EXPECT_GT(s.predictor.gate_openings, 0u) << gate;
+    EXPECT_GT(s.predictor.bypassed, 0u) << gate;
+    EXPECT_LT(s.predictor.lookups, s0.predictor.lookups) << gate;
+    EXPECT_EQ(s.predictor.lookups + s.predictor.bypassed, s.rays) << gate;
     EXPECT_EQ(s.predict_total().exact_mismatches, 0u);
     for (size_t i = 0; i < w.rays.size(); ++i) {
       if (validate_ray(w.rays[i].ray) == RayError::kNone) {

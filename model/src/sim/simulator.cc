@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "hrpp/predictor/engine_side.h"
+#include "hrpp/sim/unit_gate.h"
 
 namespace hrpp::sim {
 
@@ -145,6 +146,7 @@ class Simulator {
   std::vector<uint32_t> free_slots_;
   std::unordered_map<uint32_t, uint32_t> slot_of_;  // ray -> slot
   std::vector<uint64_t> admitted_at_;               // by slot
+  std::vector<UnitGate> gate_;                      // SimOptions::gate, by unit
   std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
   uint64_t seq_ = 0;
   std::vector<uint32_t> path_;
@@ -245,6 +247,7 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
   if (s.phase != Phase::kEntering)
     throw std::runtime_error("a second prediction for ray " + std::to_string(ray));
   s.phase = Phase::kPredWalk;
+  gate_[s.unit].on_lookup();
   s.steps.clear();
   s.next = 0;
   const Ray& r = rays_[ray].ray;
@@ -319,6 +322,7 @@ void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
   if (s.phase != Phase::kDeciding)
     throw std::runtime_error("a skip decision for ray " + std::to_string(ray) +
                              " before its predicted-walk result");
+  if (a != Action::kFull) st_.predictor.gate_openings += gate_[s.unit].on_predicted_hit();
   start_root_walk(s, a);
   schedule(si, now + 1);
 }
@@ -405,6 +409,7 @@ SimStats Simulator::run() {
   st_.rays = valid_.size();
   if (opt_.answers) opt_.answers->assign(rays_.size(), Hit{});
   admitted_at_.assign(slots_.size(), 0);
+  gate_.assign(g_.units, UnitGate(opt_.gate));
   const uint32_t num_warps = uint32_t((valid_.size() + g_.warp_size - 1) / g_.warp_size);
   warps_.resize(num_warps);  // repacking appends the warps it forms
   uint32_t next_warp = 0;
@@ -427,10 +432,14 @@ SimStats Simulator::run() {
       pred_[u]->cycle(now, &io);
       if (const std::string e = pred_[u]->error(); !e.empty())
         throw std::runtime_error("unit " + std::to_string(u) + "'s predictor: " + e);
-      // Rays still waiting to enter after entry_timeout cycles walk without the predictor (the
-      // queue is in admission order, so the oldest is at its front).
-      while (opt_.entry_timeout > 0 && !io.entering.empty() &&
-             admitted_at_[slot_of(io.entering.front())] + opt_.entry_timeout <= now) {
+      // Rays still waiting to enter after entry_timeout cycles (1 while the unit's gate is
+      // closed) walk without the predictor (the queue is in admission order, so the oldest is at
+      // its front).
+      const bool closed = gate_[u].closed();
+      st_.predictor.gate_closed_cycles += closed;
+      const uint32_t timeout = closed ? 1 : opt_.entry_timeout;
+      while (timeout > 0 && !io.entering.empty() &&
+             admitted_at_[slot_of(io.entering.front())] + timeout <= now) {
         const uint32_t si = slot_of(io.entering.front());
         io.entering.pop_front();
         Slot& s = slots_[si];
@@ -553,6 +562,8 @@ nlohmann::json SimStats::to_json(const GpuConfig& g) const {
             {"stall_cycles", predictor.stall_cycles},
             {"entry_wait_cycles", predictor.entry_wait},
             {"bypassed_rays", predictor.bypassed},
+            {"gate_closed_cycles", predictor.gate_closed_cycles},
+            {"gate_openings", predictor.gate_openings},
             {"true_positive", p.true_positive},
             {"false_positive", p.false_positive},
             {"false_negative", p.false_negative},

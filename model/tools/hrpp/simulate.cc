@@ -40,6 +40,7 @@ struct SimulateArgs {
   int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
       updates_per_cycle = -1, credits = -1;
   uint32_t entry_timeout = 0;  // the preset's rays give up entering after this many cycles
+  uint32_t gate = 0;           // SimOptions::gate
 };
 
 /// One simulated configuration.
@@ -263,6 +264,10 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   r.opt.entry_timeout = a.entry_timeout;
   if (a.entry_timeout > 0)
     r.timing += "; rays give up entering after " + std::to_string(a.entry_timeout) + " cycles";
+  r.opt.gate = a.gate;
+  if (a.gate > 0)
+    r.timing += "; the unit's gate closes after " + std::to_string(a.gate) +
+                " lookups without a predicted hit";
   s->runs.push_back(r);
   add_repacked(a, r, s);
   return 0;
@@ -405,6 +410,16 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
   }
   if (st.size() > 1 && s.preset != "oracle") {
     const PredictStats t = p.predict_total();
+    std::string bypass;
+    if (a.entry_timeout || a.gate)
+      bypass = ", " + std::to_string(p.predictor.bypassed) + " rays gave up entering";
+    if (a.gate) {
+      char b[64];
+      std::snprintf(
+          b, sizeof b, ", gate closed %.1f%% of unit cycles",
+          100.0 * p.predictor.gate_closed_cycles / std::max<uint64_t>(1, p.cycles * g.units));
+      bypass += b;
+    }
     std::printf(
         "  %s: precision %.4f, recall %.4f, %.2f%% of interior tests skipped, %llu lookups, %llu "
         "stall cycles (%.2f%% of unit cycles), %.1f cycles per predicted ray waiting to enter, "
@@ -413,10 +428,7 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
         (unsigned long long)p.predictor.lookups, (unsigned long long)p.predictor.stall_cycles,
         100.0 * p.predictor.stall_cycles / std::max<uint64_t>(1, p.cycles * g.units),
         double(p.predictor.entry_wait) / std::max<uint64_t>(1, p.predictor.lookups),
-        (unsigned long long)t.wrong_results,
-        a.entry_timeout
-            ? (", " + std::to_string(p.predictor.bypassed) + " rays gave up entering").c_str()
-            : "");
+        (unsigned long long)t.wrong_results, bypass.c_str());
     for (size_t i = 0; i < st.size(); ++i)
       if (s.runs[i].name == "oracle" && s.main != i) {
         const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
@@ -605,6 +617,12 @@ Subcommand add_simulate(CLI::App& app) {
                  "a ray that has waited this many cycles to enter its unit's predictor (no "
                  "credit, port busy) walks from the root without it: no lookup, no table write "
                  "(0: rays wait until they enter)")
+      ->check(CLI::Range(0, 1 << 24))
+      ->capture_default_str();
+  sc->add_option("--gate", sa->gate,
+                 "the unit's gate: after this many answered lookups without a predicted hit, "
+                 "the unit's rays enter its predictor only in their first cycle (else walk "
+                 "without it) until a predicted hit (0: no gate; docs/timing_model.md)")
       ->check(CLI::Range(0, 1 << 24))
       ->capture_default_str();
   return {sc, [sa] {

@@ -63,6 +63,11 @@ struct SimOptions {
   /// gives up: it walks from the root with no lookup and no table write, as a ray that does not
   /// use the predictor (`bypassed`). 0: rays wait until they enter.
   uint32_t entry_timeout = 0;
+  /// The unit's gate (docs/timing_model.md, "The gate"): 0, none. N > 0: a unit whose last N
+  /// answered lookups brought no predicted hit (no skip or shrink decision) closes its gate:
+  /// while it is closed, a ray that cannot enter in its first cycle walks without the predictor
+  /// (entry_timeout 1); the next predicted hit opens it.
+  uint32_t gate = 0;
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).

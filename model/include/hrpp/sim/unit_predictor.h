@@ -56,6 +56,8 @@ struct UnitPredictorStats {
   uint64_t suppressed_lookups = 0;
   uint64_t mismatches = 0;  // --rtl: cycles in which the RTL's outputs differed from the model's
   uint64_t bypassed = 0;    // rays that gave up waiting to enter (SimOptions::entry_timeout)
+  uint64_t gate_closed_cycles = 0;  // SimOptions::gate: cycles the unit's gate was closed
+  uint64_t gate_openings = 0;       // SimOptions::gate: predicted hits that opened a closed gate
 };
 
 class UnitPredictor {
