@@ -137,6 +137,9 @@ results: build
 # on every shared and own scene x ray kind x preset on the mobile and desktop GPUs (about 30
 # minutes on 2 cores at 256x256); out/sim/ and the sim-* blocks of docs/results.md.
 SIM_RES ?= 256x256
+# The design study's frame per GPU: desktop's 68 units get 4x the mobile frame (at 256x256 each
+# unit has under two waves of warps, and one ray's timing moves the run's end by several percent).
+STUDY_RES ?= mobile=256x256,desktop=512x512
 sim-results: build
 	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/sim
@@ -146,7 +149,7 @@ sim-results: build
 # on every scene x ray kind in simulated time; out/design_study/ and the study-* blocks.
 design-study: build
 	python3 model/tools/design_study.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --res $(SIM_RES) --out $(OUT)/design_study
+	  --res $(STUDY_RES) --out $(OUT)/design_study
 
 # How many lookups and updates per cycle the mobile and desktop RT units need from the predictor,
 # and what the RTL's lane configurations give as built (model/tools/port_rate.py; docs/results.md,

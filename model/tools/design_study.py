@@ -3,8 +3,9 @@
 secondary rays"): every design of model/tools/design_study.json on every shared and own scene x ray
 kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md made from them.
 
-  make design-study [SIM_RES=256x256] [JOBS=2]
-  model/tools/design_study.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
+  make design-study [STUDY_RES=mobile=256x256,desktop=512x512] [JOBS=2]
+  model/tools/design_study.py --hrpp build/hrpp --shared ../shared [--jobs 2]
+      [--res mobile=256x256,desktop=512x512 | --res 256x256]
       [--gpu mobile,desktop] [--scenes bunny,sponza] [--designs a,b] [--resume] [--doc ...]
 
 A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
@@ -14,8 +15,12 @@ empty table. The first design (on every GPU) also runs the oracle. Storage: the 
 the golden model counts them (the largest over the scenes: node ids are as wide as the scene's
 BVH needs, 21 bits on happy_buddha_full; an rtl-NAME preset's are its configuration's).
 
-Writes OUT/GPU/SCENE-KIND-DESIGN.json (kept with --resume), OUT/summary.json and the blocks
-study-designs, study-ablation and study-goal of --doc.
+"Never slower" is decided on more than one frame: every scene x kind where the winner, its
+build or the noise design ran below --confirm-below (1.01) is run again for all three with
+seeds 2 .. --seeds (5), and the goals judge the geometric mean over the seeds.
+
+Writes OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json (kept with --resume),
+OUT/summary.json and the blocks study-designs, study-ablation and study-goal of --doc.
 """
 import argparse
 import json
@@ -68,6 +73,28 @@ def preset_arg(design, out):
     return str(path)
 
 
+def res_of(res, gpu):
+    """The frame size of GPU from --res: one WxH for every GPU, or GPU=WxH,GPU=WxH."""
+    if "=" not in res:
+        return res
+    sizes = dict(item.split("=", 1) for item in res.split(",") if item)
+    if gpu not in sizes:
+        raise SystemExit(f"design_study: --res {res}: no frame size for GPU {gpu}")
+    return sizes[gpu]
+
+
+def sim_cmd(args, gpu, scene, kopts, d, out, path, oracle, seed=None):
+    cmd = [args.hrpp, "simulate", str(scene), "--res", res_of(args.res, gpu), "--gpu", gpu,
+           "--preset", preset_arg(d, out), "--json", str(path)] + kopts
+    for k, v in d.get("sim_options", {}).items():  # simulate's own options
+        cmd += ["--" + k.replace("_", "-"), str(v)]
+    if not oracle:
+        cmd.append("--no-oracle")
+    if seed is not None:
+        cmd += ["--seed", str(seed)]
+    return cmd
+
+
 def tasks_for(args, scenes, designs, out):
     tasks = []
     for gpu in args.gpu.split(","):
@@ -77,14 +104,73 @@ def tasks_for(args, scenes, designs, out):
                     if gpu not in d.get("gpus", [gpu]):
                         continue
                     path = out / gpu / f"{where}-{scene.stem}-{kind}-{d['name']}.json"
-                    cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
-                           "--preset", preset_arg(d, out), "--json", str(path)] + kopts
-                    for k, v in d.get("sim_options", {}).items():  # simulate's own options
-                        cmd += ["--" + k.replace("_", "-"), str(v)]
-                    if i > 0:
-                        cmd.append("--no-oracle")
+                    cmd = sim_cmd(args, gpu, scene, kopts, d, out, path, oracle=i == 0)
                     tasks.append(((gpu, where, scene.stem, kind, d["name"]), cmd, path))
     return tasks
+
+
+def confirm_names(spec, designs):
+    """The designs whose slowest scene x kind the goals judge: the winner, its build, the noise
+    design."""
+    have = {d["name"] for d in designs}
+    return [n for n in (spec["winner"], spec.get("built"), spec.get("noise")) if n in have]
+
+
+def confirm_tasks(args, spec, designs, scenes, res, out):
+    """"Never slower" is decided on more than one frame: every scene x kind where one of
+    confirm_names() ran below --confirm-below is run again, for all of them, with seeds 2 ..
+    --seeds (other rays of the same kind: sampled directions and jitter)."""
+    names = confirm_names(spec, designs)
+    by = {d["name"]: d for d in designs}
+    paths = {(where, scene.stem): scene for where, scene in scenes}
+    cells = sorted({k[:4] for k, r in res.items() if k[4] in names and r.get("speedup") is not None
+                    and r["speedup"] < args.confirm_below})
+    tasks = []
+    for gpu, where, stem, kind in cells:
+        for n in names:
+            if gpu not in by[n].get("gpus", [gpu]):
+                continue
+            for seed in range(2, args.seeds + 1):
+                path = out / gpu / "seeds" / f"{where}-{stem}-{kind}-{n}-s{seed}.json"
+                cmd = sim_cmd(args, gpu, paths[(where, stem)], KINDS[kind], by[n], out, path,
+                              oracle=False, seed=seed)
+                tasks.append(((gpu, where, stem, kind, n, str(seed)), cmd, path))
+    return cells, tasks
+
+
+def confirmed(res, seeds_res, cells, names, seeds):
+    """{(gpu, where, stem, kind, name): (geometric mean over seeds 1 .. seeds, [speed-ups])} for
+    the re-run cells."""
+    out = {}
+    for cell in cells:
+        for n in names:
+            first = res.get(cell + (n,))
+            if not first or first.get("speedup") is None:
+                continue
+            sp = [first["speedup"]] + [seeds_res[cell + (n, str(sd))]["speedup"]
+                                       for sd in range(2, seeds + 1)
+                                       if cell + (n, str(sd)) in seeds_res]
+            out[cell + (n,)] = (geomean(sp), sp)
+    return out
+
+
+def slowest(res, conf, gpu, name, scenes):
+    """The slowest scene x kind of a design on a GPU, the re-run cells at their mean over the
+    seeds: (speed-up, scene label, kind, frames) or None."""
+    best = None
+    for where, scene in scenes:
+        for kind in KINDS:
+            key = (gpu, where, scene.stem, kind, name)
+            if key in conf:
+                v, n = conf[key][0], len(conf[key][1])
+            else:
+                r = res.get(key)
+                if not r or "speedup" not in r or r.get("rays", 0) == 0:
+                    continue
+                v, n = r["speedup"], 1
+            if best is None or v < best[0]:
+                best = (v, label(where, scene), kind, n)
+    return best
 
 
 def summarize(res, gpus, scenes, designs):
@@ -189,10 +275,25 @@ def ablation_block(spec, designs, summ, gpus):
     return "\n".join(rows)
 
 
-def goal_block(spec, summ, gpus):
+def seeds_text(never, gpu, name, noise):
+    """The slowest scene x kind of `name` and of the noise design with the re-run cells at their
+    mean over the seeds, and whether it is slower than no predictor beyond the noise floor."""
+    w, nz = never.get((gpu, name)), never.get((gpu, noise))
+    if not w or w[3] == 1 and (not nz or nz[3] == 1):
+        return ""
+    text = (f"; over more frames (every scene x kind below the re-run threshold at seed 1 run with "
+            f"{w[3]} seeds, geometric mean): slowest {w[0]:.3f} ({w[1]}, {KIND_SHORT[w[2]]})")
+    if nz:
+        text += f", `{noise}`'s slowest {nz[0]:.3f} ({nz[1]}, {KIND_SHORT[nz[2]]})"
+        text += (": never slower than no predictor beyond the noise floor" if w[0] >= min(1.0, nz[0])
+                 else ": slower than no predictor beyond the noise floor")
+    return text
+
+
+def goal_block(spec, summ, gpus, never):
     """The goals of the study for the winner and its build ("built"): the AO gain against the
     baseline's, shadow and primary rays, and the slowest scene x kind against the noise floor
-    (the "noise" design's slowest)."""
+    (the "noise" design's slowest); never: {(gpu, name): slowest()} over the seeds."""
     base, noise = spec["baseline"], spec.get("noise")
     lines = []
     for w in [spec["winner"]] + ([spec["built"]] if spec.get("built") in summ else []):
@@ -217,7 +318,7 @@ def goal_block(spec, summ, gpus):
                 f"(stretch goal: 50%); shadow rays {fx(sw['shadow']['geomean'])} against "
                 f"{fx(sb['shadow']['geomean'])}; primary rays {fx(sw['primary']['geomean'])}; "
                 f"slowest scene x kind {worst[0][0]:.3f} ({worst[0][1]}, {KIND_SHORT[worst[1]]})"
-                + floor)
+                + floor + seeds_text(never, gpu, w, noise))
     return "\n".join(lines)
 
 
@@ -228,8 +329,14 @@ def main():
     ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
     ap.add_argument("--spec", default=str(ROOT / "model" / "tools" / "design_study.json"))
     ap.add_argument("--out", default=str(ROOT / "out" / "design_study"))
-    ap.add_argument("--res", default="256x256")
+    ap.add_argument("--res", default="mobile=256x256,desktop=512x512",
+                    help="frame size: WxH for every GPU, or GPU=WxH,... (default: desktop's "
+                    "68 units get 4x mobile's frame, docs/results.md)")
     ap.add_argument("--gpu", default="mobile,desktop")
+    ap.add_argument("--seeds", type=int, default=5,
+                    help="frames (simulate --seed 1 .. N) for the scene x kind cells where the "
+                    "winner, its build or the noise design ran below --confirm-below; 1: none")
+    ap.add_argument("--confirm-below", type=float, default=1.01)
     ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
     ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
                     "design always runs, for the oracle)")
@@ -249,15 +356,31 @@ def main():
         designs = [d for i, d in enumerate(designs) if i == 0 or d["name"] in want]
     scenes = scenes_of(args.shared, args.scenes)
     out = pathlib.Path(args.out)
+    for gpu in args.gpu.split(","):
+        res_of(args.res, gpu)  # every GPU has a frame size
     tasks = tasks_for(args, scenes, designs, out)
     res = run_all(tasks, args.jobs, args.resume, "design_study")
+    cells, ctasks = confirm_tasks(args, spec, designs, scenes, res, out) if args.seeds > 1 \
+        else ([], [])
+    if ctasks:
+        print(f"design_study: {len(cells)} scene x kind cells below {args.confirm_below} at "
+              f"seed 1: seeds 2 .. {args.seeds}", file=sys.stderr)
+    seeds_res = run_all(ctasks, args.jobs, args.resume, "design_study") if ctasks else {}
+    conf = confirmed(res, seeds_res, cells, confirm_names(spec, designs), args.seeds)
     gpus = args.gpu.split(",")
     summ = summarize(res, gpus, scenes, designs)
+    never = {(gpu, n): slowest(res, conf, gpu, n, scenes)
+             for gpu in gpus for n in confirm_names(spec, designs)}
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.json").write_text(json.dumps(
-        {"res": args.res, "gpus": gpus, "designs": summ}, indent=2, default=str) + "\n")
+        {"res": args.res, "gpus": gpus, "designs": summ,
+         "seeds": {"frames": args.seeds, "confirm_below": args.confirm_below,
+                   "cells": {" ".join(k): {"geomean": v[0], "speedups": v[1]}
+                             for k, v in conf.items()},
+                   "slowest": {f"{gpu} {n}": v for (gpu, n), v in never.items()}}},
+        indent=2, default=str) + "\n")
     full = not args.scenes and not args.designs and args.gpu == "mobile,desktop"
-    cmd = f"make design-study SIM_RES={args.res}" if full else " ".join(sys.argv)
+    cmd = f"make design-study STUDY_RES={args.res}" if full else " ".join(sys.argv)
     names = {d["name"] for d in designs}
     blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
               + designs_block(spec, designs, summ, gpus)}
@@ -265,7 +388,7 @@ def main():
         blocks["study-ablation"] = f"Made by `{cmd}`.\n\n" + ablation_block(spec, designs, summ,
                                                                             gpus)
         if spec["baseline"] in names:
-            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus)
+            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus, never)
             print(blocks["study-goal"])
     if args.doc and full:
         update_blocks(args.doc, blocks)
