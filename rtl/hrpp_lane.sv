@@ -388,8 +388,13 @@ module hrpp_lane
     if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
     return stored;
   endfunction
-  assign uq_head_d = uq_pop ? uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1])
-                            : uq_entry_after_writes(uq_rd_q, uq_head_q);
+  // Both candidates are computed from registers; the pop (the table's interlock, late in the
+  // cycle) only selects between them (kept as nets so that synthesis does not fold the select
+  // into the candidates' logic).
+  (* keep *) uq_req_t uq_head_if_pop, uq_head_if_hold;
+  assign uq_head_if_pop  = uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1]);
+  assign uq_head_if_hold = uq_entry_after_writes(uq_rd_q, uq_head_q);
+  assign uq_head_d = uq_pop ? uq_head_if_pop : uq_head_if_hold;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) uq_head_q <= '0;
     else uq_head_q <= uq_head_d;
