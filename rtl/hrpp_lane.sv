@@ -388,9 +388,9 @@ module hrpp_lane
     if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
     return stored;
   endfunction
-  // Both candidates are computed from registers; the pop (the table's interlock, late in the
-  // cycle) only selects between them (kept as nets so that synthesis does not fold the select
-  // into the candidates' logic).
+  // Both candidates come from registers and this cycle's writes; the pop (the table's interlock,
+  // late in the cycle) only selects between them (kept as nets so that synthesis does not fold
+  // the select into the candidates' logic: docs/microarchitecture.md, "Clock speed").
   (* keep *) uq_req_t uq_head_if_pop, uq_head_if_hold;
   assign uq_head_if_pop  = uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1]);
   assign uq_head_if_hold = uq_entry_after_writes(uq_rd_q, uq_head_q);
