@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "hrpp/trace/bvh.h"
 #include "test_util.h"
 
@@ -249,7 +251,8 @@ TEST(PredTableConfidence, DemoteCountsDownAndNeverAllocatesOrTouchesRecency) {
 TEST(PredTableConfidence, OneBitDemotesAreIdempotentUpdatesNot) {
   // C = 1, T = 1: an update leaves 1 when the node was listed, 0 when inserted; a demote leaves 0.
   // A demote applied twice is applied once, and so is an update of a listed node; an update that
-  // inserts is not: the same update again sets the bit (so the RTL drops only repeated demotes).
+  // inserts is not: the same update again sets the bit (so the RTL drops repeated demotes and
+  // merges a repeated update into the one before it: UpdateTwiceIsOnceWithTheBitSet).
   PredTable t(confident(2, 1, 1, 1));
   t.update(2, 9, 0, 90);
   EXPECT_EQ(t.way(2, 0).conf, 0u);
@@ -262,6 +265,41 @@ TEST(PredTableConfidence, OneBitDemotesAreIdempotentUpdatesNot) {
   t.demote(2, 9, 0);
   EXPECT_EQ(t.way(2, 0).conf, 0u);
   EXPECT_EQ(t.lookup(2, 9, 0).count, 0u);
+}
+
+TEST(PredTableConfidence, UpdateTwiceIsOnceWithTheBitSet) {
+  // The RTL's merge of an identical update (docs/microarchitecture.md, "Identical requests with
+  // the confidence bit"): from any table state, an update applied twice leaves the row the update
+  // applied once leaves, with the bit of the tag's way set. Random states of a 4-way set with
+  // K = 2 (small tags and nodes, so updates hit, insert, evict and demote often).
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 2000; ++trial) {
+    PredTable t(confident(4, 2, 1, 1));
+    const int steps = int(rng() % 24);
+    for (int i = 0; i < steps; ++i) {
+      if (rng() % 4 == 0)
+        t.demote(1, rng() % 6, 0);
+      else
+        t.update(1, rng() % 6, 0, rng() % 4);
+    }
+    const uint64_t tag = rng() % 6;
+    const uint32_t node = rng() % 4;
+    PredTable once = t, twice = t;
+    once.update(1, tag, 0, node);
+    twice.update(1, tag, 0, node);
+    twice.update(1, tag, 0, node);
+    for (uint32_t w = 0; w < 4; ++w) {
+      const Way& a = once.way(1, w);
+      const Way& b = twice.way(1, w);
+      ASSERT_EQ(a.valid, b.valid) << "trial " << trial;
+      ASSERT_EQ(once.age(1, w), twice.age(1, w)) << "trial " << trial;
+      if (!a.valid) continue;
+      ASSERT_EQ(a.tag, b.tag);
+      ASSERT_EQ(a.count, b.count);
+      for (uint32_t k = 0; k < a.count; ++k) ASSERT_EQ(a.nodes[k], b.nodes[k]);
+      ASSERT_EQ(b.conf, a.tag == tag ? 1u : a.conf) << "trial " << trial << " way " << w;
+    }
+  }
 }
 
 TEST(PredTableConfidence, UnboundedTableKeepsACounterPerKey) {

@@ -14,7 +14,10 @@
 // ConfBits = 1 (tasks *_conf): every way's confidence bit too (docs/hash.md, "Confidence", C = 1,
 // T = 1): requests are updates or demotes (free), the abstract table applies the golden rule of
 // each (a dropped request too), the bits of valid ways must equal it, and a lookup of a way whose
-// bit is 0 returns no prediction.
+// bit is 0 returns no prediction. The one rule the harness takes from the design: an update
+// identical to the newer of the requests of its set accepted in the two previous cycles (the
+// table's interlock window) is merged into it: the abstract table applies it right after that
+// request, in that request's W cycle, instead of in its own (the golden rule applied twice).
 module pred_table_formal
   import hrpp_pkg::*;
 #(
@@ -179,12 +182,14 @@ module pred_table_formal
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
     logic                   demote;
+    logic                   twice;  // an identical update merged into this one (ConfBits = 1)
   } req_t;
   req_t [UpdateStages-1:0] req_q;  // [UpdateStages-1]: the request in W
   table_t      model_q, model_next;
   conf_table_t mconf_q, mconf_next;  // the abstract table's confidence bits
   row_t        init;
   req_t        wreq;
+  row_t        mrow;  // the row between an update and the one merged into it
 
   always_comb begin
     init = '0;
@@ -200,7 +205,27 @@ module pred_table_formal
       model_next[wreq.idx] = golden_update(model_q[wreq.idx], wreq.tag, wreq.node);
       mconf_next[wreq.idx][golden_update_way(model_q[wreq.idx], wreq.tag)] =
           ConfBits > 0 && golden_update_conf(model_q[wreq.idx], wreq.tag, wreq.node);
+      if (wreq.twice) begin  // the merged update, applied right after it
+        mrow = model_next[wreq.idx];
+        model_next[wreq.idx] = golden_update(mrow, wreq.tag, wreq.node);
+        mconf_next[wreq.idx][golden_update_way(mrow, wreq.tag)] =
+            golden_update_conf(mrow, wreq.tag, wreq.node);
+      end
     end
+  end
+
+  // The merge rule (ConfBits = 1): the newer accepted request of the set in the previous two
+  // cycles (req_q[0], else req_q[1]; merged ones are not requests of their own) and whether the
+  // update now accepted is identical to it.
+  logic merge_new, merge_0;
+  always_comb begin
+    merge_0 = req_q[0].valid && req_q[0].idx == tbl_wr_idx_i;
+    merge_new = 1'b0;
+    if (merge_0)
+      merge_new = req_q[0].tag == tbl_wr_tag_i && !req_q[0].demote && req_q[0].node == tbl_wr_node_i;
+    else if (req_q[1].valid && req_q[1].idx == tbl_wr_idx_i)
+      merge_new = req_q[1].tag == tbl_wr_tag_i && !req_q[1].demote && req_q[1].node == tbl_wr_node_i;
+    merge_new &= ConfBits > 0 && tbl_wr_valid_i && tbl_wr_ready_o && !tbl_wr_demote_i;
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -210,8 +235,10 @@ module pred_table_formal
       mconf_q <= '0;
     end else begin
       req_q <= {req_q[UpdateStages-2:0],
-                req_t'{tbl_wr_valid_i && tbl_wr_ready_o, tbl_wr_idx_i, tbl_wr_tag_i,
-                       tbl_wr_node_i, tbl_wr_demote_i}};
+                req_t'{tbl_wr_valid_i && tbl_wr_ready_o && !merge_new, tbl_wr_idx_i,
+                       tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i, 1'b0}};
+      if (merge_new && merge_0) req_q[1].twice <= 1'b1;
+      if (merge_new && !merge_0) req_q[2].twice <= 1'b1;
       model_q <= model_next;
       mconf_q <= mconf_next;
     end

@@ -70,13 +70,15 @@ void CycleModel::tick(const DutIn& in) {
   std::optional<Op> issued;
   if (!clearing_ && lane_.update_head()) {
     Op head = *lane_.update_head();
-    const std::optional<Op>& t0 = up_[0];
-    const std::optional<Op>& t1 = up_[1];
-    const Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
-    // With confidence bits only a demote is dropped: a demote applied twice is applied once, an
-    // update is not (an insertion clears the bit, the same update again sets it; docs/hash.md).
-    const bool droppable = cfg_.table.conf_bits == 0 || head.demote;
-    const bool drop = newer && droppable && newer->same_update(head);
+    std::optional<Op>& t0 = up_[0];
+    std::optional<Op>& t1 = up_[1];
+    Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
+    const bool drop = newer && newer->same_update(head);
+    // With confidence bits a dropped update is merged into the one it is identical to: an update
+    // applied twice is not applied once (an insertion clears the bit, the same update again
+    // sets it; docs/hash.md), so that one is applied twice. A demote applied twice is applied
+    // once.
+    if (drop && cfg_.table.conf_bits != 0 && !head.demote) newer->twice = true;
     if (!newer || drop) {
       head.seq = next_seq_++;
       requests_.push_back(head);  // a dropped one too: applied to requested_ all the same

@@ -21,6 +21,9 @@ namespace hrpp {
 /// `written` (by sequence number; the requests dropped before it too) is applied to `requested`,
 /// the golden model's table with every request applied (updates, and demotes with confidence
 /// bits), and popped; each set they touch must then equal `table`'s (confidence counters too).
+/// A written update with an identical one merged (`twice`) is applied to `requested` once more
+/// right after it: the merged request, taken later, has no request of its set between it and
+/// the written one, and when its own turn comes it is applied again, which then changes nothing.
 /// The first difference is written to *error (if it is empty).
 template <typename Op>
 void check_against_requests(std::deque<Op>& requests, const Op& written, PredTable& requested,
@@ -33,6 +36,7 @@ void check_against_requests(std::deque<Op>& requests, const Op& written, PredTab
     else
       requested.update(op.idx, op.tag, 0, op.node);
     sets.push_back(op.idx);
+    if (op.seq == written.seq && written.twice) requested.update(op.idx, op.tag, 0, op.node);
     requests.pop_front();
   }
   for (const uint32_t s : sets)
@@ -127,6 +131,7 @@ void write_table(PredTable& table, const Op& w, CycleStats& stats) {
   } else {
     stats.evictions += !hit && full;
     table.update(w.idx, w.tag, 0, w.node);
+    if (w.twice) table.update(w.idx, w.tag, 0, w.node);  // an identical update merged
   }
 }
 

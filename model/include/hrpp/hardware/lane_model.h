@@ -38,6 +38,9 @@ class LaneModel {
     uint32_t node = 0;
     uint64_t seq = 0;     // the request's number in the order the table took them
     bool demote = false;  // a demote (confidence bits), not an update
+    /// Confidence bits: an identical update was merged into this one (hrpp_pred_table's twice
+    /// bit): the table applies the update twice, in one write.
+    bool twice = false;
     /// The same request: a demote of the same set and tag, or an update of the same set, tag
     /// and node (hrpp_pred_table's wr_same_as_t0 / t1).
     bool same_update(const Op& o) const {
