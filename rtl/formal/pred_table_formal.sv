@@ -189,7 +189,7 @@ module pred_table_formal
   conf_table_t mconf_q, mconf_next;  // the abstract table's confidence bits
   row_t        init;
   req_t        wreq;
-  row_t        mrow;  // the row between an update and the one merged into it
+  row_t        mrow;  // the set's row before each application of the golden update rule
 
   always_comb begin
     init = '0;
@@ -202,14 +202,12 @@ module pred_table_formal
         if (model_q[wreq.idx][w].valid && model_q[wreq.idx][w].tag == wreq.tag)
           mconf_next[wreq.idx][w] = 1'b0;
     end else if (wreq.valid) begin
-      model_next[wreq.idx] = golden_update(model_q[wreq.idx], wreq.tag, wreq.node);
-      mconf_next[wreq.idx][golden_update_way(model_q[wreq.idx], wreq.tag)] =
-          ConfBits > 0 && golden_update_conf(model_q[wreq.idx], wreq.tag, wreq.node);
-      if (wreq.twice) begin  // the merged update, applied right after it
+      // the update, and a merged one (twice) applied right after it
+      for (int k = 0; k < 2; k++) if (k == 0 || wreq.twice) begin
         mrow = model_next[wreq.idx];
         model_next[wreq.idx] = golden_update(mrow, wreq.tag, wreq.node);
         mconf_next[wreq.idx][golden_update_way(mrow, wreq.tag)] =
-            golden_update_conf(mrow, wreq.tag, wreq.node);
+            ConfBits > 0 && golden_update_conf(mrow, wreq.tag, wreq.node);
       end
     end
   end
@@ -217,14 +215,16 @@ module pred_table_formal
   // The merge rule (ConfBits = 1): the newer accepted request of the set in the previous two
   // cycles (req_q[0], else req_q[1]; merged ones are not requests of their own) and whether the
   // update now accepted is identical to it.
+  function automatic logic same_update(req_t r, logic [TagWidth-1:0] tag,
+                                       logic [NodeIdWidth-1:0] node);
+    return r.tag == tag && !r.demote && r.node == node;
+  endfunction
   logic merge_new, merge_0;
   always_comb begin
     merge_0 = req_q[0].valid && req_q[0].idx == tbl_wr_idx_i;
-    merge_new = 1'b0;
-    if (merge_0)
-      merge_new = req_q[0].tag == tbl_wr_tag_i && !req_q[0].demote && req_q[0].node == tbl_wr_node_i;
-    else if (req_q[1].valid && req_q[1].idx == tbl_wr_idx_i)
-      merge_new = req_q[1].tag == tbl_wr_tag_i && !req_q[1].demote && req_q[1].node == tbl_wr_node_i;
+    merge_new = merge_0 ? same_update(req_q[0], tbl_wr_tag_i, tbl_wr_node_i)
+                        : req_q[1].valid && req_q[1].idx == tbl_wr_idx_i &&
+                          same_update(req_q[1], tbl_wr_tag_i, tbl_wr_node_i);
     merge_new &= ConfBits > 0 && tbl_wr_valid_i && tbl_wr_ready_o && !tbl_wr_demote_i;
   end
 
