@@ -10,10 +10,10 @@
 //           C2 select the way | C3 new row | W write to both copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
-// low), unless it is identical (set, tag and node) to the newer of those two: then it changes
-// nothing (that update left its tag's way the most recently used, holding the node first) and is
-// taken and dropped at once (with ConfBits = 1 merged into that update, below). Every other hazard
-// is forwarded, so one lookup and one update per cycle are sustained.
+// low), unless it merges into the newer of those two (below): then it is taken and never issued.
+// Every other hazard is forwarded, so one lookup and one update per cycle are sustained.
+// Without confidence bits only an identical update (set, tag and node) merges: it changes nothing
+// (the update before it left its tag's way the most recently used, holding the node first).
 // After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
 //
 // Confidence (ConfBits = 1; docs/hash.md, "Confidence", with C = 1, T = 1): each way holds a
@@ -22,11 +22,14 @@
 // update sets the bit when its node was already in the way's list, clears it when the node is
 // inserted or the way allocated. A demote request (tbl_wr_demote_i) clears the bit of the way
 // holding its tag and changes nothing else (no allocation, no recency change; no way: the row is
-// rewritten unchanged). A demote applied twice is applied once, so an identical demote is dropped
-// at the interlock. An update applied twice is not applied once (an insertion leaves the bit 0,
-// the same update again sets it), so an identical update is merged instead: it is taken and
-// dropped, and the update it is identical to carries a `twice` bit, with which C3 writes the row
-// the two would leave, one after the other: the first's row with the bit set.
+// rewritten unchanged). A request of the set and tag of the newer same-set request in T0 / T1
+// merges into it, and that request then leaves the row the two leave one after the other, in one
+// pass (an update sets or clears the tag's bit whatever it was; a demote changes only that bit):
+//   demote behind demote:            the demote again changes nothing;
+//   demote behind update:            the update, its bit written 0 (ovr: the bit is overridden);
+//   update behind demote:            the update alone (the demote's bit is overwritten);
+//   update behind update, same node: the update, its bit written 1 (the node is in the list).
+// An update behind an update of another node waits (the pair moves two nodes).
 module hrpp_pred_table
   import hrpp_pkg::*;
 #(
@@ -100,7 +103,8 @@ module hrpp_pred_table
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
     logic                   demote;  // a demote request (ConfBits = 1), not an update
-    logic                   twice;   // ConfBits = 1: an identical update merged into this one
+    logic                   ovr;     // ConfBits = 1: a merge fixed the bit C3 writes: ovr_bit
+    logic                   ovr_bit;
   } upd_req_t;
 
   // The row every set holds after reset: all ways invalid, way i has age i.
@@ -354,7 +358,8 @@ module hrpp_pred_table
     logic [IdxWidth-1:0]      idx;
     logic [NodeIdWidth-1:0]   node;
     logic                     demote;
-    logic                     twice;    // an identical update merged: the bit is set
+    logic                     ovr;      // a merged request fixed the bit: ovr_bit
+    logic                     ovr_bit;
     row_t                     row;
     logic [NumWays-1:0]       sel;      // one-hot way to update
     way_t                     way;
@@ -367,24 +372,38 @@ module hrpp_pred_table
   row_t h2_row_q;
 
   // An update waits while the update accepted in either of the two previous cycles has its set:
-  // C1 needs that update's new row, which leaves C3 only two cycles after its own C1. An update
-  // identical to the newer of those of its set (T0's if T0 has the set, else T1's) is dropped
-  // instead: with no update of the set between them it would rewrite the row unchanged (the way
-  // of its tag is already the youngest, with the node first; docs/microarchitecture.md).
+  // C1 needs that update's new row, which leaves C3 only two cycles after its own C1. A request
+  // that merges into the newer of those of its set (T0's if T0 has the set, else T1's) is taken
+  // and not issued: same tag, and it is a demote, or that request is a demote, or both are
+  // updates of one node (see the top). The merge changes that request as it moves from T0 to T1
+  // or from T1 to T2 (merge_in). Without confidence bits no demote occurs: an identical update is
+  // dropped (it would rewrite the row unchanged; docs/microarchitecture.md).
   logic wr_same_t0, wr_same_t1, wr_drop;
   assign wr_same_t0     = t0_q.valid && t0_q.idx == tbl_wr_idx_i;
   assign wr_same_t1     = t1_q.valid && t1_q.idx == tbl_wr_idx_i;
-  // With ConfBits = 1 a demote is identical only to a demote of its tag (the node does not
-  // matter to a demote), an update only to an update. A dropped demote changes nothing; a dropped
-  // update is merged into the one it is identical to (wr_merge: that one's twice bit, set as it
-  // moves from T0 to T1 or from T1 to T2; see the top).
-  logic wr_same_as_t0, wr_same_as_t1, wr_merge;
-  assign wr_same_as_t0  = t0_q.tag == tbl_wr_tag_i && t0_q.demote == tbl_wr_demote_i &&
-                          (tbl_wr_demote_i || t0_q.node == tbl_wr_node_i);
-  assign wr_same_as_t1  = t1_q.tag == tbl_wr_tag_i && t1_q.demote == tbl_wr_demote_i &&
-                          (tbl_wr_demote_i || t1_q.node == tbl_wr_node_i);
+  logic wr_demote, wr_same_as_t0, wr_same_as_t1, wr_merge;
+  assign wr_demote      = ConfBits > 0 && tbl_wr_demote_i;
+  assign wr_same_as_t0  = t0_q.tag == tbl_wr_tag_i &&
+                          (wr_demote || t0_q.demote || t0_q.node == tbl_wr_node_i);
+  assign wr_same_as_t1  = t1_q.tag == tbl_wr_tag_i &&
+                          (wr_demote || t1_q.demote || t1_q.node == tbl_wr_node_i);
   assign wr_drop        = wr_same_t0 ? wr_same_as_t0 : wr_same_t1 && wr_same_as_t1;
-  assign wr_merge       = ConfBits > 0 && tbl_wr_valid_i && wr_drop && !tbl_wr_demote_i;
+  assign wr_merge       = ConfBits > 0 && tbl_wr_valid_i && wr_drop;
+  // A request in T0 or T1 with the request now taken merged into it (wr_merge).
+  function automatic upd_req_t merge_in(upd_req_t r);
+    upd_req_t m;
+    m = r;
+    if (wr_demote) begin  // a demote behind a demote changes nothing
+      if (!r.demote) {m.ovr, m.ovr_bit} = 2'b10;
+    end else if (r.demote) begin  // an update behind a demote: the update
+      m.demote = 1'b0;
+      m.node = tbl_wr_node_i;
+      {m.ovr, m.ovr_bit} = 2'b00;
+    end else begin  // an update behind an update of its node: the bit set
+      {m.ovr, m.ovr_bit} = 2'b11;
+    end
+    return m;
+  endfunction
   assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
@@ -407,12 +426,11 @@ module hrpp_pred_table
       t0_q.idx   <= tbl_wr_idx_i;
       t0_q.tag   <= tbl_wr_tag_i;
       t0_q.node  <= tbl_wr_node_i;
-      t0_q.demote <= ConfBits > 0 && tbl_wr_demote_i;
-      t0_q.twice <= 1'b0;
-      t1_q       <= t0_q;
-      t1_q.twice <= t0_q.twice || (wr_merge && wr_same_t0);
-      t2_q.req   <= t1_q;
-      t2_q.req.twice <= t1_q.twice || (wr_merge && !wr_same_t0);
+      t0_q.demote <= wr_demote;
+      t0_q.ovr   <= 1'b0;
+      t0_q.ovr_bit <= 1'b0;
+      t1_q       <= wr_merge && wr_same_t0 ? merge_in(t0_q) : t0_q;
+      t2_q.req   <= wr_merge && !wr_same_t0 ? merge_in(t1_q) : t1_q;
       t2_q.bank  <= t1_bank_q;
       for (int b = 0; b < RamBanks; b++) t2_q.ram[b] <= from_ram(uram_rdata[b]);
       c1_q.req   <= t2_q.req;
@@ -510,7 +528,8 @@ module hrpp_pred_table
       c3_q.idx     <= c2_q.req.idx;
       c3_q.node    <= c2_q.req.node;
       c3_q.demote  <= c2_q.req.demote;
-      c3_q.twice   <= c2_q.req.twice;
+      c3_q.ovr     <= c2_q.req.ovr;
+      c3_q.ovr_bit <= c2_q.req.ovr_bit;
       c3_q.row     <= c2_q.row;
       c3_q.sel     <= c2_sel;
       c3_q.way     <= c2_way;
@@ -536,8 +555,9 @@ module hrpp_pred_table
     c3_new_way.nodes[0] = c3_q.node ^ NodeIdWidth'(InjectFault && c3_q.sel[0]);
     c3_new_way.age = '0;
     // Confidence: set when the node was in the list (a confirmation), else cleared (inserted;
-    // a new way's node_eq is 0); set when an identical update was merged (twice: it confirms).
-    c3_new_way.conf = ConfBits > 0 && (|c3_q.node_eq || c3_q.twice);
+    // a new way's node_eq is 0); what a merged request left (ovr): set by the same update again,
+    // cleared by a demote.
+    c3_new_way.conf = ConfBits > 0 && (c3_q.ovr ? c3_q.ovr_bit : |c3_q.node_eq);
     for (int w = 0; w < NumWays; w++) begin
       c3_new_row[w] = c3_q.sel[w] ? c3_new_way : c3_q.row[w];
       if (!c3_q.sel[w] && c3_q.row[w].age < c3_q.way.age)
@@ -601,7 +621,7 @@ module hrpp_pred_table
   // The selected way is one-hot (a demote: at most one way, the matching one).
   SelOneHot_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c3_q.valid |-> (c3_q.demote ? $onehot0(c3_q.sel) : $onehot(c3_q.sel)));
-  // Without confidence bits no demote enters the pipeline, no update is merged and no bit is
+  // Without confidence bits no demote enters the pipeline, no merge fixes a bit and no bit is
   // ever set.
   if (ConfBits == 0) begin : gen_no_conf_check
     logic w_any_conf;
@@ -610,11 +630,11 @@ module hrpp_pred_table
       for (int w = 0; w < NumWays; w++) w_any_conf |= w_q.row[w].conf;
     end
     NoConfidence_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-        !t0_q.demote && !c3_q.twice && !w_any_conf);
+        !t0_q.demote && !c3_q.ovr && !w_any_conf);
   end
-  // A merged identical update (twice) rides on an update (ConfBits = 0: never; see below).
-  TwiceOnUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      c3_q.twice |-> c3_q.valid && !c3_q.demote);
+  // A merge fixes the bit of an update only (ConfBits = 0: never; see below).
+  OverrideOnUpdate_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      c3_q.ovr |-> c3_q.valid && !c3_q.demote);
   // Updates of one set are at least three cycles apart (the interlock).
   SameSetSpacing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       c1_q.req.valid |-> !(c2_q.req.valid && c2_q.req.idx == c1_q.req.idx) &&

@@ -23,7 +23,7 @@ from pyhrpp.files import write_json_atomic  # noqa: E402
 PARITY = re.compile(r"^parity: (\d+) rays, (\d+) cycles, (\d+) mismatches", re.M)
 RESETS = re.compile(r"^resets: (\d+) \((\d+) cycles in reset\), (\d+) hit rays in flight: (\d+) rays", re.M)
 STALLS = re.compile(r"^stalls .*?:(.*)$", re.M)
-TABLE = re.compile(r"^table: (\d+) updates, (\d+) identical updates dropped, (\d+) evictions, "
+TABLE = re.compile(r"^table: (\d+) updates, (\d+) requests merged, (\d+) evictions, "
                    r"(\d+) cycles of same-set interlock", re.M)
 
 
@@ -86,7 +86,7 @@ def run_one(tb, group, name, args):
         ports = [x.split() for x in m[1].split(";")]
         r["stalls"] = {x[0]: [int(v.strip(",")) for v in x[1:]] for x in ports}
     if m := TABLE.search(p.stdout):
-        r.update(updates=int(m[1]), dropped_updates=int(m[2]), evictions=int(m[3]),
+        r.update(updates=int(m[1]), merged_requests=int(m[2]), evictions=int(m[3]),
                  interlock_cycles=int(m[4]))
     elif r["pass"]:  # the totals would silently miss this run's table statistics
         r["pass"] = False
@@ -119,7 +119,7 @@ def main():
     tot = {"runs": len(results), "failed": sum(not r["pass"] for r in results),
            "wall_seconds": round(time.time() - t0, 1)}
     for key in ("rays", "cycles", "mismatches", "resets", "reset_cycles", "rays_dropped",
-                "updates", "dropped_updates", "evictions", "interlock_cycles"):
+                "updates", "merged_requests", "evictions", "interlock_cycles"):
         tot[key] = sum(r.get(key, 0) for r in results)
     stalls = [s for r in results for s in r.get("stalls", {}).values()]
     tot["stalls"] = sum(s[0] for s in stalls)

@@ -79,9 +79,9 @@ int report_lockstep(const Run& r, const TbOptions& o, const RtlConfig& spec, Str
     std::printf("\n");
   }
   std::printf(
-      "table: %llu updates, %llu identical updates dropped, %llu evictions, %llu cycles of "
+      "table: %llu updates, %llu requests merged, %llu evictions, %llu cycles of "
       "same-set interlock, %llu of %u entries valid at the end\n",
-      (unsigned long long)r.table.updates, (unsigned long long)r.table.dropped,
+      (unsigned long long)r.table.updates, (unsigned long long)r.table.merged,
       (unsigned long long)r.table.evictions, (unsigned long long)r.table.interlock_cycles,
       (unsigned long long)r.table_used, spec.table.sets * spec.table.ways);
   // Every ray of the stream got exactly one final result, resets or not.

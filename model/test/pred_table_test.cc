@@ -251,8 +251,8 @@ TEST(PredTableConfidence, DemoteCountsDownAndNeverAllocatesOrTouchesRecency) {
 TEST(PredTableConfidence, OneBitDemotesAreIdempotentUpdatesNot) {
   // C = 1, T = 1: an update leaves 1 when the node was listed, 0 when inserted; a demote leaves 0.
   // A demote applied twice is applied once, and so is an update of a listed node; an update that
-  // inserts is not: the same update again sets the bit (so the RTL drops repeated demotes and
-  // merges a repeated update into the one before it: UpdateTwiceIsOnceWithTheBitSet).
+  // inserts is not: the same update again sets the bit (so the RTL's merge of a repeated update
+  // into the one before it sets the bit: MergedPairIsOnePass).
   PredTable t(confident(2, 1, 1, 1));
   t.update(2, 9, 0, 90);
   EXPECT_EQ(t.way(2, 0).conf, 0u);
@@ -267,13 +267,16 @@ TEST(PredTableConfidence, OneBitDemotesAreIdempotentUpdatesNot) {
   EXPECT_EQ(t.lookup(2, 9, 0).count, 0u);
 }
 
-TEST(PredTableConfidence, UpdateTwiceIsOnceWithTheBitSet) {
-  // The RTL's merge of an identical update (docs/microarchitecture.md, "Identical requests with
-  // the confidence bit"): from any table state, an update applied twice leaves the row the update
-  // applied once leaves, with the bit of the tag's way set. Random states of a 4-way set with
-  // K = 2 (small tags and nodes, so updates hit, insert, evict and demote often).
+TEST(PredTableConfidence, MergedPairIsOnePass) {
+  // The RTL's merge of a request into the one before it of its set and tag
+  // (docs/microarchitecture.md, "Hazards"): from any table state, the pair applied one after the
+  // other leaves what the table's one pass writes: a demote behind a demote: the demote; a
+  // demote behind an update: the update with the tag's bit 0; an update behind a demote: the
+  // update alone; an update behind the same update: the update with the tag's bit 1. Random
+  // states of a 4-way set with K = 2 (small tags and nodes, so updates hit, insert, evict and
+  // demote often).
   std::mt19937 rng(7);
-  for (int trial = 0; trial < 2000; ++trial) {
+  for (int trial = 0; trial < 4000; ++trial) {
     PredTable t(confident(4, 2, 1, 1));
     const int steps = int(rng() % 24);
     for (int i = 0; i < steps; ++i) {
@@ -284,20 +287,31 @@ TEST(PredTableConfidence, UpdateTwiceIsOnceWithTheBitSet) {
     }
     const uint64_t tag = rng() % 6;
     const uint32_t node = rng() % 4;
-    PredTable once = t, twice = t;
-    once.update(1, tag, 0, node);
-    twice.update(1, tag, 0, node);
-    twice.update(1, tag, 0, node);
+    const bool first_demote = rng() % 2, second_demote = rng() % 2;
+    PredTable pair = t, pass = t;
+    for (const bool demote : {first_demote, second_demote}) {
+      if (demote)
+        pair.demote(1, tag, 0);
+      else
+        pair.update(1, tag, 0, node);
+    }
+    // One pass: the last update, if any, else the demote; then the bit the merge fixes.
+    if (first_demote && second_demote)
+      pass.demote(1, tag, 0);
+    else
+      pass.update(1, tag, 0, node);
+    const bool fixed = !first_demote;  // the first is an update: the second fixes the bit
     for (uint32_t w = 0; w < 4; ++w) {
-      const Way& a = once.way(1, w);
-      const Way& b = twice.way(1, w);
+      const Way& a = pass.way(1, w);
+      const Way& b = pair.way(1, w);
       ASSERT_EQ(a.valid, b.valid) << "trial " << trial;
-      ASSERT_EQ(once.age(1, w), twice.age(1, w)) << "trial " << trial;
+      ASSERT_EQ(pass.age(1, w), pair.age(1, w)) << "trial " << trial;
       if (!a.valid) continue;
       ASSERT_EQ(a.tag, b.tag);
       ASSERT_EQ(a.count, b.count);
       for (uint32_t k = 0; k < a.count; ++k) ASSERT_EQ(a.nodes[k], b.nodes[k]);
-      ASSERT_EQ(b.conf, a.tag == tag ? 1u : a.conf) << "trial " << trial << " way " << w;
+      const uint32_t want = fixed && a.tag == tag ? (second_demote ? 0u : 1u) : a.conf;
+      ASSERT_EQ(b.conf, want) << "trial " << trial << " way " << w;
     }
   }
 }

@@ -14,10 +14,12 @@
 // ConfBits = 1 (tasks *_conf): every way's confidence bit too (docs/hash.md, "Confidence", C = 1,
 // T = 1): requests are updates or demotes (free), the abstract table applies the golden rule of
 // each (a dropped request too), the bits of valid ways must equal it, and a lookup of a way whose
-// bit is 0 returns no prediction. The one rule the harness takes from the design: an update
-// identical to the newer of the requests of its set accepted in the two previous cycles (the
-// table's interlock window) is merged into it: the abstract table applies it right after that
-// request, in that request's W cycle, instead of in its own (the golden rule applied twice).
+// bit is 0 returns no prediction. The one rule the harness takes from the design: a request of
+// the set and tag of the newer of the requests of its set accepted in the two previous cycles (the
+// table's interlock window) merges into it when it is a demote, or that request's last update (its
+// own or the last merged into it) is none, or has the request's node: the abstract table applies
+// it by the golden rule right after that request (and those merged before it), in that request's
+// W cycle, instead of in its own.
 module pred_table_formal
   import hrpp_pkg::*;
 #(
@@ -28,6 +30,7 @@ module pred_table_formal
   parameter int unsigned TagWidth = 2,
   parameter int unsigned ConfBits = 0,
   parameter int unsigned RamBankDepth = 2048,  // tasks *_banks: 2 sets per RAM bank
+  parameter bit PipeCheck = 1'b0,  // task prove_conf: assert Pipe_A (below)
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -182,7 +185,10 @@ module pred_table_formal
     logic [TagWidth-1:0]    tag;
     logic [NodeIdWidth-1:0] node;
     logic                   demote;
-    logic                   twice;  // an identical update merged into this one (ConfBits = 1)
+    // ConfBits = 1: the requests merged into this one, in order (at most one per cycle in T0, T1)
+    logic [1:0]                  m_valid;
+    logic [1:0][NodeIdWidth-1:0] m_node;
+    logic [1:0]                  m_demote;
   } req_t;
   req_t [UpdateStages-1:0] req_q;  // [UpdateStages-1]: the request in W
   table_t      model_q, model_next;
@@ -190,6 +196,7 @@ module pred_table_formal
   row_t        init;
   req_t        wreq;
   row_t        mrow;  // the set's row before each application of the golden update rule
+  logic [NodeIdWidth-1:0] knode;  // the node of the request applied
 
   always_comb begin
     init = '0;
@@ -197,35 +204,58 @@ module pred_table_formal
     model_next = model_q;
     mconf_next = mconf_q;
     wreq = req_q[UpdateStages-1];
-    if (wreq.valid && wreq.demote) begin  // the tag's way's bit cleared, nothing else
-      for (int w = 0; w < NumWays; w++)
-        if (model_q[wreq.idx][w].valid && model_q[wreq.idx][w].tag == wreq.tag)
-          mconf_next[wreq.idx][w] = 1'b0;
-    end else if (wreq.valid) begin
-      // the update, and a merged one (twice) applied right after it
-      for (int k = 0; k < 2; k++) if (k == 0 || wreq.twice) begin
-        mrow = model_next[wreq.idx];
-        model_next[wreq.idx] = golden_update(mrow, wreq.tag, wreq.node);
+    // the request, then the requests merged into it, each by the golden rule
+    for (int k = 0; k < 3; k++) if (wreq.valid && (k == 0 || wreq.m_valid[k-1])) begin
+      mrow = model_next[wreq.idx];
+      knode = k == 0 ? wreq.node : wreq.m_node[k-1];
+      if (k == 0 ? wreq.demote : wreq.m_demote[k-1]) begin  // the tag's way's bit cleared
+        for (int w = 0; w < NumWays; w++)
+          if (mrow[w].valid && mrow[w].tag == wreq.tag) mconf_next[wreq.idx][w] = 1'b0;
+      end else begin
+        model_next[wreq.idx] = golden_update(mrow, wreq.tag, knode);
         mconf_next[wreq.idx][golden_update_way(mrow, wreq.tag)] =
-            ConfBits > 0 && golden_update_conf(mrow, wreq.tag, wreq.node);
+            ConfBits > 0 && golden_update_conf(mrow, wreq.tag, knode);
       end
     end
   end
 
   // The merge rule (ConfBits = 1): the newer accepted request of the set in the previous two
   // cycles (req_q[0], else req_q[1]; merged ones are not requests of their own) and whether the
-  // update now accepted is identical to it.
-  function automatic logic same_update(req_t r, logic [TagWidth-1:0] tag,
-                                       logic [NodeIdWidth-1:0] node);
-    return r.tag == tag && !r.demote && r.node == node;
+  // request now accepted merges into it (its last update: the last merged, else its own).
+  function automatic logic merges(req_t r, logic [TagWidth-1:0] tag,
+                                  logic [NodeIdWidth-1:0] node, logic demote);
+    logic                   last_demote;
+    logic [NodeIdWidth-1:0] last_node;
+    last_demote = r.demote;
+    last_node = r.node;
+    for (int k = 0; k < 2; k++)
+      if (r.m_valid[k] && !r.m_demote[k]) begin
+        last_demote = 1'b0;
+        last_node = r.m_node[k];
+      end
+    return r.tag == tag && (demote || last_demote || last_node == node);
+  endfunction
+  function automatic req_t with_merged(req_t r);
+    req_t m;
+    m = r;
+    if (r.m_valid[0]) begin
+      m.m_valid[1] = 1'b1;
+      m.m_node[1] = tbl_wr_node_i;
+      m.m_demote[1] = tbl_wr_demote_i;
+    end else begin
+      m.m_valid[0] = 1'b1;
+      m.m_node[0] = tbl_wr_node_i;
+      m.m_demote[0] = tbl_wr_demote_i;
+    end
+    return m;
   endfunction
   logic merge_new, merge_0;
   always_comb begin
     merge_0 = req_q[0].valid && req_q[0].idx == tbl_wr_idx_i;
-    merge_new = merge_0 ? same_update(req_q[0], tbl_wr_tag_i, tbl_wr_node_i)
+    merge_new = merge_0 ? merges(req_q[0], tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i)
                         : req_q[1].valid && req_q[1].idx == tbl_wr_idx_i &&
-                          same_update(req_q[1], tbl_wr_tag_i, tbl_wr_node_i);
-    merge_new &= ConfBits > 0 && tbl_wr_valid_i && tbl_wr_ready_o && !tbl_wr_demote_i;
+                          merges(req_q[1], tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i);
+    merge_new &= ConfBits > 0 && tbl_wr_valid_i && tbl_wr_ready_o;
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -236,9 +266,9 @@ module pred_table_formal
     end else begin
       req_q <= {req_q[UpdateStages-2:0],
                 req_t'{tbl_wr_valid_i && tbl_wr_ready_o && !merge_new, tbl_wr_idx_i,
-                       tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i, 1'b0}};
-      if (merge_new && merge_0) req_q[1].twice <= 1'b1;
-      if (merge_new && !merge_0) req_q[2].twice <= 1'b1;
+                       tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i, 2'b00, '0, 2'b00}};
+      if (merge_new && merge_0) req_q[1] <= with_merged(req_q[0]);
+      if (merge_new && !merge_0) req_q[2] <= with_merged(req_q[1]);
       model_q <= model_next;
       mconf_q <= mconf_next;
     end
@@ -307,11 +337,71 @@ module pred_table_formal
       if (i < int'(exp_count_q[L])) nodes_ok &= lk_nodes_o[i] == exp_nodes_q[L][i];
   end
 
+  // With ConfBits = 1, the update pipeline's stages carry the harness's requests: what the RTL's
+  // stage holds for a request and the requests merged into it (a demote, else the last update's
+  // node, and whether the merges fixed the bit, to what). An inductive strengthening (k-induction
+  // starts from any state): a pipeline out of step with the abstract requests is unreachable.
+  // It restates the design's merge encoding, so it is asserted in prove_conf only: in the bmc
+  // runs (quick_conf, the planted bugs) Model_A and the lookups alone judge the design.
+  typedef struct packed {
+    logic                   valid;
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;  // the last update's (a demote: no node)
+    logic                   demote, ovr, ovr_bit;
+  } pipe_t;
+  function automatic pipe_t pipe_view(req_t r);
+    pipe_t p;
+    p = '{r.valid, r.idx, r.tag, r.node, r.demote, 1'b0, 1'b0};
+    for (int k = 0; k < 2; k++)
+      if (r.m_valid[k]) begin
+        if (r.m_demote[k]) begin  // behind a demote: nothing; behind an update: its bit 0
+          if (!p.demote) {p.ovr, p.ovr_bit} = 2'b10;
+        end else if (p.demote) begin  // an update behind a demote: the update
+          p.demote = 1'b0;
+          p.node = r.m_node[k];
+          {p.ovr, p.ovr_bit} = 2'b00;
+        end else begin  // the same update again: its bit 1
+          {p.ovr, p.ovr_bit} = 2'b11;
+        end
+      end
+    return p;
+  endfunction
+  function automatic logic same_pipe(pipe_t a, pipe_t b);
+    return a.valid == b.valid &&
+           (!a.valid || (a.idx == b.idx && a.tag == b.tag && a.demote == b.demote &&
+                         (a.demote || a.node == b.node) && a.ovr == b.ovr &&
+                         a.ovr_bit == b.ovr_bit));
+  endfunction
+  logic pipe_ok;
+  always_comb begin
+    pipe_ok = same_pipe(pipe_view(req_q[0]), pipe_t'{dut.t0_q.valid, dut.t0_q.idx, dut.t0_q.tag,
+                            dut.t0_q.node, dut.t0_q.demote, dut.t0_q.ovr, dut.t0_q.ovr_bit}) &&
+              same_pipe(pipe_view(req_q[1]), pipe_t'{dut.t1_q.valid, dut.t1_q.idx, dut.t1_q.tag,
+                            dut.t1_q.node, dut.t1_q.demote, dut.t1_q.ovr, dut.t1_q.ovr_bit}) &&
+              same_pipe(pipe_view(req_q[2]), pipe_t'{dut.t2_q.req.valid, dut.t2_q.req.idx,
+                            dut.t2_q.req.tag, dut.t2_q.req.node, dut.t2_q.req.demote,
+                            dut.t2_q.req.ovr, dut.t2_q.req.ovr_bit}) &&
+              same_pipe(pipe_view(req_q[3]), pipe_t'{dut.c1_q.req.valid, dut.c1_q.req.idx,
+                            dut.c1_q.req.tag, dut.c1_q.req.node, dut.c1_q.req.demote,
+                            dut.c1_q.req.ovr, dut.c1_q.req.ovr_bit}) &&
+              same_pipe(pipe_view(req_q[4]), pipe_t'{dut.c2_q.req.valid, dut.c2_q.req.idx,
+                            dut.c2_q.req.tag, dut.c2_q.req.node, dut.c2_q.req.demote,
+                            dut.c2_q.req.ovr, dut.c2_q.req.ovr_bit}) &&
+              req_q[5].valid == dut.c3_q.valid &&
+              (!req_q[5].valid || (req_q[5].idx == dut.c3_q.idx &&
+                                   pipe_view(req_q[5]).demote == dut.c3_q.demote &&
+                                   pipe_view(req_q[5]).ovr == dut.c3_q.ovr &&
+                                   pipe_view(req_q[5]).ovr_bit == dut.c3_q.ovr_bit)) &&
+              req_q[6].valid == dut.w_q.valid && (!req_q[6].valid || req_q[6].idx == dut.w_q.idx);
+  end
+
   always_comb begin
     if (rst_ni && init_done_o) begin
       Invariants_A: assert (inv_ok);
       Model_A: assert (model_ok);
     end
+    if (rst_ni && ConfBits > 0 && PipeCheck) Pipe_A: assert (pipe_ok);
     if (rst_ni) begin
       LookupValid_A: assert (lk_valid_o == lk_q[L]);
       if (lk_q[L]) begin

@@ -65,28 +65,25 @@ void CycleModel::tick(const DutIn& in) {
   lane_.pred_fifo(in);
 
   // The table takes the update queue's head unless it is of the set of an update accepted in
-  // either of the two previous cycles (T0, T1: the same-set interlock); if it is identical to
-  // the newer of those of its set, it is taken and dropped (it would change nothing).
+  // either of the two previous cycles (T0, T1: the same-set interlock); if it merges into the
+  // newer of those of its set (LaneModel::Op::merges), it is taken and merged, not issued.
   std::optional<Op> issued;
   if (!clearing_ && lane_.update_head()) {
     Op head = *lane_.update_head();
     std::optional<Op>& t0 = up_[0];
     std::optional<Op>& t1 = up_[1];
     Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
-    const bool drop = newer && newer->same_update(head);
-    // With confidence bits a dropped update is merged into the one it is identical to: an update
-    // applied twice is not applied once (an insertion clears the bit, the same update again
-    // sets it; docs/hash.md), so that one is applied twice. A demote applied twice is applied
-    // once.
-    if (drop && cfg_.table.conf_bits != 0 && !head.demote) newer->twice = true;
-    if (!newer || drop) {
+    const bool merge = newer && newer->merges(head);
+    if (!newer || merge) {
       head.seq = next_seq_++;
-      requests_.push_back(head);  // a dropped one too: applied to requested_ all the same
+      requests_.push_back(head);  // a merged one too: the self-check applies it with `newer`
       lane_.pop_update();
-      if (drop)
-        stats_.dropped++;
-      else
+      if (merge) {
+        newer->merge(head);
+        stats_.merged++;
+      } else {
         issued = head;
+      }
     } else {
       stats_.interlock_cycles++;
     }

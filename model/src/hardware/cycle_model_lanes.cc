@@ -98,12 +98,10 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
       if (uq_head[i] && bank_of(uq_head[i]->idx) == b && sel != i) lanes_stats_.update_waits++;
     if (!sel || clearing_) continue;
     Op head_op = *uq_head[*sel];
-    const std::optional<Op>& t0 = bank.up[0];
-    const std::optional<Op>& t1 = bank.up[1];
-    const Op* newer = t0 && t0->idx == head_op.idx   ? &*t0
-                      : t1 && t1->idx == head_op.idx ? &*t1
-                                                     : nullptr;
-    if (newer && !newer->same_update(head_op)) {
+    std::optional<Op>& t0 = bank.up[0];
+    std::optional<Op>& t1 = bank.up[1];
+    Op* newer = t0 && t0->idx == head_op.idx ? &*t0 : t1 && t1->idx == head_op.idx ? &*t1 : nullptr;
+    if (newer && !newer->merges(head_op)) {
       stats_.interlock_cycles++;
       continue;
     }
@@ -111,10 +109,12 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
     bank.update_rr = int((*sel + 1) % n);
     head_op.seq = next_seq_++;
     bank.requests.push_back(head_op);
-    if (newer)
-      stats_.dropped++;  // it stays in bank.requests: applied to requested_ all the same
-    else
+    if (newer) {  // merged (no confidence bits: identical, changes nothing), not issued
+      newer->merge(head_op);
+      stats_.merged++;
+    } else {
       issued[b] = head_op;
+    }
   }
 
   // Each lane's skip controller, key store and pipelines.

@@ -3,6 +3,7 @@
 // ports in one cycle, the table's statistics and the self-check against the golden model's table.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <deque>
@@ -18,26 +19,38 @@
 namespace hrpp {
 
 /// The cycle models' self-check (CycleModel, LanesCycleModel): every request in `requests` up to
-/// `written` (by sequence number; the requests dropped before it too) is applied to `requested`,
-/// the golden model's table with every request applied (updates, and demotes with confidence
-/// bits), and popped; each set they touch must then equal `table`'s (confidence counters too).
-/// A written update with an identical one merged (`twice`) is applied to `requested` once more
-/// right after it: the merged request, taken later, has no request of its set between it and
-/// the written one, and when its own turn comes it is applied again, which then changes nothing.
-/// The first difference is written to *error (if it is empty).
+/// `written` (by sequence number) is applied to `requested`, the golden model's table with every
+/// request applied in order (updates, and demotes with confidence bits), and popped, then the
+/// requests merged into `written` (taken later, with no request of their set between them and
+/// it, so applying them now leaves their set as applying them in turn would); each set they touch
+/// must then equal `table`'s (confidence counters too). The first difference is written to
+/// *error (if it is empty).
 template <typename Op>
 void check_against_requests(std::deque<Op>& requests, const Op& written, PredTable& requested,
                             const PredTable& table, uint32_t ways, std::string* error) {
   std::vector<uint32_t> sets;
+  auto apply = [&](uint32_t idx, uint64_t tag, uint32_t node, bool demote) {
+    if (demote)
+      requested.demote(idx, tag, 0);
+    else
+      requested.update(idx, tag, 0, node);
+    sets.push_back(idx);
+  };
   while (!requests.empty() && requests.front().seq <= written.seq) {
     const Op& op = requests.front();
-    if (op.demote)
-      requested.demote(op.idx, op.tag, 0);
-    else
-      requested.update(op.idx, op.tag, 0, op.node);
-    sets.push_back(op.idx);
-    if (op.seq == written.seq && written.twice) requested.update(op.idx, op.tag, 0, op.node);
+    apply(op.idx, op.tag, op.node, op.demote);
     requests.pop_front();
+  }
+  for (int i = 0; i < written.merged_count; ++i) {
+    const auto& m = written.merged[i];
+    auto it =
+        std::find_if(requests.begin(), requests.end(), [&](const Op& r) { return r.seq == m.seq; });
+    if (it == requests.end()) {
+      if (error->empty()) *error = "a merged request is missing from the requests taken";
+      return;
+    }
+    apply(written.idx, written.tag, m.node, m.demote);
+    requests.erase(it);
   }
   for (const uint32_t s : sets)
     for (uint32_t i = 0; i < ways; ++i) {
@@ -50,7 +63,7 @@ void check_against_requests(std::deque<Op>& requests, const Op& written, PredTab
       }
       if (!same && error->empty())
         *error = "the table's set " + std::to_string(s) + " differs from the golden model's " +
-                 "with every update request applied (a dropped request changed the table)";
+                 "with every update request applied (a merge that is not exact)";
     }
 }
 
@@ -111,28 +124,32 @@ struct CycleStats {
   uint64_t updates = 0;           // rows written by updates (W)
   uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
   uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
-  uint64_t dropped = 0;  // requests dropped as identical to the newer same-set one in T0/T1
-  uint64_t resets = 0;   // reset() calls after construction (cycles in reset)
+  uint64_t merged = 0;  // requests merged into the newer same-set one in T0/T1 (not issued)
+  uint64_t resets = 0;  // reset() calls after construction (cycles in reset)
 };
 
 /// The table's write (W) of a request taken from the update pipeline: an update, or a demote
-/// (confidence bits; no allocation, never an eviction), counted in `stats`.
+/// (confidence bits; no allocation, never an eviction), then the requests merged into it, in
+/// order; counted in `stats`.
 template <typename Op>
 void write_table(PredTable& table, const Op& w, CycleStats& stats) {
-  bool hit = false, full = true;
-  for (uint32_t i = 0; i < table.config().ways; ++i) {
-    const Way& way = table.way(w.idx, i);
-    hit |= way.valid && way.tag == w.tag;
-    full &= way.valid;
-  }
-  stats.updates++;
-  if (w.demote) {
-    table.demote(w.idx, w.tag, 0);
-  } else {
+  auto apply = [&](uint32_t node, bool demote) {
+    if (demote) {
+      table.demote(w.idx, w.tag, 0);
+      return;
+    }
+    bool hit = false, full = true;
+    for (uint32_t i = 0; i < table.config().ways; ++i) {
+      const Way& way = table.way(w.idx, i);
+      hit |= way.valid && way.tag == w.tag;
+      full &= way.valid;
+    }
     stats.evictions += !hit && full;
-    table.update(w.idx, w.tag, 0, w.node);
-    if (w.twice) table.update(w.idx, w.tag, 0, w.node);  // an identical update merged
-  }
+    table.update(w.idx, w.tag, 0, node);
+  };
+  stats.updates++;
+  apply(w.node, w.demote);
+  for (int i = 0; i < w.merged_count; ++i) apply(w.merged[i].node, w.merged[i].demote);
 }
 
 }  // namespace hrpp

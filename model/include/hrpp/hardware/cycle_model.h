@@ -29,7 +29,7 @@ class CycleModel {
   /// A protocol violation seen: a predicted-walk result or final outcome accepted for a ray id
   /// whose key-store entry was not written since the last reset (it would read stale contents).
   /// Also set if the table ever differs from the golden model's table with every update request
-  /// taken applied in order, the dropped ones too (a dropped request that was not a no-op).
+  /// taken applied in order, the merged ones too (a merge that is not exact).
   const std::string& error() const { return error_; }
   const CycleStats& stats() const { return stats_; }
   DutOut outputs() const;
@@ -51,9 +51,9 @@ class CycleModel {
   LaneModel lane_;
   std::string error_;
   CycleStats stats_;
-  // Every request the table took (issued or dropped), in order, until a write applies it (and
-  // the dropped ones before it) to requested_: the golden model's table with every request
-  // applied, which the table must equal.
+  // Every request the table took (issued or merged), in order, until a write applies it (with
+  // those before it and those merged into it) to requested_: the golden model's table with every
+  // request applied, which the table must equal.
   std::deque<Op> requests_;
   PredTable requested_;
   uint64_t next_seq_ = 0;

@@ -51,7 +51,7 @@ class LanesCycleModel {
   static constexpr int kUpdateStages = rtl::kUpdateStages;
   struct Bank {
     std::array<std::optional<Op>, kUpdateStages> up;  // [0] = T0 ... [6] = W
-    std::deque<Op> requests;  // taken (issued or dropped), not yet applied to requested_
+    std::deque<Op> requests;  // taken (issued or merged), not yet applied to requested_
     int lookup_rr = 0, update_rr = 0;
   };
 

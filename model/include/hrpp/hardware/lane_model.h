@@ -38,14 +38,36 @@ class LaneModel {
     uint32_t node = 0;
     uint64_t seq = 0;     // the request's number in the order the table took them
     bool demote = false;  // a demote (confidence bits), not an update
-    /// Confidence bits: an identical update was merged into this one (hrpp_pred_table's twice
-    /// bit): the table applies the update twice, in one write.
-    bool twice = false;
-    /// The same request: a demote of the same set and tag, or an update of the same set, tag
-    /// and node (hrpp_pred_table's wr_same_as_t0 / t1).
-    bool same_update(const Op& o) const {
-      return idx == o.idx && tag == o.tag && demote == o.demote && (demote || node == o.node);
+    /// A later request of the same set merged into this one while it was in T0 or T1 (at most
+    /// one per cycle: two): the table applies it right after this one, in the same write.
+    struct Merged {
+      uint32_t node = 0;
+      uint64_t seq = 0;
+      bool demote = false;
+    };
+    std::array<Merged, 2> merged{};
+    int merged_count = 0;
+    /// What a later request of the set is compared with (hrpp_pred_table's T0 / T1 request
+    /// after its merges): the last update among this one and those merged, else a demote.
+    bool last_demote() const {
+      for (int i = merged_count - 1; i >= 0; --i)
+        if (!merged[i].demote) return false;
+      return demote;
     }
+    uint32_t last_node() const {
+      for (int i = merged_count - 1; i >= 0; --i)
+        if (!merged[i].demote) return merged[i].node;
+      return node;
+    }
+    /// Whether `o`, the next request of this set, merges into this one (hrpp_pred_table's
+    /// wr_merge): same set and tag, and a demote, or an update after a demote, or an update of
+    /// the same node as the last update. What the pair leaves is then what one pass of the
+    /// table's update pipeline computes (docs/microarchitecture.md, "Hazards"). Without
+    /// confidence bits only identical updates occur, which change nothing.
+    bool merges(const Op& o) const {
+      return idx == o.idx && tag == o.tag && (o.demote || last_demote() || o.node == last_node());
+    }
+    void merge(const Op& o) { merged[merged_count++] = Merged{o.node, o.seq, o.demote}; }
   };
   struct B {  // key registers, and a lookup-queue entry
     uint32_t id = 0, idx = 0;
