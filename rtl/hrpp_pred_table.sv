@@ -376,8 +376,8 @@ module hrpp_pred_table
   // that merges into the newer of those of its set (T0's if T0 has the set, else T1's) is taken
   // and not issued: same tag, and it is a demote, or that request is a demote, or both are
   // updates of one node (see the top). The merge changes that request as it moves from T0 to T1
-  // or from T1 to T2 (merge_in). Without confidence bits no demote occurs: an identical update is
-  // dropped (it would rewrite the row unchanged; docs/microarchitecture.md).
+  // or from T1 to T2 (mg_t0, mg_t1). Without confidence bits no demote occurs: an identical
+  // update is dropped (it would rewrite the row unchanged; docs/microarchitecture.md).
   logic wr_same_t0, wr_same_t1, wr_drop;
   assign wr_same_t0     = t0_q.valid && t0_q.idx == tbl_wr_idx_i;
   assign wr_same_t1     = t1_q.valid && t1_q.idx == tbl_wr_idx_i;
@@ -389,20 +389,19 @@ module hrpp_pred_table
                           (wr_demote || t1_q.demote || t1_q.node == tbl_wr_node_i);
   assign wr_drop        = wr_same_t0 ? wr_same_as_t0 : wr_same_t1 && wr_same_as_t1;
   assign wr_merge       = ConfBits > 0 && tbl_wr_valid_i && wr_drop;
-  // A request in T0 or T1 with the request now taken merged into it (wr_merge).
-  function automatic upd_req_t merge_in(upd_req_t r);
-    upd_req_t m;
-    m = r;
-    if (wr_demote) begin  // a demote behind a demote changes nothing
-      if (!r.demote) {m.ovr, m.ovr_bit} = 2'b10;
-    end else if (r.demote) begin  // an update behind a demote: the update
-      m.demote = 1'b0;
-      m.node = tbl_wr_node_i;
-      {m.ovr, m.ovr_bit} = 2'b00;
-    end else begin  // an update behind an update of its node: the bit set
-      {m.ovr, m.ovr_bit} = 2'b11;
-    end
-    return m;
+  // The merge changes the request in T0 (mg_t0) or T1 (mg_t1) as it moves on: an update behind a
+  // demote replaces it (demote cleared, its node), and the bit C3 writes is fixed (ovr, ovr_bit):
+  // a demote behind an update: 0; the same update again: 1; an update behind a demote: not fixed.
+  // A demote's node is never used, so a demote takes the node at the request input whether an
+  // update merges into it or not: the node path has no compare in it (only the few bits below
+  // wait for wr_merge).
+  logic mg_t0, mg_t1;
+  assign mg_t0 = wr_merge && wr_same_t0;
+  assign mg_t1 = wr_merge && !wr_same_t0;
+  // {ovr, ovr_bit} of a request (a demote or not) with the request now taken merged into it
+  function automatic logic [1:0] merged_ovr(logic demote);
+    if (wr_demote) return demote ? 2'b00 : 2'b10;  // a demote behind a demote changes nothing
+    return demote ? 2'b00 : 2'b11;
   endfunction
   assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   assign uram_re        = t0_q.valid;
@@ -429,8 +428,15 @@ module hrpp_pred_table
       t0_q.demote <= wr_demote;
       t0_q.ovr   <= 1'b0;
       t0_q.ovr_bit <= 1'b0;
-      t1_q       <= wr_merge && wr_same_t0 ? merge_in(t0_q) : t0_q;
-      t2_q.req   <= wr_merge && !wr_same_t0 ? merge_in(t1_q) : t1_q;
+      t1_q       <= t0_q;
+      t1_q.node  <= t0_q.demote ? tbl_wr_node_i : t0_q.node;
+      t1_q.demote <= t0_q.demote && !(mg_t0 && !wr_demote);
+      {t1_q.ovr, t1_q.ovr_bit} <= mg_t0 ? merged_ovr(t0_q.demote) : {t0_q.ovr, t0_q.ovr_bit};
+      t2_q.req   <= t1_q;
+      t2_q.req.node <= t1_q.demote ? tbl_wr_node_i : t1_q.node;
+      t2_q.req.demote <= t1_q.demote && !(mg_t1 && !wr_demote);
+      {t2_q.req.ovr, t2_q.req.ovr_bit} <= mg_t1 ? merged_ovr(t1_q.demote)
+                                                : {t1_q.ovr, t1_q.ovr_bit};
       t2_q.bank  <= t1_bank_q;
       for (int b = 0; b < RamBanks; b++) t2_q.ram[b] <= from_ram(uram_rdata[b]);
       c1_q.req   <= t2_q.req;
