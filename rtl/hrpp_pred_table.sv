@@ -403,6 +403,15 @@ module hrpp_pred_table
     if (wr_demote) return demote ? 2'b00 : 2'b10;  // a demote behind a demote changes nothing
     return demote ? 2'b00 : 2'b11;
   endfunction
+  // The request in T0 (T1) as it moves to T1 (T2), with the request now taken merged into it (mg).
+  function automatic upd_req_t moved(upd_req_t r, logic mg);
+    upd_req_t m;
+    m = r;
+    m.node = r.demote ? tbl_wr_node_i : r.node;
+    m.demote = r.demote && !(mg && !wr_demote);
+    if (mg) {m.ovr, m.ovr_bit} = merged_ovr(r.demote);
+    return m;
+  endfunction
   assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
@@ -428,15 +437,8 @@ module hrpp_pred_table
       t0_q.demote <= wr_demote;
       t0_q.ovr   <= 1'b0;
       t0_q.ovr_bit <= 1'b0;
-      t1_q       <= t0_q;
-      t1_q.node  <= t0_q.demote ? tbl_wr_node_i : t0_q.node;
-      t1_q.demote <= t0_q.demote && !(mg_t0 && !wr_demote);
-      {t1_q.ovr, t1_q.ovr_bit} <= mg_t0 ? merged_ovr(t0_q.demote) : {t0_q.ovr, t0_q.ovr_bit};
-      t2_q.req   <= t1_q;
-      t2_q.req.node <= t1_q.demote ? tbl_wr_node_i : t1_q.node;
-      t2_q.req.demote <= t1_q.demote && !(mg_t1 && !wr_demote);
-      {t2_q.req.ovr, t2_q.req.ovr_bit} <= mg_t1 ? merged_ovr(t1_q.demote)
-                                                : {t1_q.ovr, t1_q.ovr_bit};
+      t1_q       <= moved(t0_q, mg_t0);
+      t2_q.req   <= moved(t1_q, mg_t1);
       t2_q.bank  <= t1_bank_q;
       for (int b = 0; b < RamBanks; b++) t2_q.ram[b] <= from_ram(uram_rdata[b]);
       c1_q.req   <= t2_q.req;

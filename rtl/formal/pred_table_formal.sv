@@ -13,7 +13,7 @@
 // (the same-cycle write is forwarded): its count and first `count` node ids, four cycles later.
 // ConfBits = 1 (tasks *_conf): every way's confidence bit too (docs/hash.md, "Confidence", C = 1,
 // T = 1): requests are updates or demotes (free), the abstract table applies the golden rule of
-// each (a dropped request too), the bits of valid ways must equal it, and a lookup of a way whose
+// each (a merged request too), the bits of valid ways must equal it, and a lookup of a way whose
 // bit is 0 returns no prediction. The one rule the harness takes from the design: a request of
 // the set and tag of the newer of the requests of its set accepted in the two previous cycles (the
 // table's interlock window) merges into it when it is a demote, or that request's last update (its

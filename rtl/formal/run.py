@@ -125,8 +125,8 @@ PLANTED = [
             "with the confidence bit, a demote merged into the update before it of its tag is "
             "lost (the update's bit is written as if alone)", "quick_conf"),
     Planted("table_conf_replace", "pred_table", "rtl/hrpp_pred_table.sv",
-            "      t1_q.node  <= t0_q.demote ? tbl_wr_node_i : t0_q.node;",
-            "      t1_q.node  <= t0_q.node;",
+            "    m.node = r.demote ? tbl_wr_node_i : r.node;",
+            "    m.node = r.node;",
             ("Model_A",),
             "with the confidence bit, an update merged into the demote before it of its tag "
             "writes the demote's node", "quick_conf"),

@@ -18,6 +18,15 @@
 
 namespace hrpp {
 
+/// A table write request applied to `table` by the golden rule: a demote or an update.
+inline void apply_request(PredTable& table, uint32_t idx, uint64_t tag, uint32_t node,
+                          bool demote) {
+  if (demote)
+    table.demote(idx, tag, 0);
+  else
+    table.update(idx, tag, 0, node);
+}
+
 /// The cycle models' self-check (CycleModel, LanesCycleModel): every request in `requests` up to
 /// `written` (by sequence number) is applied to `requested`, the golden model's table with every
 /// request applied in order (updates, and demotes with confidence bits), and popped, then the
@@ -30,10 +39,7 @@ void check_against_requests(std::deque<Op>& requests, const Op& written, PredTab
                             const PredTable& table, uint32_t ways, std::string* error) {
   std::vector<uint32_t> sets;
   auto apply = [&](uint32_t idx, uint64_t tag, uint32_t node, bool demote) {
-    if (demote)
-      requested.demote(idx, tag, 0);
-    else
-      requested.update(idx, tag, 0, node);
+    apply_request(requested, idx, tag, node, demote);
     sets.push_back(idx);
   };
   while (!requests.empty() && requests.front().seq <= written.seq) {
@@ -134,18 +140,16 @@ struct CycleStats {
 template <typename Op>
 void write_table(PredTable& table, const Op& w, CycleStats& stats) {
   auto apply = [&](uint32_t node, bool demote) {
-    if (demote) {
-      table.demote(w.idx, w.tag, 0);
-      return;
+    if (!demote) {  // an update that allocates in a full set evicts
+      bool hit = false, full = true;
+      for (uint32_t i = 0; i < table.config().ways; ++i) {
+        const Way& way = table.way(w.idx, i);
+        hit |= way.valid && way.tag == w.tag;
+        full &= way.valid;
+      }
+      stats.evictions += !hit && full;
     }
-    bool hit = false, full = true;
-    for (uint32_t i = 0; i < table.config().ways; ++i) {
-      const Way& way = table.way(w.idx, i);
-      hit |= way.valid && way.tag == w.tag;
-      full &= way.valid;
-    }
-    stats.evictions += !hit && full;
-    table.update(w.idx, w.tag, 0, node);
+    apply_request(table, w.idx, w.tag, node, demote);
   };
   stats.updates++;
   apply(w.node, w.demote);
