@@ -202,6 +202,7 @@ module hrpp_lane
   logic                   sc_outcome_valid, sc_outcome_ready, sc_outcome_hit;
   logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
   logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
+  logic                   ks_outcome_load;  // KeyStoreBram: K takes the outcome at the port
 
   if (!KeyStoreBram) begin : gen_ks_distributed
     (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
@@ -216,6 +217,7 @@ module hrpp_lane
         {outcome_valid_i, outcome_id_i, outcome_hit_i, outcome_node_i};
     assign pw_ready_o      = sc_pw_ready;
     assign outcome_ready_o = sc_outcome_ready;
+    assign ks_outcome_load = 1'b0;  // unused
   end else begin : gen_ks_bram
     // K: a message waits here while its ray's key is read; it moves on to P0 / F0 when the skip
     // controller takes it, and K takes the next (the RAM reads only then: its output holds).
@@ -268,6 +270,7 @@ module hrpp_lane
         {kf_valid_q, kf_id_q, kf_hit_q, kf_node_q};
     assign pw_ready_o      = kp_load;
     assign outcome_ready_o = kf_load;
+    assign ks_outcome_load = kf_load;
   end
 
   // ---------------------------------------------------------------------------------------------
@@ -441,17 +444,35 @@ module hrpp_lane
 
   // Confidence (ConfBits = 1): whether each ray in flight was given a prediction (a count > 0,
   // after the table's confidence gating), by id, written as its lookup result enters the
-  // prediction FIFO and read with its final outcome's key (ksf_id: the outcome's id as it enters
-  // F0). A ray given a prediction whose final outcome has no hit demotes its entry (the skip
-  // controller; docs/predictor.md, "One ray", step 6).
+  // prediction FIFO and read with its final outcome's key. A ray given a prediction whose final
+  // outcome has no hit demotes its entry (the skip controller; docs/predictor.md, "One ray",
+  // step 6). KeyStoreBram = 0: read combinationally at ksf_id (the outcome's id as it enters F0).
+  // KeyStoreBram = 1: read as the key store is, when K takes the outcome (at outcome_id_i, into a
+  // register beside K), so that the deep memory's read multiplexer ends at a register and F0's
+  // handshake starts at one. The entry was written when the ray's prediction entered the FIFO,
+  // at least two cycles before its outcome can reach the port, and an id is reused only after
+  // its outcome left F0: the register holds the entry's value while the outcome waits in K.
   logic ksf_pred;
   if (ConfBits > 0) begin : gen_pred_given
     (* ram_style = "distributed" *) logic pg_mem_q[2**IdWidth];
     always_ff @(posedge clk_i) begin
       if (d_valid_q[DLast]) pg_mem_q[d_id_q[DLast]] <= lk_count_i != '0;
     end
-    assign ksf_pred = pg_mem_q[ksf_id];
+    if (!KeyStoreBram) begin : gen_pg_comb
+      logic ks_load_unused;
+      assign ks_load_unused = ks_outcome_load;
+      assign ksf_pred = pg_mem_q[ksf_id];
+    end else begin : gen_pg_k
+      logic pg_k_q;
+      always_ff @(posedge clk_i or negedge rst_ni) begin
+        if (!rst_ni) pg_k_q <= 1'b0;
+        else if (ks_outcome_load) pg_k_q <= pg_mem_q[outcome_id_i];
+      end
+      assign ksf_pred = pg_k_q;
+    end
   end else begin : gen_no_pred_given
+    logic ks_load_unused;
+    assign ks_load_unused = ks_outcome_load;
     assign ksf_pred = 1'b0;
   end
 
