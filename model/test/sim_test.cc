@@ -296,6 +296,21 @@ TEST(Sim, TheGateCountsLookupsSinceTheLastPredictedHit) {
   g.on_lookup();
   g.on_lookup();
   EXPECT_FALSE(g.closed());
+  // A shorter first probe: closed after `first` lookups, then N per predicted hit as before.
+  for (const uint32_t first : {0u, 2u}) {
+    UnitGate f(5, first);
+    for (uint32_t i = 0; i < first; ++i) {
+      EXPECT_FALSE(f.closed()) << first << " " << i;
+      f.on_lookup();
+    }
+    EXPECT_TRUE(f.closed()) << first;
+    EXPECT_TRUE(f.on_predicted_hit()) << first;
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_FALSE(f.closed()) << first << " " << i;
+      f.on_lookup();
+    }
+    EXPECT_TRUE(f.closed()) << first;
+  }
 }
 
 // The unit's gate (SimOptions::gate): it closes after `gate` answered lookups without a predicted
@@ -327,6 +342,22 @@ TEST(Sim, TheGateClosesWithoutPredictedHitsAndOpensOnOne) {
     EXPECT_EQ(s.predict_total().exact_mismatches, 0u);
     EXPECT_TRUE(golden_answers(w, g, answers)) << gate;
   }
+  // gate_first: a gate that starts closed bypasses rays before any predicted hit, so it looks up
+  // fewer rays than the same gate that starts open; a first probe as long as the gate is the
+  // default.
+  SimOptions o = rtl_default(w, PredictMode::kClosestExact);
+  o.gate = 64;
+  const SimStats open64 = run(w, o);
+  o.gate_first = 64;
+  EXPECT_EQ(run(w, o).cycles, open64.cycles);
+  o.gate_first = 0;
+  std::vector<Hit> answers;
+  o.answers = &answers;
+  const SimStats closed = run(w, o);
+  EXPECT_GT(closed.predictor.bypassed, open64.predictor.bypassed);
+  EXPECT_LT(closed.predictor.lookups, open64.predictor.lookups);
+  EXPECT_EQ(closed.predictor.lookups + closed.predictor.bypassed, closed.rays);
+  EXPECT_TRUE(golden_answers(w, g, answers));
 }
 
 // The multi-lane RTL configurations (hrpp_lanes' cycle model behind each lane's ports): every

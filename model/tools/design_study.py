@@ -86,8 +86,9 @@ def res_of(res, gpu):
 def sim_cmd(args, gpu, scene, kopts, d, out, path, oracle, seed=None):
     cmd = [args.hrpp, "simulate", str(scene), "--res", res_of(args.res, gpu), "--gpu", gpu,
            "--preset", preset_arg(d, out), "--json", str(path)] + kopts
-    for k, v in d.get("sim_options", {}).items():  # simulate's own options
-        cmd += ["--" + k.replace("_", "-"), str(v)]
+    for k, v in d.get("sim_options", {}).items():  # simulate's own options (null: not given)
+        if v is not None:
+            cmd += ["--" + k.replace("_", "-"), str(v)]
     if not oracle:
         cmd.append("--no-oracle")
     if seed is not None:

@@ -409,7 +409,7 @@ SimStats Simulator::run() {
   st_.rays = valid_.size();
   if (opt_.answers) opt_.answers->assign(rays_.size(), Hit{});
   admitted_at_.assign(slots_.size(), 0);
-  gate_.assign(g_.units, UnitGate(opt_.gate));
+  gate_.assign(g_.units, UnitGate(opt_.gate, opt_.gate_first));
   const uint32_t num_warps = uint32_t((valid_.size() + g_.warp_size - 1) / g_.warp_size);
   warps_.resize(num_warps);  // repacking appends the warps it forms
   uint32_t next_warp = 0;

@@ -41,6 +41,7 @@ struct SimulateArgs {
       updates_per_cycle = -1, credits = -1;
   uint32_t entry_timeout = 0;  // the preset's rays give up entering after this many cycles
   uint32_t gate = 0;           // SimOptions::gate
+  int64_t gate_first = -1;     // SimOptions::gate_first; < 0: unset
 };
 
 /// One simulated configuration.
@@ -265,9 +266,12 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   if (a.entry_timeout > 0)
     r.timing += "; rays give up entering after " + std::to_string(a.entry_timeout) + " cycles";
   r.opt.gate = a.gate;
+  if (a.gate_first >= 0) r.opt.gate_first = static_cast<uint32_t>(a.gate_first);
   if (a.gate > 0)
     r.timing += "; the unit's gate closes after " + std::to_string(a.gate) +
-                " lookups without a predicted hit";
+                " lookups without a predicted hit" +
+                (a.gate_first >= 0 ? " (" + std::to_string(a.gate_first) + " before the first)"
+                                   : std::string());
   s->runs.push_back(r);
   add_repacked(a, r, s);
   return 0;
@@ -625,10 +629,18 @@ Subcommand add_simulate(CLI::App& app) {
                  "without it) until a predicted hit (0: no gate; docs/timing_model.md)")
       ->check(CLI::Range(0, 1 << 24))
       ->capture_default_str();
+  sc->add_option("--gate-first", sa->gate_first,
+                 "with --gate: the lookups the gate allows before the unit's first predicted hit "
+                 "(default: --gate; 0: the gate starts closed)")
+      ->check(CLI::Range(0, 1 << 24));
   return {sc, [sa] {
             // No preset: the RTL's default configuration, unless hash or table options are
             // given (then the golden model's defaults with those options).
             if (!resolve_preset("simulate", sa->p)) return 2;
+            if (sa->gate_first >= 0 && sa->gate == 0) {
+              std::fprintf(stderr, "hrpp simulate: --gate-first needs a gate (--gate N, N > 0)\n");
+              return 2;
+            }
             return cmd_simulate(*sa);
           }};
 }

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,9 @@ struct SimOptions {
   /// while it is closed, a ray that cannot enter in its first cycle walks without the predictor
   /// (entry_timeout 1); the next predicted hit opens it.
   uint32_t gate = 0;
+  /// With a gate: the lookups it allows before the unit's first predicted hit (unset: gate; 0:
+  /// the gate starts closed).
+  std::optional<uint32_t> gate_first;
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).
