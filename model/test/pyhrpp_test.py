@@ -220,5 +220,39 @@ class Tools(unittest.TestCase):
             self.assertTrue(str(e.exception).endswith(" exited 2:\nbad input"), str(e.exception))
 
 
+class ResumeRecords(unittest.TestCase):
+    """model/tools/sim_results.py's run() (make sim-results, make design-study): --resume keeps a
+    run only when its record names the same command and the same --preset file contents."""
+
+    def test_resume_reruns_a_run_whose_command_or_preset_changed(self):
+        sys.path.insert(0, str(ROOT / "model" / "tools"))
+        import sim_results
+        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
+            d = pathlib.Path(d)
+            count, preset, out = d / "count", d / "p.json", d / "r.json"
+            # A tool that counts its runs and writes its report where --json says.
+            tool = ("import json, sys, pathlib; c = pathlib.Path(sys.argv[1]); "
+                    "c.write_text(str(int(c.read_text() or 0) + 1) if c.exists() else '1'); "
+                    "json.dump({'speedup': 1.0}, open(sys.argv[sys.argv.index('--json') + 1], 'w'))")
+            preset.write_text('{"a": 1}')
+
+            def run(*extra):
+                cmd = [sys.executable, "-c", tool, count, "--preset", preset, "--json", out, *extra]
+                key, data, _, err = sim_results.run(("k", cmd, out), resume=True)
+                self.assertIsNone(err)
+                self.assertEqual(data, {"speedup": 1.0})
+                return int(count.read_text())
+
+            self.assertEqual(run(), 1)              # no report: runs, writes the record
+            self.assertTrue(out.with_suffix(".cmd").exists())
+            self.assertEqual(run(), 1)              # same command and preset: kept
+            preset.write_text('{"a": 2}')
+            self.assertEqual(run(), 2)              # the preset file changed: runs again
+            self.assertEqual(run("--seed", "2"), 3)  # the command changed: runs again
+            self.assertEqual(run("--seed", "2"), 3)
+            out.with_suffix(".cmd").unlink()
+            self.assertEqual(run(), 3)              # no record (an older run): kept
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)

@@ -19,7 +19,8 @@ BVH needs, 21 bits on happy_buddha_full; an rtl-NAME preset's are its configurat
 build or the noise design ran below --confirm-below (1.01) is run again for all three with
 seeds 2 .. --seeds (5), and the goals judge the geometric mean over the seeds.
 
-Writes OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json (kept with --resume),
+Writes OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json, each with its record .cmd
+(kept with --resume when the record names the same command and preset contents),
 OUT/summary.json and the blocks study-designs, study-ablation and study-goal of --doc.
 """
 import argparse
@@ -342,7 +343,9 @@ def main():
     ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
                     "design always runs, for the oracle)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true", help="keep the runs whose JSON exists")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the runs whose JSON exists and whose record (.cmd) names the same "
+                         "command and --preset file contents (a run without a record is kept)")
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose study-* blocks are rewritten ('' for none)")
     args = ap.parse_args()

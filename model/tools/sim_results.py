@@ -13,7 +13,8 @@ the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-de
 group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of all
 kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
 
-Writes OUT/GPU/SCENE-KIND-PRESET.json (kept with --resume), OUT/summary.json and the blocks
+Writes OUT/GPU/SCENE-KIND-PRESET.json and its record .cmd (kept with --resume when the record
+names the same command), OUT/summary.json and the blocks
 sim-mobile, sim-desktop, sim-disagree and sim-repack of --doc.
 """
 import argparse
@@ -29,6 +30,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp.docs import update_blocks  # noqa: E402
+from pyhrpp.files import write_atomic  # noqa: E402
 
 KINDS = {
     "primary": ["--kinds", "primary"],
@@ -95,10 +97,25 @@ def tasks_for(args, scenes, out):
     return tasks
 
 
+def run_record(cmd):
+    """What made a run, for --resume: the command line and the contents of its --preset file
+    (a design's options live in a file whose name does not change with them)."""
+    parts = [str(c) for c in cmd]
+    for flag, arg in zip(parts, parts[1:]):
+        if flag == "--preset" and os.path.isfile(arg):
+            parts.append(f"preset file {arg}: {pathlib.Path(arg).read_text()}")
+    return "\n".join(parts) + "\n"
+
+
 def run(task, resume):
+    """(key, report, seconds, error). --resume keeps a run whose JSON exists and whose record
+    (PATH.cmd, written with it) names the same command; a run whose record differs (options
+    changed since) is run again; a run without a record (made before records were kept) is kept."""
     key, cmd, path = task
+    record = path.with_suffix(".cmd")
     if resume and path.exists():
-        return key, json.loads(path.read_text()), 0.0, None
+        if not record.exists() or record.read_text() == run_record(cmd):
+            return key, json.loads(path.read_text()), 0.0, None
     path.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
     proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
@@ -108,6 +125,7 @@ def run(task, resume):
     if proc.returncode != 0:
         return key, None, time.time() - t0, f"{' '.join(map(str, cmd))} exited {proc.returncode}:" \
                                              f"\n{proc.stderr.strip()}"
+    write_atomic(record, run_record(cmd))
     return key, json.loads(path.read_text()), time.time() - t0, None
 
 
@@ -260,7 +278,9 @@ def main():
     ap.add_argument("--gpu", default="mobile,desktop")
     ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true", help="keep the runs whose JSON exists")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the runs whose JSON exists and whose record (.cmd) names the same "
+                         "command and --preset file contents (a run without a record is kept)")
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose sim-* blocks are rewritten ('' for none)")
     args = ap.parse_args()
