@@ -450,8 +450,9 @@ module hrpp_lane
   // KeyStoreBram = 1: read as the key store is, when K takes the outcome (at outcome_id_i, into a
   // register beside K), so that the deep memory's read multiplexer ends at a register and F0's
   // handshake starts at one. The entry was written when the ray's prediction entered the FIFO,
-  // at least two cycles before its outcome can reach the port, and an id is reused only after
-  // its outcome left F0: the register holds the entry's value while the outcome waits in K.
+  // at least a cycle before the prediction can leave it, so before the ray's outcome can reach
+  // the port; an id is reused only after its outcome left F0, so the register holds the entry's
+  // value while the outcome waits in K.
   logic ksf_pred;
   if (ConfBits > 0) begin : gen_pred_given
     (* ram_style = "distributed" *) logic pg_mem_q[2**IdWidth];
