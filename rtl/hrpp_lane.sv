@@ -203,6 +203,8 @@ module hrpp_lane
   logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
   logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
   logic                   ks_outcome_load;  // KeyStoreBram: K takes the outcome at the port
+  logic                   ks_load_unused;   // read by the pred-given bit's K register only
+  assign ks_load_unused = ks_outcome_load;
 
   if (!KeyStoreBram) begin : gen_ks_distributed
     (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
@@ -460,8 +462,6 @@ module hrpp_lane
       if (d_valid_q[DLast]) pg_mem_q[d_id_q[DLast]] <= lk_count_i != '0;
     end
     if (!KeyStoreBram) begin : gen_pg_comb
-      logic ks_load_unused;
-      assign ks_load_unused = ks_outcome_load;
       assign ksf_pred = pg_mem_q[ksf_id];
     end else begin : gen_pg_k
       logic pg_k_q;
@@ -472,8 +472,6 @@ module hrpp_lane
       assign ksf_pred = pg_k_q;
     end
   end else begin : gen_no_pred_given
-    logic ks_load_unused;
-    assign ks_load_unused = ks_outcome_load;
     assign ksf_pred = 1'b0;
   end
 

@@ -33,7 +33,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 sys.path.insert(0, str(ROOT / "model" / "tools"))
 from pyhrpp.docs import update_blocks  # noqa: E402
-from sim_results import KINDS, fx, geomean, label, pct, run_all, scenes_of  # noqa: E402
+from sim_results import (KINDS, RESUME_HELP, fx, geomean, label, pct, run_all,  # noqa: E402
+                         scenes_of)
 
 KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
 
@@ -343,9 +344,7 @@ def main():
     ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
                     "design always runs, for the oracle)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true",
-                    help="keep the runs whose JSON exists and whose record (.cmd) names the same "
-                         "command and --preset file contents (a run without a record is kept)")
+    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose study-* blocks are rewritten ('' for none)")
     args = ap.parse_args()

@@ -14,7 +14,7 @@ group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per s
 kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
 
 Writes OUT/GPU/SCENE-KIND-PRESET.json and its record .cmd (kept with --resume when the record
-names the same command), OUT/summary.json and the blocks
+names the same command and preset contents), OUT/summary.json and the blocks
 sim-mobile, sim-desktop, sim-disagree and sim-repack of --doc.
 """
 import argparse
@@ -95,6 +95,10 @@ def tasks_for(args, scenes, out):
                        "rtl-default", "--timing", "cost-model", "--json", str(path)]
                 tasks.append(((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
     return tasks
+
+
+RESUME_HELP = ("keep the runs whose JSON exists and whose record (.cmd) names the same command "
+               "and --preset file contents (a run without a record is kept)")
 
 
 def run_record(cmd):
@@ -278,9 +282,7 @@ def main():
     ap.add_argument("--gpu", default="mobile,desktop")
     ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true",
-                    help="keep the runs whose JSON exists and whose record (.cmd) names the same "
-                         "command and --preset file contents (a run without a record is kept)")
+    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose sim-* blocks are rewritten ('' for none)")
     args = ap.parse_args()
