@@ -137,9 +137,10 @@ results: build
 # on every shared and own scene x ray kind x preset on the mobile and desktop GPUs (about 30
 # minutes on 2 cores at 256x256); out/sim/ and the sim-* blocks of docs/results.md.
 SIM_RES ?= 256x256
-# The design study's frame per GPU: desktop's 68 units get 4x the mobile frame (at 256x256 each
-# unit has under two waves of warps, and one ray's timing moves the run's end by several percent).
-STUDY_RES ?= mobile=256x256,desktop=512x512
+# The design study's frame per GPU: desktop's 68 units get 16x the mobile frame, so that each
+# unit's table sees about half the rays one of mobile's 2 units sees (at 512x512 a desktop unit
+# saw 1/8 of them, and the predictor had no time to learn: docs/results.md).
+STUDY_RES ?= mobile=256x256,desktop=1024x1024
 sim-results: build
 	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
 	  --res $(SIM_RES) --out $(OUT)/sim

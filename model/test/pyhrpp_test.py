@@ -254,5 +254,39 @@ class ResumeRecords(unittest.TestCase):
             self.assertEqual(run(), 3)              # no record (an older run): kept
 
 
+class DesignStudySpec(unittest.TestCase):
+    """model/tools/design_study.py: a spec's skip_kinds leaves those ray kinds out on that GPU
+    only, and names a kind that does not exist."""
+
+    def test_skip_kinds(self):
+        sys.path.insert(0, str(ROOT / "model" / "tools"))
+        import argparse
+        import design_study
+        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
+            d = pathlib.Path(d)
+            spec = {"baseline": "a", "winner": "a", "skip_kinds": {"desktop": ["primary"]},
+                    "designs": [{"name": "a", "about": "", "options": {"preset": "micro21"}}]}
+            (d / "s.json").write_text(json.dumps(spec))
+            spec, designs = design_study.load_designs(d / "s.json")
+            args = argparse.Namespace(hrpp="hrpp", gpu="mobile,desktop", res="8x8")
+            tasks = design_study.tasks_for(args, spec, [("shared", pathlib.Path("x.glb"))],
+                                           designs, d)
+            kinds = {(k[0], k[3]) for k, _, _ in tasks}
+            self.assertIn(("mobile", "primary"), kinds)
+            self.assertNotIn(("desktop", "primary"), kinds)
+            self.assertIn(("desktop", "ao"), kinds)
+            self.assertEqual(len(tasks), 4 + 3)
+            args.kinds = ["primary", "ao"]  # --kinds: those, less skip_kinds
+            tasks = design_study.tasks_for(args, spec, [("shared", pathlib.Path("x.glb"))],
+                                           designs, d)
+            self.assertEqual(sorted((k[0], k[3]) for k, _, _ in tasks),
+                             [("desktop", "ao"), ("mobile", "ao"), ("mobile", "primary")])
+            spec["skip_kinds"] = {"desktop": ["primry"]}
+            (d / "s.json").write_text(json.dumps(spec))
+            with self.assertRaises(SystemExit) as e:
+                design_study.load_designs(d / "s.json")
+            self.assertIn("primry", str(e.exception))
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)

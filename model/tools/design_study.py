@@ -3,10 +3,11 @@
 secondary rays"): every design of model/tools/design_study.json on every shared and own scene x ray
 kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md made from them.
 
-  make design-study [STUDY_RES=mobile=256x256,desktop=512x512] [JOBS=2]
+  make design-study [STUDY_RES=mobile=256x256,desktop=1024x1024] [JOBS=2]
   model/tools/design_study.py --hrpp build/hrpp --shared ../shared [--jobs 2]
-      [--res mobile=256x256,desktop=512x512 | --res 256x256]
-      [--gpu mobile,desktop] [--scenes bunny,sponza] [--designs a,b] [--resume] [--doc ...]
+      [--res mobile=256x256,desktop=1024x1024 | --res 256x256]
+      [--gpu mobile,desktop] [--scenes bunny,sponza] [--kinds ao] [--designs a,b] [--resume]
+      [--doc ...]
 
 A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
 (out/design_study/presets/NAME.json); its "sim_options" are `hrpp simulate`'s own (e.g.
@@ -56,6 +57,11 @@ def load_designs(path):
             opts = {k: v for k, v in {**base["options"], **opts}.items() if v is not None}
             d = {**d, "sim_options": {**base.get("sim_options", {}), **d.get("sim_options", {})}}
         designs.append({**d, "options": opts})
+    for gpu, kinds in spec.get("skip_kinds", {}).items():
+        bad = [k for k in kinds if k not in KINDS]
+        if bad:
+            raise SystemExit(f"design_study: {path}: skip_kinds {gpu}: {bad} are not ray kinds "
+                             f"({', '.join(KINDS)})")
     for k in ("winner", "baseline"):
         if spec[k] not in names:
             raise SystemExit(f"design_study: {path}: {k} {spec[k]!r} is not a design")
@@ -98,11 +104,19 @@ def sim_cmd(args, gpu, scene, kopts, d, out, path, oracle, seed=None):
     return cmd
 
 
-def tasks_for(args, scenes, designs, out):
+def kinds_of(spec, gpu, only=None):
+    """The ray kinds run on GPU: every kind (or those of --kinds) but the spec's "skip_kinds" for
+    it."""
+    skip = spec.get("skip_kinds", {}).get(gpu, [])
+    return [k for k in KINDS if k not in skip and (only is None or k in only)]
+
+
+def tasks_for(args, spec, scenes, designs, out):
     tasks = []
     for gpu in args.gpu.split(","):
         for where, scene in scenes:
-            for kind, kopts in KINDS.items():
+            for kind in kinds_of(spec, gpu, getattr(args, "kinds", None)):
+                kopts = KINDS[kind]
                 for i, d in enumerate(designs):
                     if gpu not in d.get("gpus", [gpu]):
                         continue
@@ -319,7 +333,8 @@ def goal_block(spec, summ, gpus, never):
                 f"- `{w}` on `{gpu}`: AO gain {100 * gw:+.1f}% against `{base}`'s "
                 f"{100 * gb:+.1f}% ({ratio}); {pct(sw['ao']['of_oracle'])} of the oracle's "
                 f"(stretch goal: 50%); shadow rays {fx(sw['shadow']['geomean'])} against "
-                f"{fx(sb['shadow']['geomean'])}; primary rays {fx(sw['primary']['geomean'])}; "
+                f"{fx(sb['shadow']['geomean'])}; primary rays "
+                f"{fx(sw['primary']['geomean']) or 'not run (skip_kinds)'}; "
                 f"slowest scene x kind {worst[0][0]:.3f} ({worst[0][1]}, {KIND_SHORT[worst[1]]})"
                 + floor + seeds_text(never, gpu, w, noise))
     return "\n".join(lines)
@@ -332,15 +347,18 @@ def main():
     ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
     ap.add_argument("--spec", default=str(ROOT / "model" / "tools" / "design_study.json"))
     ap.add_argument("--out", default=str(ROOT / "out" / "design_study"))
-    ap.add_argument("--res", default="mobile=256x256,desktop=512x512",
+    ap.add_argument("--res", default="mobile=256x256,desktop=1024x1024",
                     help="frame size: WxH for every GPU, or GPU=WxH,... (default: desktop's "
-                    "68 units get 4x mobile's frame, docs/results.md)")
+                    "68 units get 16x mobile's frame, each unit about half the rays of one of "
+                    "mobile's 2: docs/results.md)")
     ap.add_argument("--gpu", default="mobile,desktop")
     ap.add_argument("--seeds", type=int, default=5,
                     help="frames (simulate --seed 1 .. N) for the scene x kind cells where the "
                     "winner, its build or the noise design ran below --confirm-below; 1: none")
     ap.add_argument("--confirm-below", type=float, default=1.01)
     ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
+    ap.add_argument("--kinds", help="comma-separated ray kinds (default: all; "
+                    + ", ".join(KINDS) + ")")
     ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
                     "design always runs, for the oracle)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
@@ -358,10 +376,15 @@ def main():
             raise SystemExit(f"design_study: unknown designs {sorted(unknown)}")
         designs = [d for i, d in enumerate(designs) if i == 0 or d["name"] in want]
     scenes = scenes_of(args.shared, args.scenes)
+    if args.kinds:
+        bad = [k for k in args.kinds.split(",") if k not in KINDS]
+        if bad:
+            raise SystemExit(f"design_study: --kinds: {bad} are not ray kinds ({', '.join(KINDS)})")
+        args.kinds = args.kinds.split(",")
     out = pathlib.Path(args.out)
     for gpu in args.gpu.split(","):
         res_of(args.res, gpu)  # every GPU has a frame size
-    tasks = tasks_for(args, scenes, designs, out)
+    tasks = tasks_for(args, spec, scenes, designs, out)
     res = run_all(tasks, args.jobs, args.resume, "design_study")
     cells, ctasks = confirm_tasks(args, spec, designs, scenes, res, out) if args.seeds > 1 \
         else ([], [])
@@ -382,7 +405,7 @@ def main():
                              for k, v in conf.items()},
                    "slowest": {f"{gpu} {n}": v for (gpu, n), v in never.items()}}},
         indent=2, default=str) + "\n")
-    full = not args.scenes and not args.designs and args.gpu == "mobile,desktop"
+    full = not (args.scenes or args.designs or args.kinds) and args.gpu == "mobile,desktop"
     cmd = f"make design-study STUDY_RES={args.res}" if full else " ".join(sys.argv)
     names = {d["name"] for d in designs}
     blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
@@ -396,8 +419,8 @@ def main():
     if args.doc and full:
         update_blocks(args.doc, blocks)
     elif args.doc:
-        print("design_study: a partial study (--scenes, --designs or --gpu): docs untouched; "
-              f"the tables are in {out / 'study.md'}", file=sys.stderr)
+        print("design_study: a partial study (--scenes, --kinds, --designs or --gpu): docs "
+              f"untouched; the tables are in {out / 'study.md'}", file=sys.stderr)
     (out / "study.md").write_text("\n\n".join(f"<!-- {k} -->\n{v}" for k, v in blocks.items())
                                   + "\n")
 
