@@ -253,6 +253,20 @@ class ResumeRecords(unittest.TestCase):
             out.with_suffix(".cmd").unlink()
             self.assertEqual(run(), 3)              # no record (an older run): kept
 
+    def test_port_rate_keeps_a_report_only_with_the_same_record(self):
+        sys.path.insert(0, str(ROOT / "model" / "tools"))
+        import port_rate
+        import sim_results
+        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
+            path = pathlib.Path(d) / "r.json"
+            task = (("mobile", "bunny", "ao", 1), ["hrpp", "simulate", "--rates", 1], path)
+            self.assertFalse(port_rate.kept(task, None))     # no report
+            self.assertTrue(port_rate.kept(task, {}))        # no record: an older run, kept
+            path.with_suffix(".cmd").write_text(sim_results.run_record(task[1]))
+            self.assertTrue(port_rate.kept(task, {}))
+            path.with_suffix(".cmd").write_text(sim_results.run_record(task[1] + ["--x"]))
+            self.assertFalse(port_rate.kept(task, {}))       # another command: run again
+
 
 class DesignStudySpec(unittest.TestCase):
     """model/tools/design_study.py: a spec's skip_kinds leaves those ray kinds out on that GPU

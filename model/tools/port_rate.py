@@ -20,7 +20,8 @@ configurations' cycle models at their ports (`--preset rtl-NAME`): `default` (on
 ids), `default_x2` and `default_x4` (hrpp_lanes: 2 and 4 lookups and updates per cycle, 64 ids
 per lane) and `mobile` (one lane, 1,024 ids). Writes OUT/GPU/SCENE-KIND-rtl-NAME.json. A scene a
 configuration cannot run (its node ids cannot name the BVH) is left out of that configuration's
-mean and named. --resume keeps the reports already in OUT.
+mean and named. --resume keeps the reports already in OUT whose record (PATH.cmd, the command
+line, written with the report) names the same command (a report without a record is kept).
 """
 import argparse
 import json
@@ -33,7 +34,10 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+sys.path.insert(0, str(ROOT / "model" / "tools"))
 from pyhrpp.docs import update_blocks  # noqa: E402
+from pyhrpp.files import write_atomic  # noqa: E402
+from sim_results import RESUME_HELP, run_record  # noqa: E402
 
 KINDS = {
     "primary": ["--kinds", "primary"],
@@ -53,10 +57,20 @@ def run(task):
         if "node ids name at most" in p.stderr:  # the configuration cannot name the BVH's nodes
             data = {"unsupported": p.stderr.strip().splitlines()[-1]}
             path.write_text(json.dumps(data))
+            write_atomic(path.with_suffix(".cmd"), run_record(cmd))
             return key, data, time.time() - t0
         raise SystemExit(f"port_rate: {' '.join(map(str, cmd))} exited {p.returncode}:\n"
                          f"{p.stderr[-2000:]}")
+    write_atomic(path.with_suffix(".cmd"), run_record(cmd))
     return key, json.loads(path.read_text()), time.time() - t0
+
+
+def kept(task, report):
+    """--resume: a report is kept when it exists and its record names the same command (or it has
+    no record: made before records were kept)."""
+    key, cmd, path = task
+    record = path.with_suffix(".cmd")
+    return report is not None and (not record.exists() or record.read_text() == run_record(cmd))
 
 
 def geomean(xs):
@@ -165,8 +179,7 @@ def main():
     ap.add_argument("--built", default="rtl-default,rtl-default_x2,rtl-default_x4,rtl-mobile",
                     help="RTL presets run through their cycle models (block port-rate-built); "
                          "'' for none")
-    ap.add_argument("--resume", action="store_true",
-                    help="keep the reports already in --out; run only the missing ones")
+    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--tables-only", action="store_true",
                     help="rewrite the table from the reports already in --out; run nothing")
     args = ap.parse_args()
@@ -197,7 +210,7 @@ def main():
     results, t0 = {}, time.time()
     if args.tables_only or args.resume:
         results = load(out, gpus, [s.stem for s in scenes], rates + built)
-        tasks = [] if args.tables_only else [t for t in tasks if results.get(t[0]) is None]
+        tasks = [] if args.tables_only else [t for t in tasks if not kept(t, results.get(t[0]))]
     with ThreadPoolExecutor(max_workers=args.jobs) as ex:
         for i, f in enumerate(as_completed([ex.submit(run, t) for t in tasks]), 1):
             key, data, secs = f.result()
