@@ -282,7 +282,7 @@ class DesignStudySpec(unittest.TestCase):
                     "designs": [{"name": "a", "about": "", "options": {"preset": "micro21"}}]}
             (d / "s.json").write_text(json.dumps(spec))
             spec, designs = design_study.load_designs(d / "s.json")
-            args = argparse.Namespace(hrpp="hrpp", gpu="mobile,desktop", res="8x8")
+            args = argparse.Namespace(hrpp="hrpp", gpu="mobile,desktop", res="8x8", kinds=None)
             tasks = design_study.tasks_for(args, spec, [("shared", pathlib.Path("x.glb"))],
                                            designs, d)
             kinds = {(k[0], k[3]) for k, _, _ in tasks}

@@ -40,6 +40,13 @@ from sim_results import (KINDS, RESUME_HELP, fx, geomean, label, pct, run_all,  
 KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
 
 
+def check_kinds(kinds, what):
+    """Exit naming WHAT when KINDS has a name that is not a ray kind."""
+    bad = [k for k in kinds if k not in KINDS]
+    if bad:
+        raise SystemExit(f"design_study: {what}: {bad} are not ray kinds ({', '.join(KINDS)})")
+
+
 def load_designs(path):
     spec = json.loads(pathlib.Path(path).read_text())
     designs, names = [], set()
@@ -58,10 +65,7 @@ def load_designs(path):
             d = {**d, "sim_options": {**base.get("sim_options", {}), **d.get("sim_options", {})}}
         designs.append({**d, "options": opts})
     for gpu, kinds in spec.get("skip_kinds", {}).items():
-        bad = [k for k in kinds if k not in KINDS]
-        if bad:
-            raise SystemExit(f"design_study: {path}: skip_kinds {gpu}: {bad} are not ray kinds "
-                             f"({', '.join(KINDS)})")
+        check_kinds(kinds, f"{path}: skip_kinds {gpu}")
     for k in ("winner", "baseline"):
         if spec[k] not in names:
             raise SystemExit(f"design_study: {path}: {k} {spec[k]!r} is not a design")
@@ -115,7 +119,7 @@ def tasks_for(args, spec, scenes, designs, out):
     tasks = []
     for gpu in args.gpu.split(","):
         for where, scene in scenes:
-            for kind in kinds_of(spec, gpu, getattr(args, "kinds", None)):
+            for kind in kinds_of(spec, gpu, args.kinds):
                 kopts = KINDS[kind]
                 for i, d in enumerate(designs):
                     if gpu not in d.get("gpus", [gpu]):
@@ -377,10 +381,8 @@ def main():
         designs = [d for i, d in enumerate(designs) if i == 0 or d["name"] in want]
     scenes = scenes_of(args.shared, args.scenes)
     if args.kinds:
-        bad = [k for k in args.kinds.split(",") if k not in KINDS]
-        if bad:
-            raise SystemExit(f"design_study: --kinds: {bad} are not ray kinds ({', '.join(KINDS)})")
         args.kinds = args.kinds.split(",")
+        check_kinds(args.kinds, "--kinds")
     out = pathlib.Path(args.out)
     for gpu in args.gpu.split(","):
         res_of(args.res, gpu)  # every GPU has a frame size

@@ -37,7 +37,7 @@ sys.path.insert(0, str(ROOT))  # the pyhrpp package
 sys.path.insert(0, str(ROOT / "model" / "tools"))
 from pyhrpp.docs import update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
-from sim_results import RESUME_HELP, run_record  # noqa: E402
+from sim_results import RESUME_HELP, record_matches, run_record  # noqa: E402
 
 KINDS = {
     "primary": ["--kinds", "primary"],
@@ -68,9 +68,8 @@ def run(task):
 def kept(task, report):
     """--resume: a report is kept when it exists and its record names the same command (or it has
     no record: made before records were kept)."""
-    key, cmd, path = task
-    record = path.with_suffix(".cmd")
-    return report is not None and (not record.exists() or record.read_text() == run_record(cmd))
+    _, cmd, path = task
+    return report is not None and record_matches(path, cmd)
 
 
 def geomean(xs):

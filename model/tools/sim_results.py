@@ -111,15 +111,20 @@ def run_record(cmd):
     return "\n".join(parts) + "\n"
 
 
+def record_matches(path, cmd):
+    """--resume: the record written with the report at PATH (PATH.cmd) names CMD, or there is no
+    record (a report made before records were kept)."""
+    record = path.with_suffix(".cmd")
+    return not record.exists() or record.read_text() == run_record(cmd)
+
+
 def run(task, resume):
     """(key, report, seconds, error). --resume keeps a run whose JSON exists and whose record
     (PATH.cmd, written with it) names the same command; a run whose record differs (options
     changed since) is run again; a run without a record (made before records were kept) is kept."""
     key, cmd, path = task
-    record = path.with_suffix(".cmd")
-    if resume and path.exists():
-        if not record.exists() or record.read_text() == run_record(cmd):
-            return key, json.loads(path.read_text()), 0.0, None
+    if resume and path.exists() and record_matches(path, cmd):
+        return key, json.loads(path.read_text()), 0.0, None
     path.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
     proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
@@ -129,7 +134,7 @@ def run(task, resume):
     if proc.returncode != 0:
         return key, None, time.time() - t0, f"{' '.join(map(str, cmd))} exited {proc.returncode}:" \
                                              f"\n{proc.stderr.strip()}"
-    write_atomic(record, run_record(cmd))
+    write_atomic(path.with_suffix(".cmd"), run_record(cmd))
     return key, json.loads(path.read_text()), time.time() - t0, None
 
 
