@@ -110,7 +110,7 @@ module hrpp_tb_top
       .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
-      .UpdateQueueDepth(UpdateQueueDepth), .InjectFault(InjectFault),
+      .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault),
       .ConfBits(ConfBits), .Lanes(Lanes)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),

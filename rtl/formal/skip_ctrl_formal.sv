@@ -44,7 +44,7 @@ module skip_ctrl_formal
   input logic                   ksp_any_hit_i,
   input logic [IdxWidth-1:0]    ksf_idx_i,
   input logic [TagWidth-1:0]    ksf_tag_i,
-  input logic                   ksf_pred_i,  // free; ignored with the default ConfBits = 0
+  input logic                   ksf_pred_i,  // free; ignored with ConfBits = 0
   input logic                   tbl_wr_ready_i,
   input logic                   tbl_wr2_ready_i,
   input logic                   skip_ready_i,
@@ -83,7 +83,7 @@ module skip_ctrl_formal
 
   hrpp_skip_ctrl #(
     .IdWidth(IdWidth), .IdxWidth(IdxWidth), .TagWidth(TagWidth), .NodeIdWidth(NodeIdWidth),
-    .FifoDepth(FifoDepth)
+    .FifoDepth(FifoDepth), .ConfBits(0)
   ) dut (.*);
 
   always_comb assume (!tbl_wr2_ready_i || tbl_wr_ready_i);

@@ -76,7 +76,8 @@ module top_formal
   hrpp_top #(
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2)
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2), .KeyStoreBram(1'b0),
+    .InjectFault(1'b0), .ConfBits(0)
   ) dut (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,
@@ -131,7 +132,8 @@ module top_formal
   hrpp_top #(
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2)
+    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2), .KeyStoreBram(1'b0),
+    .InjectFault(1'b0), .ConfBits(0)
   ) dut_b (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
     .ray_valid_i(d ? b_ray_valid_i : ray_valid_i), .ray_ready_o(b_ray_ready_o),
