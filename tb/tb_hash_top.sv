@@ -15,7 +15,7 @@ module tb_hash_top
   // Keep in sync with kConfigs in tb_hash.cc.
   // 0-7: faithful and improved with the grid direction code; 8-11: improved with the octahedral
   // code (8: the `oct` configuration's hash, origin 3 / direction 3 bits, concatenated); 12: the
-  // `secondary` configuration's (improved, grid, origin 3 / direction 2 bits, concatenated).
+  // default configuration's (improved, grid, origin 3 / direction 2 bits, concatenated).
   localparam hash_variant_e V[13] = '{HashFaithful, HashFaithful, HashFaithful, HashFaithful,
                                       HashImproved, HashImproved, HashImproved, HashImproved,
                                       HashImproved, HashImproved, HashImproved, HashImproved,

@@ -132,7 +132,7 @@ def main():
                     ("--nodes-per-entry", r"--nodes-per-entry UINT:[^\n]*=1"),
                     ("--spp", r"--spp INT:[^\n]*=1"),
                     ("--seed", r"--seed UINT=1"),
-                    ("--preset", r"--preset TEXT:\{[^}]*rtl-default[^}]*\}\|FILE\.json\s+[^\n]*"
+                    ("--preset", r"--preset TEXT:\{[^}]*rtl-primary[^}]*\}\|FILE\.json\s+[^\n]*"
                                  r"Default: rtl-default unless a hash or table option is given")) +
                     ((("--timing", r"--timing TEXT:\{simulate,cost-model\}=simulate"),
                       ("--gpu", r"--gpu TEXT=mobile")) if sub != "simulate" else ()) +
@@ -293,7 +293,7 @@ def main():
     T = ["--timing", "cost-model"]
     run([hrpp, "predict", scene, "--res", "8x8", "--json", pj] + T, 0, limit=20,
         name="predict: the default is rtl-default",
-        check=json_report(pj, preset_check("rtl-default", "rtl-default", "128x8", 0,
+        check=json_report(pj, preset_check("rtl-default", "rtl-default", "128x4", 0,
                                            "closest-exact")))
     pf = os.path.join(odd, "mine.json")
     with open(pf, "w") as f:
@@ -401,10 +401,11 @@ def main():
                 problems.append("time %r against %r" % (t, first))
             return problems
         return check
-    # At 16x16 the default configuration saves time on spd_balls and costs time on the Cornell box.
+    # At 16x16 the primary configuration saves time on spd_balls and costs time on the Cornell box.
     cornell = os.path.join(source, "scenes", "cornell_box.glb")
     for sc, verdict in ((scene, "saves"), (cornell, "COSTS")):
-        run([hrpp, "predict", sc, "--res", "16x16", "--json", pj], 0, limit=30,
+        run([hrpp, "predict", sc, "--res", "16x16", "--preset", "rtl-primary", "--json", pj], 0,
+            limit=30,
             stdout_re=r"\n  time on mobile RT units.*: " + verdict,
             name="predict: leads with the simulated time (%s: %s)" % (os.path.basename(sc),
                                                                         verdict),
@@ -528,23 +529,23 @@ def main():
     # with the share done, the rate and the time left (before: silence until the end).
     name = "render: configuration first, then progress lines when piped"
     line, dt, stdout_then = first_progress_line(
-        [hrpp, "render", scene, "--res", "2048x2048", "--spp", "2", "--preset", "rtl-default",
+        [hrpp, "render", scene, "--res", "2048x2048", "--spp", "2", "--preset", "rtl-primary",
          "--out", os.path.join(tmp, "render_progress", "r")], os.path.join(tmp, "render_progress"))
     problems = progress_problems("render: (shading|predictor)", "(pixels|camera samples)", line,
                                  dt)
-    if not re.search(r"render \S*spd_balls\.glb: 2048x2048, 2 spp.*\n(.*\n)*  preset rtl-default: "
+    if not re.search(r"render \S*spd_balls\.glb: 2048x2048, 2 spp.*\n(.*\n)*  preset rtl-primary: "
                      r"hash improved .*table 128x8", stdout_then):
         problems.append("the configuration was not printed before the run: %r" % stdout_then[-400:])
     report(name, problems)
 
     # tb_hrpp: --config takes the RTL configurations by their preset names too; the configuration
     # first, then (piped) progress lines on standard error after about 2 s.
-    name = "tb_hrpp --config rtl-default: configuration first, then progress lines when piped"
+    name = "tb_hrpp --config rtl-primary: configuration first, then progress lines when piped"
     line, dt, stdout_then = first_progress_line(
-        [tb_hrpp, "--scene", scene, "--rays", "4000000", "--config", "rtl-default"],
+        [tb_hrpp, "--scene", scene, "--rays", "4000000", "--config", "rtl-primary"],
         os.path.join(tmp, "tb_progress"))
     problems = progress_problems("tb_hrpp", "rays", line, dt)
-    if not stdout_then.startswith("tb_hrpp: config default (improved hash, 128 sets x 8 ways"):
+    if not stdout_then.startswith("tb_hrpp: config primary (improved hash, 128 sets x 8 ways"):
         problems.append("the configuration was not printed before the run: %r" % stdout_then[:300])
     report(name, problems)
     # tb_hrpp interrupted while writing a waveform: the waveform (and the FST writer's own
@@ -573,7 +574,7 @@ def main():
             problems.append("left %s" % os.listdir(sub))
         report(name, problems)
     run([tb_hrpp, "--scene", scene, "--rays", "10", "--config", "rtl-defualt"], 2,
-        r"did you mean|rtl-default", name="tb_hrpp --config misspelt")
+        r"did you mean|rtl-primary", name="tb_hrpp --config misspelt")
 
     # tb_hrpp --trace: checked before any simulation (before: nothing written, PASS, exit 0).
     def nothing_run(p):

@@ -211,9 +211,9 @@ TEST(Presets, Names) {
   EXPECT_THROW(predictor_preset("rtl-nonesuch"), std::invalid_argument);
 }
 
-TEST(Presets, RtlDefaultIsTheRtlConfiguration) {
-  const RtlConfig rc = rtl_config("default");
-  const PredictorPreset p = predictor_preset("rtl-default");
+TEST(Presets, RtlPrimaryIsTheRtlConfiguration) {
+  const RtlConfig rc = rtl_config("primary");
+  const PredictorPreset p = predictor_preset("rtl-primary");
   EXPECT_EQ(p.hash.variant, rc.hash.variant);
   EXPECT_EQ(p.hash.precision, rc.hash.precision);
   EXPECT_EQ(p.hash.exp_bits, rc.hash.exp_bits);
@@ -235,13 +235,13 @@ TEST(Presets, RtlDefaultIsTheRtlConfiguration) {
   EXPECT_FALSE(c.any_hit_only);
 }
 
-// A configuration with predict_kinds "any-hit" (secondary) sets its preset's ray kinds; the
+// A configuration with predict_kinds "any-hit" (default) sets its preset's ray kinds; the
 // others leave them to the caller (above).
-TEST(Presets, RtlSecondaryPredictsAnyHitRaysOnly) {
-  const RtlConfig rc = rtl_config("secondary");
+TEST(Presets, RtlDefaultPredictsAnyHitRaysOnly) {
+  const RtlConfig rc = rtl_config("default");
   EXPECT_TRUE(rc.any_hit_only);
   EXPECT_EQ(rc.table.conf_bits, 1);
-  const PredictorPreset p = predictor_preset("rtl-secondary");
+  const PredictorPreset p = predictor_preset("rtl-default");
   ASSERT_TRUE(p.any_hit_only.has_value());
   EXPECT_TRUE(*p.any_hit_only);
   EXPECT_TRUE(apply_preset(p, PredictorConfig{}).any_hit_only);

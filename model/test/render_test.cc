@@ -186,7 +186,7 @@ TEST(Render, LegendCompleteAtAnySize) {
       "(all kinds); red: prediction saves, blue: it costs";
   const std::vector<std::string> caption = {
       "scene teapot.glb: 8x8, 1 spp, seed 1, depth 2; 150 rays (primary 64, shadow 66, ao 20)",
-      "predictor: preset rtl-default: hash improved (origin 5 bits, cell 2^-1, dir 3 bits concat), "
+      "predictor: preset rtl-primary: hash improved (origin 5 bits, cell 2^-1, dir 3 bits concat), "
       "key 24 bits, table 128x8 (K=2, 12-bit node ids, 4864 bytes), go-up 0, mode closest-exact"};
   for (int n : {8, 32, 128, 512}) {
     std::vector<double> v(size_t(n) * n);

@@ -175,7 +175,7 @@ TEST(Sim, FewerWarpsPerUnitNeverGiveMoreThroughput) {
   }
 }
 
-SimOptions rtl_default(const World& w, PredictMode mode, const char* config = "default") {
+SimOptions rtl_default(const World& w, PredictMode mode, const char* config = "primary") {
   SimOptions o;
   o.gpu = mobile();
   o.kind = sim::PredictorKind::kPort;
@@ -368,7 +368,7 @@ TEST(Sim, LanesTakeEveryRayAndAnswerAsTheGoldenWalks) {
   const World w = make_world(own("cornell_box.glb"), 32, kInf);
   const Golden g = golden(w, PredictMode::kClosestExact);
   uint64_t wait_one_lane = 0;
-  for (const char* config : {"default", "default_x2", "default_x4"}) {
+  for (const char* config : {"primary", "primary_x2", "primary_x4"}) {
     SimOptions o = rtl_default(w, PredictMode::kClosestExact, config);
     std::vector<Hit> answers;
     o.answers = &answers;

@@ -351,18 +351,18 @@ class Presets(unittest.TestCase):
     def test_presets_swept(self):
         with tempfile.TemporaryDirectory() as d:
             a = os.path.join(d, "a.csv")
-            p = run_sweep(CORNELL, "--param", "preset=rtl-default,micro21,study2019",
+            p = run_sweep(CORNELL, "--param", "preset=rtl-primary,micro21,study2019",
                           "--param", "table=64x4,unbounded", "--param", "mode=closest-spec",
                           "--res", "16x16", "--no-dask",
                           "--no-timing", "--csv", a, "--report", os.path.join(d, "r.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
             rows = [r for r in read(a) if r["kind"] == "all"]
             self.assertEqual([(r["preset"], r["table"]) for r in rows],
-                             [(n, t) for n in ("rtl-default", "micro21", "study2019")
+                             [(n, t) for n in ("rtl-primary", "micro21", "study2019")
                               for t in ("64x4", "unbounded")])
             by = {(r["preset"], r["table"]): r for r in rows}
             # The preset's own values fill the parameter columns; the swept table overrides it.
-            r = by[("rtl-default", "64x4")]
+            r = by[("rtl-primary", "64x4")]
             self.assertEqual((r["hash"], r["combine"], r["nodes_per_entry"]),
                              ("improved", "concat", "2"))
             self.assertEqual((by[("micro21", "unbounded")]["hash"],
@@ -376,14 +376,14 @@ class Presets(unittest.TestCase):
                                        data["cost"]["hrpp_cycles_per_ray"], places=6, msg=msg)
                 self.assertEqual(int(r["table_bytes"]), data["table_bytes"], msg)
             # The preset alone is the preset's run (not the sweep's defaults).
-            self.assertNotEqual(self.predict(d, "--preset", "rtl-default", "--table", "64x4")
+            self.assertNotEqual(self.predict(d, "--preset", "rtl-primary", "--table", "64x4")
                                 ["true_positive"],
                                 self.predict(d, "--table", "64x4")["true_positive"])
             report = pathlib.Path(d, "r.md").read_text()
-            self.assertIn("| rtl-default table=64x4 |", report)
+            self.assertIn("| rtl-primary table=64x4 |", report)
             self.assertIn("| micro21 table=unbounded |", report)
             # An unbounded table has no size to compare: the report says unbounded.
-            self.assertRegex(report, r"\| rtl-default table=unbounded \| .* \| unbounded \(\d+ "
+            self.assertRegex(report, r"\| rtl-primary table=unbounded \| .* \| unbounded \(\d+ "
                                      r"entries used\) \|")
             # Without a preset the column is empty.
             b = os.path.join(d, "b.csv")
@@ -405,7 +405,7 @@ class Presets(unittest.TestCase):
     def test_bad_presets_fail_fast(self):
         with tempfile.TemporaryDirectory() as d:
             a = os.path.join(d, "a.csv")
-            p = run_sweep(CORNELL, "--param", "preset=rtl-default,rtl-defualt", "--csv", a)
+            p = run_sweep(CORNELL, "--param", "preset=rtl-primary,rtl-defualt", "--csv", a)
             self.assertEqual(p.returncode, 2, p.stderr)
             self.assertIn("unknown preset 'rtl-defualt'; did you mean 'rtl-default'?", p.stderr)
             self.assertIn("known: ", p.stderr)

@@ -432,10 +432,10 @@ RANGE = r"outside the traceable range \|x\| <= "
 # for 1e19, check-embree aborted inside Embree (exit 134) for 1e18, and printed PASS with nothing
 # compared.
 RANGE_CASES = [
-    ("inapplicable: a preset's own values never count (rtl-default: improved hash, tag bits)", {},
-     P + "--preset rtl-default", 0, r"^$"),
-    ("inapplicable: --origin-bits with --preset rtl-default (improved hash) applies", {},
-     P + "--preset rtl-default --origin-bits 4", 0, r"^$"),
+    ("inapplicable: a preset's own values never count (rtl-primary: improved hash, tag bits)", {},
+     P + "--preset rtl-primary", 0, r"^$"),
+    ("inapplicable: --origin-bits with --preset rtl-primary (improved hash) applies", {},
+     P + "--preset rtl-primary --origin-bits 4", 0, r"^$"),
     ("range: coordinates of 1e19 (info printed SAH cost -nan)", {"s.gltf": square(1e19, 0)},
      "info {dir}/s.gltf", 2, r"node 0 \(quad\) mesh 0 primitive 0: vertex 0 has the world coordinate "
                              r"-9\.99999998e\+18, " + RANGE + r"1\.37438953e\+11"),

@@ -2,8 +2,8 @@
 """The figures a refactor must keep identical (docs/performance.md, "Checking that a change keeps
 the figures"): the work counters of `hrpp predict --json` (walks, TP/FP/FN/TN, wrong results,
 updates per ray kind; not timings, not cost-model cycles) on every shared and own scene, in all
-three modes, for the RTL's default table and for an unbounded faithful table at go-up 1; and
-everything `tb_hrpp` prints (but its timing line) for every tb.* command of the test suite.
+three modes, for the RTL `primary` configuration's table and for an unbounded faithful table at
+go-up 1; and everything `tb_hrpp` prints (but its timing line) for every tb.* command of the test suite.
 
   figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR] [--jobs N]
   figures.py compare DIR_A DIR_B      exit 1 when any figure differs or is missing
@@ -23,10 +23,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, ROOT)  # the pyhrpp package
 from pyhrpp import rtl_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
-# 'rtl': the RTL's default table as explicit options (what --preset rtl-default selects), so that
+# 'rtl': the RTL `primary` table as explicit options (what --preset rtl-primary selects), so that
 # binaries from before the presets run it too; 'unb': the study's unbounded table at go-up 1.
 CONFIGS = {
-    'rtl': ' '.join(rtl_config.predict_args(rtl_config.config('default'))),
+    'rtl': ' '.join(rtl_config.predict_args(rtl_config.config('primary'))),
     'unb': '--hash faithful --precision 6 --table unbounded --go-up 1',
 }
 MODES = ['anyhit', 'closest-exact', 'closest-spec']

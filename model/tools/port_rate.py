@@ -6,8 +6,8 @@ docs/results.md, "Lookups per cycle the RT units need").
   model/tools/port_rate.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
       [--gpu mobile,desktop] [--rates 1,2,4,32] [--doc docs/results.md]
 
-`hrpp simulate` with the golden predictor holding the RTL default configuration's hash and table
-(rtl-default with `--hash improved` given, so the golden model behind the RTL's latencies:
+`hrpp simulate` with the golden predictor holding the RTL `primary` configuration's hash and
+table (rtl-primary with `--hash improved` given, so the golden model behind the RTL's latencies:
 prediction 10 cycles, decision 2), unlimited ray ids (`--credits 0`: the port rate alone limits
 it), and N lookups and N updates per cycle (`--lookups-per-cycle N --updates-per-cycle N`), for N
 in --rates, on every shared scene x ray kind (primary; shadow where the scene has lights; AO as
@@ -16,8 +16,8 @@ gives the speed-up of the largest rate within 1% on every scene (the geometric m
 too). Writes OUT/GPU/SCENE-KIND-N.json and the block port-rate of --doc.
 
 The RTL as built (--built, block port-rate-built): the same scenes, kinds and GPUs with the RTL
-configurations' cycle models at their ports (`--preset rtl-NAME`): `default` (one lane, 64 ray
-ids), `default_x2` and `default_x4` (hrpp_lanes: 2 and 4 lookups and updates per cycle, 64 ids
+configurations' cycle models at their ports (`--preset rtl-NAME`): `primary` (one lane, 64 ray
+ids), `primary_x2` and `primary_x4` (hrpp_lanes: 2 and 4 lookups and updates per cycle, 64 ids
 per lane) and `mobile` (one lane, 1,024 ids). Writes OUT/GPU/SCENE-KIND-rtl-NAME.json. A scene a
 configuration cannot run (its node ids cannot name the BVH) is left out of that configuration's
 mean and named. --resume keeps the reports already in OUT whose record (PATH.cmd, the command
@@ -79,7 +79,7 @@ def geomean(xs):
 def table(results, gpus, scenes, rates):
     lines = [
         "Regenerate with `make port-rate`. Speed-up over no predictor (geometric mean over the "
-        "scenes), with the golden predictor holding the RTL default configuration's hash and "
+        "scenes), with the golden predictor holding the RTL `primary` configuration's hash and "
         "table, the RTL's latencies and unlimited ray ids, at N lookups and N updates per cycle; "
         "'needs' is the smallest N within 1% of the largest rate's speed-up on every scene; "
         "'worst loss' the largest slowdown of N = 1 against the largest rate on one scene; 'wait' "
@@ -119,8 +119,8 @@ def built_table(results, gpus, scenes, presets):
     lines = [
         "Regenerate with `make port-rate`. Speed-up over no predictor (geometric mean over the "
         "scenes) with the RTL configurations as built: each one's cycle model at its ports in "
-        "every RT unit (`hrpp simulate --preset rtl-NAME`). `default`: one lookup and one update "
-        "per cycle, 64 ray ids; `default_x2`, `default_x4`: 2 and 4 lanes (`hrpp_lanes`), 64 ids "
+        "every RT unit (`hrpp simulate --preset rtl-NAME`). `primary`: one lookup and one update "
+        "per cycle, 64 ray ids; `primary_x2`, `primary_x4`: 2 and 4 lanes (`hrpp_lanes`), 64 ids "
         "per lane; `mobile`: one lane, 1,024 ids. 'wait': the mean cycles a ray waits to enter.",
         "",
         "| GPU | rays | " + " | ".join(f"`{p.removeprefix('rtl-')}`" for p in presets) +
@@ -175,7 +175,7 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", default=str(ROOT / "out" / "port_rate"))
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"))
-    ap.add_argument("--built", default="rtl-default,rtl-default_x2,rtl-default_x4,rtl-mobile",
+    ap.add_argument("--built", default="rtl-primary,rtl-primary_x2,rtl-primary_x4,rtl-mobile",
                     help="RTL presets run through their cycle models (block port-rate-built); "
                          "'' for none")
     ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
@@ -197,7 +197,7 @@ def main():
                 for n in rates:
                     path = out / gpu / f"{s.stem}-{kind}-{n}.json"
                     cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
-                           "--preset", "rtl-default", "--hash", "improved", "--credits", "0",
+                           "--preset", "rtl-primary", "--hash", "improved", "--credits", "0",
                            "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
                            "--no-per-kind", "--json", path] + kopts
                     tasks.append(((gpu, s.stem, kind, n), cmd, path))

@@ -8,10 +8,10 @@ scene x ray kind x preset x GPU configuration, and the tables of docs/results.md
 
 Ray kinds, each simulated alone (`--kinds`, an empty table per run): primary; shadow (scenes
 with lights); ao: MICRO 2021's ambient occlusion (cosine hemisphere, unbounded, 1 spp); ao-short:
-the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-default, rtl-mobile
-(1,024 ray ids), rtl-secondary (issue 17's winner: any-hit rays only, the confidence bit); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
+the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-primary, rtl-mobile
+(1,024 ray ids), rtl-default (issue 17's winner: any-hit rays only, the confidence bit); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
 group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of all
-kinds with rtl-default beside `hrpp predict` on the same rays (the cost model's figure).
+kinds with rtl-primary beside `hrpp predict` on the same rays (the cost model's figure).
 
 Writes OUT/GPU/SCENE-KIND-PRESET.json and its record .cmd (kept with --resume when the record
 names the same command and preset contents), OUT/summary.json and the blocks
@@ -44,7 +44,7 @@ KIND_TITLES = {
     "ao": "ambient occlusion as MICRO 2021 (cosine hemisphere, unbounded length, 1 spp)",
     "ao-short": "short ambient occlusion (5% of the scene diagonal)",
 }
-PRESETS = ["study2019", "micro21", "rtl-default", "rtl-mobile", "rtl-secondary"]
+PRESETS = ["study2019", "micro21", "rtl-primary", "rtl-mobile", "rtl-default"]
 RTL_PRESETS = [p for p in PRESETS if p.startswith("rtl-")]  # the RTL's cycle model: ray ids
 REPACK = ["micro21"] + RTL_PRESETS  # AO runs with --repack too
 MICRO21_AO_GAIN = 0.26  # MICRO 2021's geometric-mean AO speed-up (Liu et al., abstract)
@@ -85,14 +85,14 @@ def tasks_for(args, scenes, out):
                         cmd.append("--repack")
                     tasks.append(((gpu, where, scene.stem, kind, preset), cmd, path))
             if gpu == "mobile":  # the cost model beside the simulator, all kinds mixed
-                path = out / gpu / f"{where}-{scene.stem}-mixed-rtl-default.json"
+                path = out / gpu / f"{where}-{scene.stem}-mixed-rtl-primary.json"
                 cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
-                       "--preset", "rtl-default", "--no-per-kind", "--no-oracle", "--json",
+                       "--preset", "rtl-primary", "--no-per-kind", "--no-oracle", "--json",
                        str(path)]
-                tasks.append(((gpu, where, scene.stem, "mixed", "rtl-default"), cmd, path))
+                tasks.append(((gpu, where, scene.stem, "mixed", "rtl-primary"), cmd, path))
                 path = out / gpu / f"{where}-{scene.stem}-mixed-predict.json"
                 cmd = [args.hrpp, "predict", str(scene), "--res", args.res, "--preset",
-                       "rtl-default", "--timing", "cost-model", "--json", str(path)]
+                       "rtl-primary", "--timing", "cost-model", "--json", str(path)]
                 tasks.append(((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
     return tasks
 
@@ -221,7 +221,7 @@ def gpu_block(res, gpu, scenes, args):
              "cycles with no predictor / cycles with the preset, each ray kind simulated alone "
              "(an empty table at the start). Stall cycles: unit cycles in which a ray waited to "
              "enter the RTL predictor and none was taken (its ray ids all in use: 64 in "
-             "rtl-default, 1,024 in rtl-mobile and rtl-secondary; or its input pipeline full)."]
+             "rtl-primary, 1,024 in rtl-mobile and rtl-default; or its input pipeline full)."]
     means = {}
     for kind in KINDS:
         table, g = kind_table(res, gpu, scenes, kind)
@@ -242,7 +242,7 @@ def disagree_block(res, scenes):
             "deeper | L1 port wait per request | rays in flight | stall cycles |",
             "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for where, scene in scenes:
-        s = res.get(("mobile", where, scene.stem, "mixed", "rtl-default"))
+        s = res.get(("mobile", where, scene.stem, "mixed", "rtl-primary"))
         p = res.get(("mobile", where, scene.stem, "mixed", "predict"))
         if not s or not p or "unsupported" in s or "unsupported" in p:
             continue

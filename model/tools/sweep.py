@@ -15,7 +15,7 @@ this process (the reference the Dask test compares with). The CSV has one row pe
 configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a run is
 reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
 
-Presets: --param preset=rtl-default,micro21,study2019 (the names `hrpp predict --help` lists, or
+Presets: --param preset=rtl-primary,micro21,study2019 (the names `hrpp predict --help` lists, or
 FILE.json) runs each task with --preset NAME; the other swept parameters override the preset's
 values (the parameters not swept are the preset's). The CSV's preset column names it (empty for
 none) and the parameter columns hold the values that ran; labels name configurations by preset.
@@ -1656,7 +1656,7 @@ def main():
     ap.add_argument("scenes", nargs="*", help="glTF scenes (.glb)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
                     help="parameter values to sweep; names: " + ", ".join(PARAMS)
-                    + "; preset takes the names `hrpp predict --help` lists (rtl-default, "
+                    + "; preset takes the names `hrpp predict --help` lists (rtl-primary, "
                     "rtl-NAME, micro21, study2019) or FILE.json, passed as --preset, the other "
                     "swept parameters override its values")
     ap.add_argument("--res", default="64x64", help="image resolution WxH (default 64x64)")

@@ -4,7 +4,7 @@ below 95%"): a configuration through `synth_ecp5` as `make synth` runs it, then 
 that takes a DP16KD data output moved into the block RAM's output register (REGMODE OUTREG),
 then nextpnr-ecp5 per speed grade and placer seed, beside the same netlist without the move.
 
-  .venv/bin/python rtl/syn/outreg_experiment.py [--config default] [--speeds 6,8] [--seeds 1,2]
+  .venv/bin/python rtl/syn/outreg_experiment.py [--config primary] [--speeds 6,8] [--seeds 1,2]
 
 Yosys 0.70 maps the table's registered reads to a DP16KD (NOREG) and a TRELLIS_FF per output bit
 and does not absorb the flip-flop into the RAM; the move is made on Yosys's JSON netlist. A DO bit
@@ -94,7 +94,7 @@ def pnr(tag: str, speed: int, seed: int) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--config", default="default")
+    ap.add_argument("--config", default="primary")
     ap.add_argument("--speeds", default="6,8")
     ap.add_argument("--seeds", default="1,2")
     args = ap.parse_args()

@@ -100,7 +100,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
     if sweep:
         L.append("")
         L.append("Scaling (`make synth-sweep`, speed grade 6; one parameter changed from the "
-                 "default configuration at a time):")
+                 "`primary` configuration at a time):")
         L.append("")
         L.append("| variant | table | storage | LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | "
                  "ceiling | ratio | per seed, design / ceiling | critical path |")
@@ -132,11 +132,11 @@ def sweep_doc(sweep: list[dict]) -> str:
          + (f"; placer seeds {', '.join(seeds)}, the best run of each design and each ceiling"
             if seeds else "") +
          "; per-seed figures and critical paths in `out/synth/report.md`). One parameter "
-         "changed from the default configuration "
+         "changed from the `primary` configuration "
          "(128 sets x 8 ways x 2 nodes, 8-bit tags, improved hash o5/d3 concat) at a time; "
          "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR); "
          "`idsN`: 2^N ray ids (`ids10` with the key store in block RAM); `uqN`: an update queue "
-         "of N entries; `lanes2`: two lanes (`hrpp_lanes`, as `default_x2`).", "",
+         "of N entries; `lanes2`: two lanes (`hrpp_lanes`, as `primary_x2`).", "",
          "| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "
          "ratio |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in sweep:

@@ -122,7 +122,7 @@ def read_slang_cmd(top: str, params: dict[str, int], files: list[str]) -> str:
 # Main
 # ------------------------------------------------------------------------------------------------
 def sweep_variants(cfgs: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]:
-    base = cfgs["default"]
+    base = cfgs["primary"]
     v: dict[str, dict[str, int]] = {}
     for s in (64, 256, 1024):
         v[f"sets{s}"] = {**base, "NumSets": s}
@@ -135,7 +135,7 @@ def sweep_variants(cfgs: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]
         v[f"faithful-p{prec}"] = {**faithful, "Variant": 0, "Precision": prec, "ExpBits": 3,
                                   "Combine": 0}
     # Issue 18's parameters: rays in flight (ids; 1,024 with the key store in block RAM, as the
-    # mobile configuration), the update queue's depth, and lanes (4 lanes: `default_x4` in
+    # mobile configuration), the update queue's depth, and lanes (4 lanes: `primary_x4` in
     # `make synth`).
     for ids, bram in ((8, 0), (10, 1)):
         v[f"ids{ids}"] = {**base, "IdWidth": ids, "KeyStoreBram": bram}
@@ -187,7 +187,7 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--configs", default="small,default,large,mobile")
+    ap.add_argument("--configs", default="small,primary,large,mobile,default")
     ap.add_argument("--sweep", action="store_true", help="also the scaling sweep (slow)")
     ap.add_argument("--sweep-only", action="store_true",
                     help="only the sweep; keep report's configs")

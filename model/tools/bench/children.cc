@@ -164,10 +164,11 @@ json child_embree(const ChildArgs& a) {
   return j;
 }
 
-// The RTL's default configuration (rtl/config/hrpp_configs.json; hrpp predict --preset
-// rtl-default), with the golden model's node-id width for the scene.
+// The RTL's `primary` configuration (rtl/config/hrpp_configs.json; hrpp predict --preset
+// rtl-primary; the default configuration before issue 17's winner), with the golden model's
+// node-id width for the scene.
 PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
-  PredictorConfig c = rtl_config("default").predictor();
+  PredictorConfig c = rtl_config("primary").predictor();
   if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = c.table.tag_bits});
       !e.empty())
     throw std::runtime_error("predictor configuration: " + e);

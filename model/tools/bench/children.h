@@ -2,7 +2,7 @@
 // JSON on stdout:
 //   ours     our BVH build and traversal;
 //   embree   the same with Embree ("embree-mxcsr-default": without FTZ/DAZ);
-//   predict  the predictor (the RTL's default configuration), one core and 8 cores;
+//   predict  the predictor (the RTL's `primary` configuration), one core and 8 cores;
 //   big-ours, big-embree  the big procedural scene;
 //   embree-verbose  what Embree reports about the CPU and its ISA (parsed by the driver).
 #pragma once

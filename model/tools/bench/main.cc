@@ -10,13 +10,13 @@
 //            flags and build quality, rtcIntersect1 / rtcOccluded1, a device with threads=1,
 //            flush-to-zero and denormals-are-zero set as Embree asks (and, as
 //            "embree-mxcsr-default", once more without them: the *_mxcsr_default ratios);
-//   predict  the predictor (the RTL's default configuration) on all the rays: one core on one
+//   predict  the predictor (the RTL's `primary` configuration) on all the rays: one core on one
 //            thread, and 8 cores (8 tables) on one thread and on all threads;
 //   cosim    tb_hrpp --stream (the RTL and the cycle model in lockstep, parity checked on every
 //            cycle) on the first --cosim-rays rays, with the testbench's default random
 //            handshakes and again at full rate;
 //   simulate `hrpp simulate` (with --hrpp) on a 256x256 AO frame as MICRO 2021 (unbounded AO
-//            rays, --gpu mobile, --preset rtl-default, no oracle, no per-kind runs), with the
+//            rays, --gpu mobile, --preset rtl-primary, no oracle, no per-kind runs), with the
 //            predictor's cycle model and again with --rtl on the same frame: the simulated rays
 //            per second of the preset's run and of the baseline's (each run's wall clock, from
 //            the command's report), the whole command's seconds (and CPU seconds); the

@@ -313,7 +313,7 @@ std::string markdown(const json& out) {
     std::snprintf(
         b, sizeof b,
         "\n`hrpp simulate` (one core), a 256x256 AO frame as MICRO 2021 on `mobile` with the "
-        "RTL's default predictor (`%s`; geometric means): the predictor's run simulates %s rays/s "
+        "RTL's primary predictor (`%s`; geometric means): the predictor's run simulates %s rays/s "
         "(the run with no predictor %s), the whole command takes %s s (%s s of CPU); with "
         "`--rtl` (the Verilated RTL in every unit, compared with the cycle model on every cycle: "
         "0 mismatches on every scene) %s rays/s (no predictor %s), %s s (%s s of CPU).\n",
@@ -325,7 +325,7 @@ std::string markdown(const json& out) {
     md += b;
   }
   if (out.contains("memory_vs_rays")) {
-    md += "\nMemory against workload size (`hrpp predict`, the RTL's default table on 8 cores): ";
+    md += "\nMemory against workload size (`hrpp predict`, the RTL's `primary` table on 8 cores): ";
     for (const json& m : out["memory_vs_rays"]) {
       std::snprintf(b, sizeof b, "%s%s, %llu rays: %.0f MB",
                     m == out["memory_vs_rays"][0] ? "" : "; ", m["res"].get<std::string>().c_str(),

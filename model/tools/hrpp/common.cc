@@ -286,7 +286,7 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
                   "hash, 256x4 table, K=1, go-up 3, any-hit rays only) or study2019 (faithful "
                   "P=6 E=3 xor, unbounded table, K=2, go-up 0); or FILE.json, one's own (a JSON "
                   "object of option names and values, e.g. {\"name\": \"mine\", \"preset\": "
-                  "\"rtl-default\", \"go_up\": 1}); the options below override it. Default: "
+                  "\"rtl-primary\", \"go_up\": 1}); the options below override it. Default: "
                   "rtl-default unless a hash or table option is given")
       ->check(CLI::Validator(
           [presets, names](std::string& v) -> std::string {

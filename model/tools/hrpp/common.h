@@ -97,7 +97,7 @@ void add_predictor_options(CLI::App* app, PredictorArgs& a,
 
 /// Applies --preset, in this order of precedence: the options given on the command line, a
 /// preset file's values (a JSON object: option names as keys, e.g. {"name": "mine", "preset":
-/// "rtl-default", "go_up": 1}; "preset" names the named preset it starts from), the named
+/// "rtl-primary", "go_up": 1}; "preset" names the named preset it starts from), the named
 /// preset's values (predictor_preset), the defaults. Without --preset and without a hash or table
 /// option, `default_preset` applies (the tools' default: rtl-default). Prints "hrpp CMD: ..." and
 /// returns false for a preset file that cannot be read or holds an unknown key or a bad value.

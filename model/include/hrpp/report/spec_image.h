@@ -19,7 +19,7 @@ namespace hrpp {
 /// the eye); the pictures are the per-pixel means.
 class SpecImage {
  public:
-  /// CONFIG names the predictor configuration in the picture ("preset rtl-default: hash ...",
+  /// CONFIG names the predictor configuration in the picture ("preset rtl-primary: hash ...",
   /// or config_caption's line of hrpp/report/render.h); empty: the picture says it is unknown.
   SpecImage(const Scene& scene, int width, int height, int spp, std::string config = "");
   /// Adds one primary ray's two answers (other kinds are ignored).
