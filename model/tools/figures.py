@@ -3,7 +3,8 @@
 the figures"): the work counters of `hrpp predict --json` (walks, TP/FP/FN/TN, wrong results,
 updates per ray kind; not timings, not cost-model cycles) on every shared and own scene, in all
 three modes, for the RTL `primary` configuration's table and for an unbounded faithful table at
-go-up 1; and everything `tb_hrpp` prints (but its timing line) for every tb.* command of the test suite.
+go-up 1; and everything `tb_hrpp` prints (but its timing line) for every tb.* command of the
+test suite.
 
   figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR] [--jobs N]
   figures.py compare DIR_A DIR_B      exit 1 when any figure differs or is missing

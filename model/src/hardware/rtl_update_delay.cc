@@ -16,7 +16,7 @@ namespace {
 
 // The RTL's `primary` configuration (rtl/config/hrpp_configs.json; the default configuration
 // before issue 17's winner, kept so the cost model's figures stay those published).
-CycleConfig default_rtl_config() { return rtl_config("primary").cycle(PredictMode::kClosestExact); }
+CycleConfig primary_rtl_config() { return rtl_config("primary").cycle(PredictMode::kClosestExact); }
 
 uint32_t f32(float f) {
   uint32_t u;
@@ -83,7 +83,7 @@ bool second_ray_sees_write(const CycleConfig& cfg, uint32_t gap, uint32_t walk_l
 }  // namespace
 
 uint32_t rtl_update_delay(uint32_t walk_latency) {
-  const CycleConfig cfg = default_rtl_config();
+  const CycleConfig cfg = primary_rtl_config();
   // The smallest gap at which the second ray sees the first one's write.
   uint32_t lo = 1, hi = 64;
   while (!second_ray_sees_write(cfg, hi, walk_latency)) hi *= 2;

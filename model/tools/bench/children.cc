@@ -164,11 +164,10 @@ json child_embree(const ChildArgs& a) {
   return j;
 }
 
-// The RTL's `primary` configuration (rtl/config/hrpp_configs.json; hrpp predict --preset
-// rtl-primary; the default configuration before issue 17's winner), with the golden model's
-// node-id width for the scene.
+// The bench's RTL configuration (kBenchRtlConfig; rtl/config/hrpp_configs.json), with the golden
+// model's node-id width for the scene.
 PredictorConfig default_predictor(const Scene& scene, const Bvh& bvh) {
-  PredictorConfig c = rtl_config("primary").predictor();
+  PredictorConfig c = rtl_config(kBenchRtlConfig).predictor();
   if (const std::string e = resolve_for_scene(scene, bvh, &c, {.tag_bits = c.table.tag_bits});
       !e.empty())
     throw std::runtime_error("predictor configuration: " + e);

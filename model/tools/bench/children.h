@@ -23,6 +23,11 @@ struct ChildArgs {
 // best), default scene flags, default build quality (medium), one build thread.
 constexpr const char* kEmbreeBenchConfig = "threads=1";
 
+// The RTL configuration the predictor, co-simulation and simulate measurements run (its preset:
+// "rtl-" + this): `primary`, the default configuration before issue 17's winner, whose figures
+// the bench has published.
+constexpr const char* kBenchRtlConfig = "primary";
+
 // The predictor's cores (tables) in the several-core measurements.
 constexpr uint32_t kBenchCores = 8;
 

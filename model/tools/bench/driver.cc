@@ -30,6 +30,9 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
+// The bench's RTL configuration as a preset name (hrpp predict/simulate --preset).
+const std::string kBenchPreset = std::string("rtl-") + kBenchRtlConfig;
+
 std::string cpu_model() {
   std::ifstream f("/proc/cpuinfo");
   for (std::string line; std::getline(f, line);)
@@ -60,10 +63,10 @@ std::string make_stream(const std::string& scene_path, uint64_t samples, const s
                         std::string* rtl_misfit) {
   const Scene scene = load_scene(scene_path);
   const Bvh bvh = build_bvh(scene.triangles);
-  // The co-simulation and the simulator run the RTL's `primary` configuration (the default before
-  // issue 17's winner; the published bench figures are its): does it fit?
+  // The co-simulation and the simulator run the bench's RTL configuration: does it fit?
   CycleConfig cc;
-  *rtl_misfit = rtl_config("primary").cycle_for_scene(PredictMode::kClosestExact, scene, bvh, &cc);
+  *rtl_misfit =
+      rtl_config(kBenchRtlConfig).cycle_for_scene(PredictMode::kClosestExact, scene, bvh, &cc);
   WorkloadOptions wo;
   resolution_for(scene.camera, samples, 1, &wo.width, &wo.height);
   wo.shadow = wo.ao = true;
@@ -101,7 +104,7 @@ json run_cosim(const DriverArgs& a, const std::string& stream, bool full_rate, d
                                 "--stream",
                                 stream,
                                 "--config",
-                                "primary",
+                                kBenchRtlConfig,
                                 "--mode",
                                 "closest-exact",
                                 "--rays",
@@ -135,9 +138,9 @@ json run_cosim(const DriverArgs& a, const std::string& stream, bool full_rate, d
 // after the scene and --json. rtl: the Verilated RTL in every unit, in lockstep with the cycle
 // model.
 std::vector<std::string> simulate_args(bool rtl) {
-  std::vector<std::string> v{"--res",         "256x256",     "--kinds",     "ao",
-                             "--ao-distance", "inf",         "--gpu",       "mobile",
-                             "--preset",      "rtl-primary", "--no-oracle", "--no-per-kind"};
+  std::vector<std::string> v{"--res",         "256x256",    "--kinds",     "ao",
+                             "--ao-distance", "inf",        "--gpu",       "mobile",
+                             "--preset",      kBenchPreset, "--no-oracle", "--no-per-kind"};
   if (rtl) v.push_back("--rtl");
   return v;
 }
@@ -335,7 +338,7 @@ json memory_vs_rays(const DriverArgs& a, const std::string& scene, unsigned thre
   for (const char* res : {"256x192", "2048x1536"}) {
     std::fprintf(stderr, "bench: hrpp predict %s --res %s: peak memory\n", scene.c_str(), res);
     const Proc p = run_process({a.hrpp, "predict", scene, "--res", res, "--cores", "8", "--threads",
-                                std::to_string(threads), "--preset", "rtl-primary"});
+                                std::to_string(threads), "--preset", kBenchPreset});
     if (!WIFEXITED(p.status) || WEXITSTATUS(p.status) != 0)
       throw std::runtime_error(a.hrpp + " predict failed:\n" + p.out);
     std::smatch m;
@@ -396,7 +399,7 @@ int driver_main(const DriverArgs& a) {
             {{"samples", a.samples},
              {"reps", a.reps},
              {"cosim_rays", a.cosim_rays},
-             {"predictor", rtl_config("primary").describe() + ", closest-exact"},
+             {"predictor", rtl_config(kBenchRtlConfig).describe() + ", closest-exact"},
              {"predictor_cores", kBenchCores},
              {"simulate", a.hrpp.empty() ? json() : json(simulate_args(false))},
              {"simulate_rtl", a.hrpp.empty() ? json() : json(simulate_args(true))}}},
