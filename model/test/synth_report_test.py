@@ -15,12 +15,18 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "rtl" / "syn"))
+import flow  # noqa: E402
 import report  # noqa: E402
 
 
-def pnr(fmax: float, seeds: dict, cell: str = "a_q") -> dict:
-    return {"speed": 6, "seed": 1, "clock": "clk_i", "fmax_mhz": fmax, "critical_from": cell,
-            "critical_to": "b_q", "seeds": seeds}
+def pnr(fmax: float, seeds: dict, cell: str = "a_q", rtl: bool = False) -> dict:
+    """A nextpnr result; with rtl, its critical path's ends resolved (flow.rtl_names)."""
+    r = {"speed": 6, "seed": 1, "clock": "clk_i", "fmax_mhz": fmax, "critical_from": cell,
+         "critical_to": "b_q", "critical_logic_ns": 1.42, "critical_routing_ns": 4.981,
+         "critical_cells": 5, "seeds": seeds}
+    if rtl:
+        r.update(critical_from_rtl="lane.sv:372 (rd_q, wr_q)", critical_to_rtl="lane.sv:403 (b_q)")
+    return r
 
 
 def sample_results() -> tuple[list[dict], list[dict]]:
@@ -35,7 +41,7 @@ def sample_results() -> tuple[list[dict], list[dict]]:
          "ice40": {"lut4": 5981, "ff": 7463, "bram": 56},
          "xc7": {"lut": 4187, "ff": 6550, "ramb36": 12, "ramb18": 0, "lutram": 3},
          "pnr": {6: pnr(129.75, {"1": 129.75, "2": 124.19}),
-                 8: pnr(169.12, {"1": "failed: timeout", "2": 169.12}, "c_q")},
+                 8: pnr(169.12, {"1": "failed: timeout", "2": 169.12}, "c_q", rtl=True)},
          "ceiling": {"depth": 128, "width": 432,
                      "pnr": {6: pnr(143.37, {"1": 143.37, "2": 141.1}),
                              8: pnr(192.01, {"1": 190.01, "2": 192.01})}}}
@@ -65,6 +71,8 @@ Regenerate with `make synth` (full per-configuration report: `out/synth/report.m
 141.1; sg8: seed 1: failed: timeout / 190.01, seed 2: 169.12 / 192.01 |
 | target (>= 85% of the ceiling at both grades) | met |
 | critical path (speed grade 6) | `a_q` -> `b_q` |
+| critical path (speed grade 8) | `lane.sv:372 (rd_q, wr_q)` -> `lane.sv:403 (b_q)`: 5 cells, \
+1.42 ns logic + 4.98 ns routing |
 | iCE40 LUT4 / FF / RAM40_4K | 5,981 / 7,463 / 56 |
 | Xilinx 7 LUT / FF / RAMB36+RAMB18 | 4,187 / 6,550 / 12+0 |
 | logic transistors (`stat -tech cmos`, memories and FFs excluded) | 63,604 |
@@ -95,7 +103,9 @@ class Report(unittest.TestCase):
         self.assertEqual((r["fmax_mhz"], r["fmax_mhz_speed8"]), (129.75, 169.12))
         self.assertEqual((r["fmax_ratio"], r["fmax_ratio_speed8"]), (0.905, 0.881))
         self.assertTrue(r["fmax_target_met"])
-        self.assertEqual(r["critical_path_speed8"], {"from": "c_q", "to": "b_q"})
+        self.assertEqual(r["critical_path_speed8"], {
+            "from": "c_q", "to": "b_q", "from_rtl": "lane.sv:372 (rd_q, wr_q)",
+            "to_rtl": "lane.sv:403 (b_q)", "cells": 5, "logic_ns": 1.42, "routing_ns": 4.981})
         slow = copy.deepcopy(r)
         slow["pnr"][8]["fmax_mhz"] = 163.0  # 84.9% of the grade-8 ceiling
         report.summarize(slow)
@@ -139,6 +149,19 @@ class Report(unittest.TestCase):
             "### Synthesis: how area and clock speed scale\n\n<!-- BEGIN synth-sweep -->\n"))
         self.assertEqual(sorted(os.listdir(self.d)), ["new.md", "results.md"])
 
+    def test_docs_block_lists_every_configuration(self):
+        small = copy.deepcopy(self.results[0])
+        small.update(config="small", description="64x2x1", lut4=900)
+        doc = self.d / "results.md"
+        doc.write_text(DOC)
+        report.update_results_doc([small] + self.results, [], doc)
+        text = doc.read_text()
+        self.assertIn(SYNTH_BLOCK + "\nEvery configuration of the run, the best of the placer "
+                      "seeds", text)
+        self.assertIn("| small | 64x2x1 | 900 / 6,550 / 24 | 129.8 MHz (90%) | 169.1 MHz (88%) | "
+                      "`a_q` -> `b_q` | `lane.sv:372 (rd_q, wr_q)` -> `lane.sv:403 (b_q)`: 5 "
+                      "cells, 1.42 ns logic + 4.98 ns routing |\n| default | ", text)
+
     def test_report_json_written_and_read_back(self):
         report.write_report(self.d, "0.51", self.results, self.sweep)
         self.assertEqual(sorted(os.listdir(self.d)), ["report.json", "report.md"])
@@ -155,6 +178,41 @@ class Report(unittest.TestCase):
         report.write_report(self.d, "", results, [], with_json=False)
         self.assertEqual((self.d / "report.json").read_text(), "kept")
         self.assertNotIn("Scaling", (self.d / "report.md").read_text())
+
+
+class CriticalPathNames(unittest.TestCase):
+    """flow.rtl_names: a path's end cells named by the always_ff block (src attribute) whose
+    registers they are, a block RAM by its instance."""
+
+    def test_cells_named_by_their_rtl_block(self):
+        lane = (ROOT / "rtl" / "hrpp_lane.sv").read_text().splitlines()
+        head = next(i + 1 for i, l in enumerate(lane) if "always_ff" in l and
+                    i + 2 < len(lane) and "uq_head_q <=" in lane[i + 1] + lane[i + 2])
+        with tempfile.TemporaryDirectory() as d:
+            net = pathlib.Path(d) / "n.json"
+            cells = {
+                "ff_x": {"type": "TRELLIS_FF", "attributes": {
+                    "src": f"rtl/hrpp_lane.sv:{head}.3|/share/lattice/cells_map_trellis.v:73.1"}},
+                "u_table.gen_ram_bank[0].u_update_ram.mem_q.0.0": {
+                    "type": "DP16KD", "attributes": {"src": "rtl/hrpp_ram_1r1w.sv:30.5"}},
+                "lut": {"type": "LUT4", "attributes": {"src": "/share/lattice/x.v:1.1"}}}
+            net.write_text(json.dumps({"modules": {"hrpp_top": {"cells": cells}}}))
+            self.assertEqual(
+                flow.rtl_names(net, ["ff_x", "u_table.gen_ram_bank[0].u_update_ram.mem_q.0.0",
+                                     "lut", "absent"]),
+                [f"hrpp_lane.sv:{head} (uq_head_q)", "u_table.gen_ram_bank[0].u_update_ram "
+                 "(DP16KD)", "LUT4", "?"])
+            self.assertEqual(flow.rtl_names(pathlib.Path(d) / "none.json", ["ff_x"]), ["?"])
+
+    def test_block_registers(self):
+        table = (ROOT / "rtl" / "hrpp_pred_table.sv").read_text().splitlines()
+        upd = next(i + 1 for i, l in enumerate(table) if "always_ff" in l and
+                   "t0_q         <= '0;" in table[i + 2])
+        self.assertEqual(flow.block_registers(f"rtl/hrpp_pred_table.sv:{upd}.3"),
+                         f"hrpp_pred_table.sv:{upd} (t0_q, t1_q, t2_q, 8 more)")
+        self.assertEqual(flow.block_registers("rtl/hrpp_pred_table.sv:1.1"),
+                         "hrpp_pred_table.sv:1")
+        self.assertEqual(flow.block_registers("/share/x.v:3.1"), "/share/x.v:3.1")
 
 
 if __name__ == "__main__":

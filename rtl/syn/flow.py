@@ -314,6 +314,64 @@ def nextpnr_seed(tag: str, speed: int, seed: int):
         return e
 
 
+# Where a critical path starts and ends, in the RTL's terms. Synthesis keeps no register names
+# (synth_ecp5's `autoname` names cells after their neighbours), but every flip-flop and block RAM
+# keeps the `src` attribute of the RTL statement it came from: for a flip-flop the `always_ff`
+# block, whose registers (the names left of its `<=`) are what the path's end is one of.
+def block_registers(src: str) -> str:
+    """'rtl/f.sv:403.3' -> 'f.sv:403 (reg_a, reg_b)': the registers the always_ff block at that
+    line assigns (struct fields and indices dropped), or the location alone if it is no such
+    block."""
+    m = re.match(r"(rtl/[\w/]+\.sv):(\d+)", src)
+    if not m:
+        return src
+    loc = f"{Path(m.group(1)).name}:{m.group(2)}"
+    try:
+        lines = (ROOT / m.group(1)).read_text().splitlines()
+    except OSError:
+        return loc
+    first = int(m.group(2)) - 1
+    if first >= len(lines) or "always_ff" not in lines[first]:
+        return loc
+    indent = len(lines[first]) - len(lines[first].lstrip())
+    regs: list[str] = []
+    for line in lines[first:]:
+        code = line.split("//")[0]
+        for r in re.findall(r"(?:^|[\s;)])([A-Za-z_]\w*)(?:\[[^\]]*\]|\.\w+)*\s*<=", code):
+            if r not in regs:
+                regs.append(r)
+        if line is not lines[first] and code.strip() and \
+                len(code) - len(code.lstrip()) <= indent:
+            break  # the block's `end` (or the next statement at its level)
+    if len(regs) > 4:
+        regs = regs[:3] + [f"{len(regs) - 3} more"]
+    return f"{loc} ({', '.join(regs)})" if regs else loc
+
+
+def rtl_names(netlist: Path, cells: list[str]) -> list[str]:
+    """Each cell of the synthesized netlist as block_registers names it; a block RAM also by its
+    instance path (its cell name, which synthesis keeps); a cell with no `src`: its type."""
+    try:
+        mods = load_json(netlist)["modules"]
+    except (OSError, ValueError, KeyError):
+        return ["?" for _ in cells]
+    by_name = {n: c for m in mods.values() for n, c in m.get("cells", {}).items()}
+    out = []
+    for name in cells:
+        c = by_name.get(name)
+        if c is None:
+            out.append("?")
+            continue
+        src = c.get("attributes", {}).get("src", "").split("|")[0]
+        if c["type"] == "DP16KD":
+            out.append(f"{name.rsplit('.mem_q', 1)[0]} (DP16KD)")
+        elif src.startswith("rtl/"):
+            out.append(block_registers(src))
+        else:
+            out.append(c["type"])
+    return out
+
+
 def nextpnr(tag: str, speed: int, seed: int) -> dict:
     pre = OUT / tag
     run = f"{pre}-pnr{speed}-s{seed}"
@@ -341,6 +399,11 @@ def nextpnr(tag: str, speed: int, seed: int) -> dict:
                                              if s.get("type") == "logic"), 3)
         out["critical_routing_ns"] = round(sum(s.get("delay", 0) for s in path
                                                if s.get("type") == "routing"), 3)
+        out["critical_cells"] = sum(1 for s in path if s.get("type") == "logic")
+        if path:
+            names = rtl_names(pre.with_suffix(".ecp5.json"),
+                              [path[0]["from"]["cell"], path[-1]["to"]["cell"]])
+            out["critical_from_rtl"], out["critical_to_rtl"] = names
     util = r.get("utilization", {})
     out["utilization"] = {k: v for k, v in util.items() if v.get("used")}
     return out

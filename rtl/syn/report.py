@@ -30,8 +30,25 @@ def summarize(res: dict) -> None:
     res["fmax_target_ratio"] = TARGET_RATIO
     res["fmax_target_met"] = (res["fmax_ratio"] >= TARGET_RATIO and
                               res["fmax_ratio_speed8"] >= TARGET_RATIO)
-    res["critical_path"] = {"from": p6.get("critical_from"), "to": p6.get("critical_to")}
-    res["critical_path_speed8"] = {"from": p8.get("critical_from"), "to": p8.get("critical_to")}
+    res["critical_path"] = critical_of(p6)
+    res["critical_path_speed8"] = critical_of(p8)
+
+
+def critical_of(pnr: dict) -> dict:
+    """The critical path of one nextpnr run (flow.nextpnr's fields)."""
+    return {"from": pnr.get("critical_from"), "to": pnr.get("critical_to"),
+            "from_rtl": pnr.get("critical_from_rtl"), "to_rtl": pnr.get("critical_to_rtl"),
+            "cells": pnr.get("critical_cells"), "logic_ns": pnr.get("critical_logic_ns"),
+            "routing_ns": pnr.get("critical_routing_ns")}
+
+
+def path_text(cp: dict) -> str:
+    """A critical path for a reader: its ends in the RTL (flow.rtl_names) and its length; older
+    reports, which have only the netlist's cell names: those."""
+    if not cp.get("from_rtl"):
+        return f"`{cp.get('from')}` -> `{cp.get('to')}`"
+    return (f"`{cp['from_rtl']}` -> `{cp['to_rtl']}`: {cp['cells']} cells, "
+            f"{cp['logic_ns']:.2f} ns logic + {cp['routing_ns']:.2f} ns routing")
 
 
 def fmt_bytes(bits: int) -> str:
@@ -70,7 +87,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
                  f"{r['fmax_ceiling_mhz']:.1f} MHz ({r['fmax_ratio']:.0%}) | "
                  f"{r['fmax_mhz_speed8']:.1f} / {r['fmax_ceiling_mhz_speed8']:.1f} MHz "
                  f"({r['fmax_ratio_speed8']:.0%}) | {'met' if r['fmax_target_met'] else 'FAIL'} | "
-                 f"`{cp['from']}` -> `{cp['to']}` |")
+                 f"{path_text(cp)} |")
     L.append("")
     L.append("Fmax of every placer seed (MHz), design / ceiling:")
     L.append("")
@@ -110,7 +127,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
             L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
                      f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
                      f"{r['fmax_mhz']:.1f} | {r['fmax_ceiling_mhz']:.1f} | {r['fmax_ratio']:.0%} | "
-                     f"{seed_cells(r, 6)} | `{cp['from']}` -> `{cp['to']}` |")
+                     f"{seed_cells(r, 6)} | {path_text(cp)} |")
     return "\n".join(L) + "\n"
 
 
@@ -168,14 +185,26 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
                 f"sg{g}: {seed_cells(d, g)}" for g in (6, 8)) + " |",
             f"| target (>= {TARGET_RATIO:.0%} of the ceiling at both grades) | "
             f"{'met' if d['fmax_target_met'] else 'NOT met'} |",
-            f"| critical path (speed grade 6) | `{d['critical_path']['from']}` -> "
-            f"`{d['critical_path']['to']}` |",
+            f"| critical path (speed grade 6) | {path_text(d['critical_path'])} |",
+            f"| critical path (speed grade 8) | {path_text(d['critical_path_speed8'])} |",
             f"| iCE40 LUT4 / FF / RAM40_4K | {d['ice40']['lut4']:,} / {d['ice40']['ff']:,} / "
             f"{d['ice40']['bram']} |",
             f"| Xilinx 7 LUT / FF / RAMB36+RAMB18 | {d['xc7']['lut']:,} / {d['xc7']['ff']:,} / "
             f"{d['xc7']['ramb36']}+{d['xc7']['ramb18']} |",
             f"| logic transistors (`stat -tech cmos`, memories and FFs excluded) | "
             f"{d['transistors_logic']:,} |"]
+    if len(results) > 1:
+        body += ["", "Every configuration of the run, the best of the placer seeds (each seed's "
+                 "figure in `out/synth/report.md`):", "",
+                 "| config | table | ECP5 LUT4 / FF / DP16KD | Fmax sg6 (of the ceiling) | "
+                 "Fmax sg8 (of the ceiling) | critical path sg6 | critical path sg8 |",
+                 "|---|---|---|---|---|---|---|"]
+        for r in results:
+            body.append(
+                f"| {r['config']} | {r['description']} | {r['lut4']:,} / {r['ff']:,} / "
+                f"{r['bram']} | {r['fmax_mhz']:.1f} MHz ({r['fmax_ratio']:.0%}) | "
+                f"{r['fmax_mhz_speed8']:.1f} MHz ({r['fmax_ratio_speed8']:.0%}) | "
+                f"{path_text(r['critical_path'])} | {path_text(r['critical_path_speed8'])} |")
     blocks = {"synth": "\n".join(body) + "\n"}
     if sweep:
         blocks["synth-sweep"] = sweep_doc(sweep)

@@ -180,7 +180,7 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
             p, c = res["pnr"][speeds[0]], res["ceiling"]["pnr"][speeds[0]]
             res["fmax_mhz"], res["fmax_ceiling_mhz"] = p["fmax_mhz"], c["fmax_mhz"]
             res["fmax_ratio"] = round(p["fmax_mhz"] / c["fmax_mhz"], 3)
-            res["critical_path"] = {"from": p.get("critical_from"), "to": p.get("critical_to")}
+            res["critical_path"] = critical_of(p)
         results.append(res)
     return results
 
