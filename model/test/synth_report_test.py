@@ -195,13 +195,18 @@ class CriticalPathNames(unittest.TestCase):
                     "src": f"rtl/hrpp_lane.sv:{head}.3|/share/lattice/cells_map_trellis.v:73.1"}},
                 "u_table.gen_ram_bank[0].u_update_ram.mem_q.0.0": {
                     "type": "DP16KD", "attributes": {"src": "rtl/hrpp_ram_1r1w.sv:30.5"}},
-                "lut": {"type": "LUT4", "attributes": {"src": "/share/lattice/x.v:1.1"}}}
+                "lut": {"type": "LUT4", "attributes": {"src": "/share/lattice/x.v:1.1"}},
+                "u_lane.uq_mem_q[3]_TRELLIS_FF_Q_5": {"type": "TRELLIS_FF", "attributes": {
+                    "src": "/share/lattice/cells_map_trellis.v:56.101-56.163"}},
+                "a_i_TRELLIS_FF_DI_Q_LUT4_Z_TRELLIS_FF_Q": {"type": "TRELLIS_FF",
+                                                          "attributes": {}}}
             net.write_text(json.dumps({"modules": {"hrpp_top": {"cells": cells}}}))
             self.assertEqual(
                 flow.rtl_names(net, ["ff_x", "u_table.gen_ram_bank[0].u_update_ram.mem_q.0.0",
-                                     "lut", "absent"]),
+                                     "lut", "absent", "u_lane.uq_mem_q[3]_TRELLIS_FF_Q_5",
+                                     "a_i_TRELLIS_FF_DI_Q_LUT4_Z_TRELLIS_FF_Q"]),
                 [f"hrpp_lane.sv:{head} (uq_head_q)", "u_table.gen_ram_bank[0].u_update_ram "
-                 "(DP16KD)", "LUT4", "?"])
+                 "(DP16KD)", "LUT4", "?", "u_lane.uq_mem_q[3] (TRELLIS_FF)", "TRELLIS_FF"])
             self.assertEqual(flow.rtl_names(pathlib.Path(d) / "none.json", ["ff_x"]), ["?"])
 
     def test_block_registers(self):

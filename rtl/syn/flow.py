@@ -367,6 +367,11 @@ def rtl_names(netlist: Path, cells: list[str]) -> list[str]:
             out.append(f"{name.rsplit('.mem_q', 1)[0]} (DP16KD)")
         elif src.startswith("rtl/"):
             out.append(block_registers(src))
+        elif (m := re.fullmatch(r"(.+?)_TRELLIS_FF_Q(?:_\d+)?", name)) and \
+                not re.search(r"_(TRELLIS|LUT4|PFUMX|L6MUX21|CCU2C)_", m.group(1)):
+            # autoname's name for the flip-flop whose output is the named net (a memory
+            # synthesis built from flip-flops, such as the update queue's entries)
+            out.append(f"{m.group(1)} ({c['type']})")
         else:
             out.append(c["type"])
     return out
