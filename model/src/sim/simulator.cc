@@ -31,11 +31,13 @@ struct Step {
   uint32_t node;   // the node whose pair or triangles are fetched
 };
 
-enum class Phase : uint8_t { kEntering, kPredWalk, kDeciding, kRootWalk };
+// kAwaitDecision: an early root walk (SimOptions::early_root) ended before its decision came.
+enum class Phase : uint8_t { kEntering, kPredWalk, kDeciding, kRootWalk, kAwaitDecision };
 
 struct Slot {
   uint32_t ray = 0, unit = 0, warp = 0;
   bool uses_pred = false;
+  bool decision_owed = false;  // an early root walk runs; the (full-walk) decision is to come
   Phase phase = Phase::kRootWalk;
   Action action = Action::kFull;
   EngineRay er;
@@ -107,6 +109,8 @@ class Simulator {
   void schedule(uint32_t slot, uint64_t t) { events_.push({t, seq_++, slot}); }
   void step(uint32_t slot, uint64_t now);
   void walk_end(uint32_t slot, uint64_t now);
+  // The ray's outcome to its unit's predictor (when it used it and did not skip); it finishes.
+  void send_outcome(uint32_t slot, uint64_t now);
   void finish_ray(uint32_t slot, uint64_t now);
   void leave_warp(const Slot& s, uint64_t now);
   void form_warps(uint32_t unit, uint64_t now);
@@ -201,6 +205,7 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
     s.unit = unit;
     s.warp = w;
     s.er = EngineRay{};
+    s.decision_owed = false;
     set_query(r.kind, opt_.pred.mode, &s.er);
     s.steps.clear();
     s.next = 0;
@@ -319,6 +324,14 @@ void Simulator::form_warps(uint32_t unit, uint64_t now) {
 void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
   const uint32_t si = slot_of(ray);
   Slot& s = slots_[si];
+  if (s.decision_owed) {  // its root walk started at the predicted walks' miss
+    if (a != Action::kFull)
+      throw std::runtime_error("a skip decision other than the full walk for ray " +
+                               std::to_string(ray) + ", whose predicted walks found no hit");
+    s.decision_owed = false;
+    if (s.phase == Phase::kAwaitDecision) return send_outcome(si, now);
+    return;
+  }
   if (s.phase != Phase::kDeciding)
     throw std::runtime_error("a skip decision for ray " + std::to_string(ray) +
                              " before its predicted-walk result");
@@ -356,9 +369,23 @@ void Simulator::walk_end(uint32_t si, uint64_t now) {
   if (s.phase == Phase::kPredWalk) {
     s.phase = Phase::kDeciding;
     io_[s.unit].pw.push_back({s.ray, s.er.best.hit(), s.er.best.hit() ? s.er.best_node : 0});
+    if (opt_.early_root && !s.er.best.hit()) {  // the decision can only be the full walk
+      s.decision_owed = true;
+      start_root_walk(s, Action::kFull);
+      schedule(si, now + 1);
+    }
     return;
   }
   finish(bvh_, s.action, &s.er);
+  if (s.decision_owed) {  // the outcome follows the decision (the predictor's order)
+    s.phase = Phase::kAwaitDecision;
+    return;
+  }
+  send_outcome(si, now);
+}
+
+void Simulator::send_outcome(uint32_t si, uint64_t now) {
+  Slot& s = slots_[si];
   if (s.uses_pred && s.action != Action::kSkip) {
     const uint32_t node = update_node(bvh_, s.er, opt_.pred.go_up);
     io_[s.unit].outcomes.push_back({s.ray, s.er.answer.hit(), node != kNoNode ? node : 0});

@@ -42,6 +42,7 @@ struct SimulateArgs {
   uint32_t entry_timeout = 0;  // the preset's rays give up entering after this many cycles
   uint32_t gate = 0;           // SimOptions::gate
   int64_t gate_first = -1;     // SimOptions::gate_first; < 0: unset
+  bool early_root = false;     // SimOptions::early_root
 };
 
 /// One simulated configuration.
@@ -196,6 +197,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   base.gpu = s->gpu;
   base.pred = cfg;
   base.any_hit_only = cfg.any_hit_only;
+  base.early_root = a.early_root;  // the oracle's run and the preset's (none predicts nothing)
   s->runs.push_back({"none", base, "no predictor"});
   s->preset = a.p.label;
   if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
@@ -272,6 +274,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
                 " lookups without a predicted hit" +
                 (a.gate_first >= 0 ? " (" + std::to_string(a.gate_first) + " before the first)"
                                    : std::string());
+  if (a.early_root) r.timing += "; the root walk starts at a predicted-walk miss";
   s->runs.push_back(r);
   add_repacked(a, r, s);
   return 0;
@@ -633,6 +636,10 @@ Subcommand add_simulate(CLI::App& app) {
                  "with --gate: the lookups the gate allows before the unit's first predicted hit "
                  "(default: --gate; 0: the gate starts closed)")
       ->check(CLI::Range(0, 1 << 24));
+  sc->add_flag("--early-root", sa->early_root,
+               "the RT unit starts a ray's walk from the root as soon as its predicted walks "
+               "found no hit (the decision can then only be the full walk) instead of waiting "
+               "for the skip decision");
   return {sc, [sa] {
             // No preset: the RTL's default configuration, unless hash or table options are
             // given (then the golden model's defaults with those options).

@@ -72,6 +72,10 @@ struct SimOptions {
   /// With a gate: the lookups it allows before the unit's first predicted hit (unset: gate; 0:
   /// the gate starts closed).
   std::optional<uint32_t> gate_first;
+  /// The RT unit starts a ray's walk from the root as soon as its predicted walks found no hit
+  /// (the skip decision can then only be a full walk: skip_action) instead of waiting for the
+  /// decision; the decision still comes and is taken, and the ray's outcome is sent after it.
+  bool early_root = false;
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).
