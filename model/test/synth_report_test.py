@@ -180,6 +180,43 @@ class Report(unittest.TestCase):
         self.assertNotIn("Scaling", (self.d / "report.md").read_text())
 
 
+class FlowWithoutTools(unittest.TestCase):
+    """synth.flow with its tool runs replaced by canned results: the two-grade summary (`make
+    synth`) and the one-grade one (`make synth-sweep`), a failed seed beside a good one."""
+
+    def setUp(self):
+        import synth
+        self.synth = synth
+        self.saved = {n: getattr(synth, n) for n in ("yosys_design", "yosys_ceiling",
+                                                      "nextpnr_seed", "rtl_files")}
+        synth.yosys_design = lambda info, cmd, netlist, top="hrpp_top": dict(info)
+        synth.yosys_ceiling = lambda name, depth, width, cmd: {"depth": depth, "width": width}
+        synth.rtl_files = lambda: []
+
+        def seed_run(tag, speed, seed):
+            if seed == 2 and not tag.endswith("-ceiling"):
+                return flow.FlowError(f"{tag}: no result after 900 s (killed)")
+            return pnr(100.0 + speed + seed, {}, rtl=True)
+        synth.nextpnr_seed = seed_run
+
+    def tearDown(self):
+        for n, f in self.saved.items():
+            setattr(self.synth, n, f)
+
+    def test_both_summaries(self):
+        import concurrent.futures as cf
+        params = self.synth.read_configs()["small"]
+        with cf.ThreadPoolExecutor(max_workers=1) as pool:
+            two = self.synth.flow([("small", params)], [6, 8], pool, set())[0]
+            one = self.synth.flow([("small", params)], [6], pool, set())[0]
+        self.assertEqual((two["fmax_mhz"], two["fmax_mhz_speed8"]), (107.0, 109.0))
+        self.assertEqual(two["fmax_ceiling_mhz"], 108.0)
+        self.assertEqual(one["fmax_ratio"], round(107.0 / 108.0, 3))
+        for r in (two, one):
+            self.assertEqual(r["critical_path"]["to_rtl"], "lane.sv:403 (b_q)")
+            self.assertIn("failed: ", r["pnr"][6]["seeds"]["2"])
+
+
 class CriticalPathNames(unittest.TestCase):
     """flow.rtl_names: a path's end cells named by the always_ff block (src attribute) whose
     registers they are, a block RAM by its instance."""

@@ -50,7 +50,7 @@ from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_con
 
 from flow import (NEXTPNR, OUT, SEEDS, YOSYS, FlowError, best_seed, log,  # noqa: E402
                   nextpnr_seed, rtl_files, yosys_ceiling, yosys_design, yosys_netlist)
-from report import (load_report, summarize, update_results_doc,  # noqa: E402
+from report import (critical_of, load_report, summarize, update_results_doc,  # noqa: E402
                     write_report)
 
 
