@@ -109,8 +109,9 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
                  f"{r['transistors_logic']:,} | {r['generic_ff_bits']:,} |")
     L.append("")
     L.append("Storage (model) is the golden model's TableConfig::total_bits() "
-             "(model/src/predictor/pred_table.cc): sets x ways x (valid + tag + count + K x 20-bit node ids "
-             "+ age); the RTL keeps two copies (lookup and update RAMs), checked to be exactly "
+             "(model/src/predictor/pred_table.cc): sets x ways x (valid + tag + count + K node "
+             "ids of the configuration's node-id width + confidence bits + age); the RTL keeps "
+             "two copies (lookup and update RAMs), checked to be exactly "
              "2 x that many bits. Logic transistors: `stat -tech cmos` after `abc -g cmos2` of the "
              "generic netlist with the memories kept as $mem cells; it counts the combinational "
              "gates only (memories and flip-flops excluded: their count is the last column).")
