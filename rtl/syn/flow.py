@@ -335,13 +335,12 @@ def block_registers(src: str) -> str:
         return loc
     indent = len(lines[first]) - len(lines[first].lstrip())
     regs: list[str] = []
-    for line in lines[first:]:
+    for i, line in enumerate(lines[first:]):
         code = line.split("//")[0]
         for r in re.findall(r"(?:^|[\s;)])([A-Za-z_]\w*)(?:\[[^\]]*\]|\.\w+)*\s*<=", code):
             if r not in regs:
                 regs.append(r)
-        if line is not lines[first] and code.strip() and \
-                len(code) - len(code.lstrip()) <= indent:
+        if i > 0 and code.strip() and len(code) - len(code.lstrip()) <= indent:
             break  # the block's `end` (or the next statement at its level)
     if len(regs) > 4:
         regs = regs[:3] + [f"{len(regs) - 3} more"]

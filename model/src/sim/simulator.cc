@@ -329,7 +329,7 @@ void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
       throw std::runtime_error("a skip decision other than the full walk for ray " +
                                std::to_string(ray) + ", whose predicted walks found no hit");
     s.decision_owed = false;
-    if (s.phase == Phase::kAwaitDecision) return send_outcome(si, now);
+    if (s.phase == Phase::kAwaitDecision) send_outcome(si, now);
     return;
   }
   if (s.phase != Phase::kDeciding)
