@@ -201,16 +201,24 @@ module hrpp_hash
   // ---------------------------------------------------------------------------------------------
   // Output: fields, combination (origin x|y|z, direction z|y|x)
   // ---------------------------------------------------------------------------------------------
-  // A faithful field is always `fixed` (its register is 0 only after reset, when the field is 0
-  // too): the constant lets synthesis remove the magnitude path (its incrementers) from the
-  // faithful hash, which would otherwise end in the key.
   logic [5:0][MaxFieldWidth-1:0] field;
-  always_comb begin
-    for (int i = 0; i < 6; i++) begin
-      if (Variant == HashFaithful || s2_q[i].fixed) field[i] = s2_q[i].field;
-      // -(mag + frac) = ~mag + 1 - frac: one incrementer instead of an adder and a negation.
-      else if (s2_q[i].neg) field[i] = MaxFieldWidth'(16'(~s2_q[i].mag + 16'(!s2_q[i].frac)));
-      else field[i] = MaxFieldWidth'(s2_q[i].mag);
+  if (Variant == HashFaithful) begin : gen_field_faithful
+    // A faithful field is always `fixed` (its register is 0 only after reset, when the field is 0
+    // too): the key takes the field register as it is, and synthesis removes the magnitude path
+    // (its incrementers), which would otherwise end in the key.
+    always_comb begin
+      for (int i = 0; i < 6; i++) field[i] = s2_q[i].field;
+    end
+    logic magnitude_unused;  // the magnitude path: not used by the faithful hash
+    assign magnitude_unused = ^s2_q;
+  end else begin : gen_field_improved
+    always_comb begin
+      for (int i = 0; i < 6; i++) begin
+        if (s2_q[i].fixed) field[i] = s2_q[i].field;
+        // -(mag + frac) = ~mag + 1 - frac: one incrementer instead of an adder and a negation.
+        else if (s2_q[i].neg) field[i] = MaxFieldWidth'(16'(~s2_q[i].mag + 16'(!s2_q[i].frac)));
+        else field[i] = MaxFieldWidth'(s2_q[i].mag);
+      end
     end
   end
 
