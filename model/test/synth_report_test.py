@@ -50,7 +50,7 @@ def sample_results() -> tuple[list[dict], list[dict]]:
     for name, bits, fmax, ceil in (("sets64", 27648, 129.9, 140.7), ("k4", 97281, 115.5, 143.3)):
         sweep.append({"config": name, "description": f"{name} description", "table_bits": bits,
                       "lut4": 1000, "ff": 2000, "bram": 24, "dram": 56, "fmax_mhz": fmax,
-                      "fmax_ceiling_mhz": ceil, "fmax_ratio": round(fmax / ceil, 3),
+                      "fmax_ceiling_mhz": ceil, "fmax_ratio": round(fmax / ceil, 4),
                       "critical_path": {"from": "x_q", "to": "y_q"},
                       "pnr": {6: pnr(fmax, {"1": fmax, "2": fmax - 1})},
                       "ceiling": {"pnr": {6: pnr(ceil, {"1": ceil, "2": ceil - 2})}}})
@@ -101,7 +101,11 @@ class Report(unittest.TestCase):
     def test_summarize_takes_both_grades_against_the_ceiling(self):
         r = self.results[0]
         self.assertEqual((r["fmax_mhz"], r["fmax_mhz_speed8"]), (129.75, 169.12))
-        self.assertEqual((r["fmax_ratio"], r["fmax_ratio_speed8"]), (0.905, 0.881))
+        self.assertEqual((r["fmax_ratio"], r["fmax_ratio_speed8"]), (0.905, 0.8808))
+        edge = copy.deepcopy(r)  # 80.53% of the ceiling shows as 81%, not as 0.805's 80%
+        edge["pnr"][6]["fmax_mhz"], edge["ceiling"]["pnr"][6]["fmax_mhz"] = 95.57, 118.68
+        report.summarize(edge)
+        self.assertIn("95.6 / 118.7 MHz (81%)", report.report_md([edge], []))
         self.assertTrue(r["fmax_target_met"])
         self.assertEqual(r["critical_path_speed8"], {
             "from": "c_q", "to": "b_q", "from_rtl": "lane.sv:372 (rd_q, wr_q)",
@@ -211,10 +215,79 @@ class FlowWithoutTools(unittest.TestCase):
             one = self.synth.flow([("small", params)], [6], pool, set())[0]
         self.assertEqual((two["fmax_mhz"], two["fmax_mhz_speed8"]), (107.0, 109.0))
         self.assertEqual(two["fmax_ceiling_mhz"], 108.0)
-        self.assertEqual(one["fmax_ratio"], round(107.0 / 108.0, 3))
+        self.assertEqual(one["fmax_ratio"], round(107.0 / 108.0, 4))
         for r in (two, one):
             self.assertEqual(r["critical_path"]["to_rtl"], "lane.sv:403 (b_q)")
             self.assertIn("failed: ", r["pnr"][6]["seeds"]["2"])
+
+
+class RunWithoutResult(unittest.TestCase):
+    """A design whose every seed at speed grade 8 gave no result (and a sweep variant whose
+    ceiling gave none): the flow keeps every other figure, the report and the docs block say
+    which run is missing and why, and failures() lists it (synth.py then exits 1)."""
+
+    def setUp(self):
+        import synth
+        self.synth = synth
+        self.saved = {n: getattr(synth, n) for n in ("yosys_design", "yosys_ceiling",
+                                                      "nextpnr_seed", "rtl_files")}
+        synth.yosys_design = lambda info, cmd, netlist, top="hrpp_top": dict(
+            info, **{k: v for k, v in sample_results()[0][0].items()
+                     if k in ("lut4", "ff", "bram", "dram", "ice40", "xc7", "generic_cells",
+                              "transistors_logic", "generic_ff_bits", "other_memory_bits",
+                              "table_ram_bits", "table_bits")})
+        synth.yosys_ceiling = lambda name, depth, width, cmd: {"depth": depth, "width": width}
+        synth.rtl_files = lambda: []
+
+        def seed_run(tag, speed, seed):
+            if (speed == 8 and tag == "default") or tag == "small-ceiling":
+                return flow.FlowError(f"{tag}: nextpnr-ecp5 speed {speed} seed {seed}: no "
+                                      f"result after 1800 s (killed); log out/synth/x.stdout")
+            return pnr(100.0 + speed + seed, {}, rtl=True)
+        synth.nextpnr_seed = seed_run
+        self.dir = tempfile.TemporaryDirectory(prefix="synth-report-")
+        self.d = pathlib.Path(self.dir.name)
+
+    def tearDown(self):
+        for n, f in self.saved.items():
+            setattr(self.synth, n, f)
+        self.dir.cleanup()
+
+    def test_marked_not_dropped(self):
+        import concurrent.futures as cf
+        cfgs = self.synth.read_configs()
+        with cf.ThreadPoolExecutor(max_workers=1) as pool:
+            r = self.synth.flow([("default", cfgs["default"])], [6, 8], pool, set())[0]
+            v = self.synth.flow([("small", cfgs["small"])], [6], pool, set())[0]
+        self.assertEqual((r["fmax_mhz"], r["fmax_ratio"]), (108.0, 1.0))
+        self.assertEqual((r["fmax_mhz_speed8"], r["fmax_ratio_speed8"]), (None, None))
+        self.assertEqual(r["fmax_ceiling_mhz_speed8"], 110.0)
+        self.assertFalse(r["fmax_target_met"])
+        self.assertEqual((v["fmax_mhz"], v["fmax_ceiling_mhz"], v["fmax_ratio"]),
+                         (108.0, None, None))
+        self.assertEqual(len(report.failures([r])), 1)
+        self.assertIn("default: nextpnr-ecp5 speed 8 failed with every seed",
+                      report.failures([r])[0])
+        self.assertEqual(len(report.failures([v])), 1)
+        self.assertEqual(report.failures([v, r])[0].split(":")[0], "small-ceiling")
+        md = report.report_md([r], [v])
+        self.assertIn("| 108.0 / 108.0 MHz (100%) | no result in 1,800 s / 110.0 MHz | FAIL | "
+                      "x |\n", md.replace("`lane.sv:372 (rd_q, wr_q)` -> "
+                      "`lane.sv:403 (b_q)`: 5 cells, 1.42 ns logic + 4.98 ns routing", "x"))
+        self.assertIn("seed 1: failed: default: nextpnr-ecp5 speed 8 seed 1: no result after "
+                      "1800 s", md)
+        self.assertIn("| 108.0 | no result in 1,800 s | - | ", md)
+        doc = self.d / "results.md"
+        doc.write_text(DOC)
+        report.update_results_doc([r], [v], doc)
+        text = doc.read_text()
+        self.assertIn("| Fmax speed grade 8 / ceiling | no result in 1,800 s / 110.0 MHz |", text)
+        self.assertIn("| target (>= 85% of the ceiling at both grades) | NOT met |", text)
+        self.assertIn("| critical path (speed grade 8) | no result in 1,800 s |", text)
+        self.assertIn("| 108.0 MHz | no result in 1,800 s | - |", text)
+        report.write_report(self.d, "0.70", [r], [v])
+        back, sweep = report.load_report(self.d / "report.json")
+        self.assertEqual(report.failures(back + sweep), report.failures([r, v]))
 
 
 class CriticalPathNames(unittest.TestCase):

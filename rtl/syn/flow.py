@@ -24,7 +24,7 @@ from pyhrpp.files import commit_tmp  # noqa: E402
 OUT = Path("out/synth")  # relative to ROOT (yowasp rejects ../ and absolute paths outside)
 NEXTPNR_FREQ_MHZ = 250   # the placer's timing target (above every figure, so it never relaxes)
 YOSYS_TIMEOUT = 900
-NEXTPNR_TIMEOUT = 900   # per seed; a seed over it counts as failed if another seed succeeded
+NEXTPNR_TIMEOUT = 900   # per run (seed, grade); a run over it is killed (synth.py --pnr-timeout)
 SEEDS = [1, 2]          # nextpnr placer seeds (--seeds); the best run is reported
 def _ram_bank_depth() -> int:
     """hrpp_pred_table's RamBankDepth (a deeper table RAM is built from RAM banks), read from the
@@ -295,15 +295,17 @@ def yosys_netlist(name: str, read_cmd: str) -> None:
 # ------------------------------------------------------------------------------------------------
 def best_seed(tag: str, speed: int, runs: dict) -> dict:
     """The best of one design's nextpnr runs (seed -> result or FlowError), with every seed's
-    Fmax beside it. Fails when no seed gave a result."""
+    Fmax beside it. When no seed gave a result: fmax_mhz None and `failed` (every seed's error);
+    the report marks the run and synth.py exits 1 once it has written everything else."""
     ok = {sd: r for sd, r in runs.items() if not isinstance(r, FlowError)}
+    seeds = {str(sd): (r["fmax_mhz"] if sd in ok else f"failed: {r}") for sd, r in runs.items()}
     if not ok:
-        raise FlowError(f"{tag}: nextpnr-ecp5 speed {speed} failed with every seed: " +
-                        "; ".join(str(e) for e in runs.values()))
+        return {"speed": speed, "fmax_mhz": None, "seeds": seeds,
+                "failed": f"{tag}: nextpnr-ecp5 speed {speed} failed with every seed: " +
+                          "; ".join(str(e) for e in runs.values())}
     best = max(ok, key=lambda sd: ok[sd]["fmax_mhz"])
     out = dict(ok[best])
-    out["seeds"] = {str(sd): (r["fmax_mhz"] if sd in ok else f"failed: {r}")
-                    for sd, r in runs.items()}
+    out["seeds"] = seeds
     return out
 
 

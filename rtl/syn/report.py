@@ -6,6 +6,7 @@ report.json back (--doc-only, --sweep-only), and the generated blocks of docs/re
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -20,31 +21,86 @@ TARGET_RATIO = 0.85      # issue 6: Fmax at least 85% of the block-RAM ceiling
 RESULTS_DOC = ROOT / "docs" / "results.md"
 
 
+def fmax_ratio(design: dict, ceiling: dict) -> float | None:
+    """A design's Fmax over its ceiling's (one speed grade's best runs); None without both.
+    Four places, so that the whole percent shown is the ratio's own rounding (95.57 / 118.68 =
+    0.8053: 81%; rounded to three places first, 0.805 showed as 80%)."""
+    if design.get("fmax_mhz") is None or ceiling.get("fmax_mhz") is None:
+        return None
+    return round(design["fmax_mhz"] / ceiling["fmax_mhz"], 4)
+
+
 def summarize(res: dict) -> None:
     p6, p8 = res["pnr"][6], res["pnr"][8]
     c6, c8 = res["ceiling"]["pnr"][6], res["ceiling"]["pnr"][8]
     res["fmax_mhz"], res["fmax_mhz_speed8"] = p6["fmax_mhz"], p8["fmax_mhz"]
     res["fmax_ceiling_mhz"], res["fmax_ceiling_mhz_speed8"] = c6["fmax_mhz"], c8["fmax_mhz"]
-    res["fmax_ratio"] = round(p6["fmax_mhz"] / c6["fmax_mhz"], 3)
-    res["fmax_ratio_speed8"] = round(p8["fmax_mhz"] / c8["fmax_mhz"], 3)
+    res["fmax_ratio"] = fmax_ratio(p6, c6)
+    res["fmax_ratio_speed8"] = fmax_ratio(p8, c8)
     res["fmax_target_ratio"] = TARGET_RATIO
-    res["fmax_target_met"] = (res["fmax_ratio"] >= TARGET_RATIO and
-                              res["fmax_ratio_speed8"] >= TARGET_RATIO)
+    res["fmax_target_met"] = all(r is not None and r >= TARGET_RATIO
+                                 for r in (res["fmax_ratio"], res["fmax_ratio_speed8"]))
     res["critical_path"] = critical_of(p6)
     res["critical_path_speed8"] = critical_of(p8)
 
 
 def critical_of(pnr: dict) -> dict:
-    """The critical path of one nextpnr run (flow.nextpnr's fields)."""
+    """The critical path of one nextpnr run (flow.nextpnr's fields); a run without a result
+    (flow.best_seed's `failed`): why."""
+    if pnr.get("failed"):
+        return {"failed": pnr["failed"]}
     return {"from": pnr.get("critical_from"), "to": pnr.get("critical_to"),
             "from_rtl": pnr.get("critical_from_rtl"), "to_rtl": pnr.get("critical_to_rtl"),
             "cells": pnr.get("critical_cells"), "logic_ns": pnr.get("critical_logic_ns"),
             "routing_ns": pnr.get("critical_routing_ns")}
 
 
+def no_result(why: str) -> str:
+    """A run without a result, for a reader: the time limit it ran into, or that it failed."""
+    m = re.search(r"no result after (\d+) s", why)
+    return f"no result in {int(m.group(1)):,} s" if m else "no result (tool failed)"
+
+
+def failures(results: list[dict]) -> list[str]:
+    """Every design or ceiling run of RESULTS (and their speed grades) that gave no result."""
+    return [d["failed"] for r in results for d in (r, r.get("ceiling", {}))
+            for d in d.get("pnr", {}).values() if d.get("failed")]
+
+
+def fmax_text(r: dict, suffix: str = "", unit: str = " MHz") -> str:
+    """A result's Fmax against its ceiling at one grade (suffix "" or "_speed8"):
+    design / ceiling MHz (ratio), or what is missing."""
+    grade = 8 if suffix else 6
+    f, c, q = r[f"fmax_mhz{suffix}"], r[f"fmax_ceiling_mhz{suffix}"], r[f"fmax_ratio{suffix}"]
+    fs = f"{f:.1f}" if f is not None else no_result(r["pnr"][grade]["failed"])
+    cs = f"{c:.1f}" if c is not None else \
+        "ceiling " + no_result(r["ceiling"]["pnr"][grade]["failed"])
+    return f"{fs} / {cs}{unit}" + (f" ({q:.0%})" if q is not None else "")
+
+
+def sweep_fmax_cells(r: dict, unit: str = " MHz") -> str:
+    """A sweep row's three cells at speed grade 6: design Fmax | ceiling Fmax | ratio."""
+    f, c, q = r["fmax_mhz"], r["fmax_ceiling_mhz"], r["fmax_ratio"]
+    return " | ".join((
+        f"{f:.1f}{unit}" if f is not None else no_result(r["pnr"][6]["failed"]),
+        f"{c:.1f}{unit}" if c is not None else no_result(r["ceiling"]["pnr"][6]["failed"]),
+        f"{q:.0%}" if q is not None else "-"))
+
+
+def fmax_alone(r: dict, suffix: str = "") -> str:
+    """A result's Fmax at one grade with its share of the ceiling: 118.3 MHz (82%)."""
+    grade = 8 if suffix else 6
+    f, q = r[f"fmax_mhz{suffix}"], r[f"fmax_ratio{suffix}"]
+    if f is None:
+        return no_result(r["pnr"][grade]["failed"])
+    return f"{f:.1f} MHz" + (f" ({q:.0%})" if q is not None else " (ceiling: no result)")
+
+
 def path_text(cp: dict) -> str:
     """A critical path for a reader: its ends in the RTL (flow.rtl_names) and its length; older
     reports, which have only the netlist's cell names: those."""
+    if cp.get("failed"):
+        return no_result(cp["failed"])
     if not cp.get("from_rtl"):
         return f"`{cp.get('from')}` -> `{cp.get('to')}`"
     return (f"`{cp['from_rtl']}` -> `{cp['to_rtl']}`: {cp['cells']} cells, "
@@ -83,10 +139,8 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
         cp = r["critical_path"]
         L.append(f"| {r['config']} | {r['description']} | {r['table_bits']:,} b = "
                  f"{fmt_bytes(r['table_bits'])} | {r['table_ram_bits']:,} | {r['lut4']:,} | "
-                 f"{r['ff']:,} | {r['bram']} | {r['dram']} | {r['fmax_mhz']:.1f} / "
-                 f"{r['fmax_ceiling_mhz']:.1f} MHz ({r['fmax_ratio']:.0%}) | "
-                 f"{r['fmax_mhz_speed8']:.1f} / {r['fmax_ceiling_mhz_speed8']:.1f} MHz "
-                 f"({r['fmax_ratio_speed8']:.0%}) | {'met' if r['fmax_target_met'] else 'FAIL'} | "
+                 f"{r['ff']:,} | {r['bram']} | {r['dram']} | {fmax_text(r)} | "
+                 f"{fmax_text(r, '_speed8')} | {'met' if r['fmax_target_met'] else 'FAIL'} | "
                  f"{path_text(cp)} |")
     L.append("")
     L.append("Fmax of every placer seed (MHz), design / ceiling:")
@@ -127,7 +181,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
             cp = r["critical_path"]
             L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
                      f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
-                     f"{r['fmax_mhz']:.1f} | {r['fmax_ceiling_mhz']:.1f} | {r['fmax_ratio']:.0%} | "
+                     f"{sweep_fmax_cells(r, '')} | "
                      f"{seed_cells(r, 6)} | {path_text(cp)} |")
     return "\n".join(L) + "\n"
 
@@ -160,8 +214,7 @@ def sweep_doc(sweep: list[dict]) -> str:
     for r in sweep:
         L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
                  f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
-                 f"{r['fmax_mhz']:.1f} MHz | {r['fmax_ceiling_mhz']:.1f} MHz | "
-                 f"{r['fmax_ratio']:.0%} |")
+                 f"{sweep_fmax_cells(r)} |")
     return "\n".join(L) + "\n"
 
 
@@ -177,11 +230,8 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
             f"{fmt_bytes(d['table_bits'])} (RAM: 2 copies, {d['table_ram_bits']:,} bits) |",
             f"| ECP5 LUT4 / FF / DP16KD / DPR16X4 | {d['lut4']:,} / {d['ff']:,} / {d['bram']} / "
             f"{d['dram']} |",
-            f"| Fmax speed grade 6 / ceiling | {d['fmax_mhz']:.1f} / "
-            f"{d['fmax_ceiling_mhz']:.1f} MHz "
-            f"({d['fmax_ratio']:.0%}) |",
-            f"| Fmax speed grade 8 / ceiling | {d['fmax_mhz_speed8']:.1f} / "
-            f"{d['fmax_ceiling_mhz_speed8']:.1f} MHz ({d['fmax_ratio_speed8']:.0%}) |",
+            f"| Fmax speed grade 6 / ceiling | {fmax_text(d)} |",
+            f"| Fmax speed grade 8 / ceiling | {fmax_text(d, '_speed8')} |",
             "| Fmax per placer seed, design / ceiling (MHz) | " + "; ".join(
                 f"sg{g}: {seed_cells(d, g)}" for g in (6, 8)) + " |",
             f"| target (>= {TARGET_RATIO:.0%} of the ceiling at both grades) | "
@@ -203,8 +253,7 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
         for r in results:
             body.append(
                 f"| {r['config']} | {r['description']} | {r['lut4']:,} / {r['ff']:,} / "
-                f"{r['bram']} | {r['fmax_mhz']:.1f} MHz ({r['fmax_ratio']:.0%}) | "
-                f"{r['fmax_mhz_speed8']:.1f} MHz ({r['fmax_ratio_speed8']:.0%}) | "
+                f"{r['bram']} | {fmax_alone(r)} | {fmax_alone(r, '_speed8')} | "
                 f"{path_text(r['critical_path'])} | {path_text(r['critical_path_speed8'])} |")
     blocks = {"synth": "\n".join(body) + "\n"}
     if sweep:

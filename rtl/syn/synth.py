@@ -19,12 +19,16 @@ top-level parameters come from rtl/config/hrpp_configs.json). Per configuration:
     (sets) and as wide as one set row (the word hrpp_ram_1r1w stores), through the same flow;
   * iCE40 (`synth_ice40`) and Xilinx 7-series (`synth_xilinx -family xc7`) counts;
   * the table's storage in bits (the golden model's TableConfig::total_bits(),
-    model/src/predictor/pred_table.cc), checked against the table RAMs found in the synthesized design.
+    model/src/predictor/pred_table.cc), checked against the table RAMs found in the synthesized
+    design.
 
 It fails loudly (exit 1) when a table RAM is not a DP16KD block RAM on ECP5, when Yosys or slang
 warns about an implicitly declared signal, when a tool fails or exceeds its time limit, or when
-the table's bits disagree with the RAMs. nextpnr's exit code says nothing about timing: the
-Fmax is read from its report and compared with the target (85% of the ceiling) in the report.
+the table's bits disagree with the RAMs. A design or ceiling for which place and route gave no
+result with any seed (each run is limited to --pnr-timeout seconds) does not discard the others:
+the report and the docs block are written with that run marked "no result", then it exits 1.
+nextpnr's exit code says nothing about timing: the Fmax is read from its report and compared
+with the target (85% of the ceiling) in the report.
 
 yowasp tools cannot read outside the working directory: everything runs from the repository
 root with relative paths; scripts, logs and results go to out/synth/ (results are written to
@@ -48,10 +52,11 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 
+import flow as flow_module  # noqa: E402  (flow() below is this file's)
 from flow import (NEXTPNR, OUT, SEEDS, YOSYS, FlowError, best_seed, log,  # noqa: E402
                   nextpnr_seed, rtl_files, yosys_ceiling, yosys_design, yosys_netlist)
-from report import (critical_of, load_report, summarize, update_results_doc,  # noqa: E402
-                    write_report)
+from report import (critical_of, failures, fmax_ratio, load_report, summarize,  # noqa: E402
+                    update_results_doc, write_report)
 
 
 def clog2(n: int) -> int:
@@ -179,7 +184,7 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
         else:
             p, c = res["pnr"][speeds[0]], res["ceiling"]["pnr"][speeds[0]]
             res["fmax_mhz"], res["fmax_ceiling_mhz"] = p["fmax_mhz"], c["fmax_mhz"]
-            res["fmax_ratio"] = round(p["fmax_mhz"] / c["fmax_mhz"], 3)
+            res["fmax_ratio"] = fmax_ratio(p, c)
             res["critical_path"] = critical_of(p)
         results.append(res)
     return results
@@ -196,6 +201,9 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
+    ap.add_argument("--pnr-timeout", type=int, default=flow_module.NEXTPNR_TIMEOUT,
+                    help="seconds per nextpnr run (placer seed and speed grade); a run over it "
+                         "is killed and counts as failed (default %(default)s)")
     ap.add_argument("--no-doc", action="store_true", help="do not update docs/results.md")
     ap.add_argument("--doc-only", action="store_true",
                     help="run no tool: rewrite out/synth/report.md and docs/results.md from "
@@ -207,6 +215,9 @@ def main() -> int:
         raise FlowError(f"--seeds {args.seeds!r}: expected comma-separated integers")
     if not SEEDS:
         raise FlowError("--seeds: at least one seed")
+    if args.pnr_timeout <= 0:
+        raise FlowError(f"--pnr-timeout {args.pnr_timeout}: expected a positive number of seconds")
+    flow_module.NEXTPNR_TIMEOUT = args.pnr_timeout
     os.chdir(ROOT)
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     for tool in (YOSYS, NEXTPNR):
@@ -250,6 +261,11 @@ def main() -> int:
         update_results_doc(results, sweep)
     log(f"wrote {OUT}/report.json, {OUT}/report.md" + ("" if args.no_doc else ", docs/results.md"))
     print((ROOT / OUT / "report.md").read_text())
+    failed = failures(results) + (failures(sweep) if args.sweep or args.sweep_only else [])
+    if failed:
+        print("synth: INCOMPLETE: place and route gave no result for " +
+              "; ".join(failed), file=sys.stderr)
+        return 1
     return 0
 
 
