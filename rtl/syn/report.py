@@ -63,8 +63,9 @@ def no_result(why: str) -> str:
 
 def failures(results: list[dict]) -> list[str]:
     """Every design or ceiling run of RESULTS (and their speed grades) that gave no result."""
-    return [d["failed"] for r in results for d in (r, r.get("ceiling", {}))
-            for d in d.get("pnr", {}).values() if d.get("failed")]
+    runs = [run for r in results for design in (r, r.get("ceiling", {}))
+            for run in design.get("pnr", {}).values()]
+    return [run["failed"] for run in runs if run.get("failed")]
 
 
 def fmax_text(r: dict, suffix: str = "", unit: str = " MHz") -> str:
