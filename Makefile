@@ -168,9 +168,12 @@ port-rate: build
 # placer seed routes within SYNTH_PNR_TIMEOUT seconds is marked "no result" there, the rest is
 # written, and the target exits 1 (large at speed grade 8 does not route within the limit).
 # ---------------------------------------------------------------------------------------------
-SYNTH_PNR_TIMEOUT ?= 900
+# SYNTH_PNR_TIMEOUT=SECONDS: the limit per place-and-route run (default: rtl/syn/flow.py's
+# NEXTPNR_TIMEOUT).
+SYNTH_PNR_TIMEOUT ?=
+SYNTH_FLAGS = $(if $(SYNTH_PNR_TIMEOUT),--pnr-timeout $(SYNTH_PNR_TIMEOUT))
 synth: setup-venv
-	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --pnr-timeout $(SYNTH_PNR_TIMEOUT)
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 $(SYNTH_FLAGS)
 
 # Formal verification (rtl/formal/run.py, docs/verification.md): every property of rtl/formal/
 # at its full depth (k-induction where it closes), then every planted bug must be caught; one
@@ -183,7 +186,7 @@ formal: setup-venv
 # update queue's depth and lanes (about 50 minutes; speed grade 6 only); added to
 # out/synth/report.{json,md}.
 synth-sweep: setup-venv
-	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only --pnr-timeout $(SYNTH_PNR_TIMEOUT)
+	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only $(SYNTH_FLAGS)
 
 # The synthesized generic netlists of the default and primary configurations through the parity
 # testbench.

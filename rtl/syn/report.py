@@ -68,24 +68,30 @@ def failures(results: list[dict]) -> list[str]:
     return [run["failed"] for run in runs if run.get("failed")]
 
 
+def mhz(f: float | None, run: dict, unit: str = " MHz") -> str:
+    """An Fmax (one run's best seed), or why there is none (RUN: its flow.best_seed result)."""
+    return f"{f:.1f}{unit}" if f is not None else no_result(run["failed"])
+
+
+def pct(q: float | None) -> str:
+    """A ratio to the ceiling as a whole percent; "-" without one."""
+    return f"{q:.0%}" if q is not None else "-"
+
+
 def fmax_text(r: dict, suffix: str = "", unit: str = " MHz") -> str:
     """A result's Fmax against its ceiling at one grade (suffix "" or "_speed8"):
     design / ceiling MHz (ratio), or what is missing."""
     grade = 8 if suffix else 6
     f, c, q = r[f"fmax_mhz{suffix}"], r[f"fmax_ceiling_mhz{suffix}"], r[f"fmax_ratio{suffix}"]
-    fs = f"{f:.1f}" if f is not None else no_result(r["pnr"][grade]["failed"])
-    cs = f"{c:.1f}" if c is not None else \
-        "ceiling " + no_result(r["ceiling"]["pnr"][grade]["failed"])
-    return f"{fs} / {cs}{unit}" + (f" ({q:.0%})" if q is not None else "")
+    cs = ("ceiling " if c is None else "") + mhz(c, r["ceiling"]["pnr"][grade], "")
+    return f"{mhz(f, r['pnr'][grade], '')} / {cs}{unit}" + (f" ({pct(q)})" if q is not None else "")
 
 
 def sweep_fmax_cells(r: dict, unit: str = " MHz") -> str:
     """A sweep row's three cells at speed grade 6: design Fmax | ceiling Fmax | ratio."""
-    f, c, q = r["fmax_mhz"], r["fmax_ceiling_mhz"], r["fmax_ratio"]
-    return " | ".join((
-        f"{f:.1f}{unit}" if f is not None else no_result(r["pnr"][6]["failed"]),
-        f"{c:.1f}{unit}" if c is not None else no_result(r["ceiling"]["pnr"][6]["failed"]),
-        f"{q:.0%}" if q is not None else "-"))
+    return " | ".join((mhz(r["fmax_mhz"], r["pnr"][6], unit),
+                       mhz(r["fmax_ceiling_mhz"], r["ceiling"]["pnr"][6], unit),
+                       pct(r["fmax_ratio"])))
 
 
 def fmax_alone(r: dict, suffix: str = "") -> str:
@@ -93,8 +99,8 @@ def fmax_alone(r: dict, suffix: str = "") -> str:
     grade = 8 if suffix else 6
     f, q = r[f"fmax_mhz{suffix}"], r[f"fmax_ratio{suffix}"]
     if f is None:
-        return no_result(r["pnr"][grade]["failed"])
-    return f"{f:.1f} MHz" + (f" ({q:.0%})" if q is not None else " (ceiling: no result)")
+        return mhz(f, r["pnr"][grade])
+    return mhz(f, r["pnr"][grade]) + (f" ({pct(q)})" if q is not None else " (ceiling: no result)")
 
 
 def path_text(cp: dict) -> str:
