@@ -167,6 +167,8 @@ port-rate: build
 # longest); out/synth/report.{json,md} and the synth section of docs/results.md. A run that no
 # placer seed routes within SYNTH_PNR_TIMEOUT seconds is marked "no result" there, the rest is
 # written, and the target exits 1 (large at speed grade 8 does not route within the limit).
+# rtl/syn/synth.py on fewer configurations or other seeds (--configs, --seeds) writes
+# out/synth/report-<configs>-seeds<seeds>.{json,md} instead and leaves these alone.
 # ---------------------------------------------------------------------------------------------
 # SYNTH_PNR_TIMEOUT=SECONDS: the limit per place-and-route run (default: rtl/syn/flow.py's
 # NEXTPNR_TIMEOUT).

@@ -290,6 +290,61 @@ class RunWithoutResult(unittest.TestCase):
         self.assertEqual(report.failures(back + sweep), report.failures([r, v]))
 
 
+    def test_partial_run_has_its_own_report(self):
+        """synth.py on fewer configurations or other seeds writes a report of its own name and
+        leaves report.json (make synth's) and the docs block alone; make synth's run writes
+        both."""
+        import contextlib
+        import io
+        saved = {n: getattr(self.synth, n) for n in ("OUT", "YOSYS", "NEXTPNR",
+                                                      "update_results_doc")}
+        seeds, argv, docs = list(flow.SEEDS), sys.argv, []
+        try:
+            self.synth.OUT = self.d
+            self.synth.YOSYS = self.synth.NEXTPNR = "true"
+            self.synth.update_results_doc = lambda results, sweep: docs.append(
+                [r["config"] for r in results])
+
+            def run(*args):
+                sys.argv = ["synth.py", *args]
+                flow.SEEDS[:] = seeds
+                with contextlib.redirect_stdout(io.StringIO()), \
+                        contextlib.redirect_stderr(io.StringIO()):
+                    return self.synth.main()
+            full, full_sweep = sample_results()
+            for r in full:
+                report.summarize(r)
+            report.write_report(self.d, "0.70", full, full_sweep)  # make synth's earlier run
+            kept = (self.d / "report.json").read_text()
+            self.assertEqual(run("--configs", "default", "--seeds", "3,4"), 1)  # sg8 failed
+            self.assertEqual(run("--configs", "primary,mobile"), 0)
+            self.assertEqual(run("--sweep-only", "--seeds", "3"), 0)
+            self.assertEqual((self.d / "report.json").read_text(), kept)
+            self.assertEqual(docs, [])
+            self.assertEqual(sorted(p.name for p in self.d.iterdir()), [
+                "report-default-seeds3-4.json", "report-default-seeds3-4.md",
+                "report-primary+mobile-seeds1-2.json", "report-primary+mobile-seeds1-2.md",
+                "report-sweep-seeds3.json", "report-sweep-seeds3.md", "report.json",
+                "report.md"])
+            back, sweep = report.load_report(self.d / "report-default-seeds3-4.json")
+            self.assertEqual(([r["config"] for r in back], sweep), (["default"], []))
+            self.assertEqual(sorted(back[0]["pnr"][6]["seeds"]), ["3", "4"])
+            md = (self.d / "report-sweep-seeds3.md").read_text()
+            self.assertIn("Scaling", md)
+            self.assertNotIn("| config | table |", md)
+            with self.assertRaises(flow.FlowError):
+                run("--configs", "default", "--sweep")
+            self.assertEqual(run(), 1)  # make synth's run: default's speed grade 8 failed
+            self.assertEqual(docs, [["small", "primary", "large", "mobile", "default"]])
+            back, sweep = report.load_report(self.d / "report.json")
+            self.assertEqual(([r["config"] for r in back][4], sweep), ("default", full_sweep))
+        finally:
+            for n, f in saved.items():
+                setattr(self.synth, n, f)
+            flow.SEEDS[:] = seeds
+            sys.argv = argv
+
+
 class CriticalPathNames(unittest.TestCase):
     """flow.rtl_names: a path's end cells named by the always_ff block (src attribute) whose
     registers they are, a block RAM by its instance."""

@@ -129,7 +129,7 @@ def seed_cells(r: dict, grade: int) -> str:
 def report_md(results: list[dict], sweep: list[dict]) -> str:
     L = []
     L.append("Regenerate with `make synth` (sweep: `make synth-sweep`). Yosys "
-             f"{results[0].get('yosys', '')} (slang front end), nextpnr-ecp5 "
+             f"{next(iter(results + sweep), {}).get('yosys', '')} (slang front end), nextpnr-ecp5 "
              "`--85k --package CABGA381 --out-of-context`, placer target "
              f"{NEXTPNR_FREQ_MHZ} MHz, placer seeds {', '.join(map(str, SEEDS))} (the best "
              "run of each design and of each ceiling is reported; every seed's figure is in the "
@@ -138,44 +138,45 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
              "rtl/syn/hrpp_syn_ceiling.sv), same flow. Target: Fmax at least "
              f"{TARGET_RATIO:.0%} of the ceiling at both speed grades.")
     L.append("")
-    L.append("| config | table | storage (model) | RAM bits (2 copies) | ECP5 LUT4 | FF | DP16KD | "
-             "DPR16X4 | Fmax sg6 / ceiling (ratio) | Fmax sg8 / ceiling (ratio) | target | "
-             "critical path (sg6) |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in results:
-        cp = r["critical_path"]
-        L.append(f"| {r['config']} | {r['description']} | {r['table_bits']:,} b = "
-                 f"{fmt_bytes(r['table_bits'])} | {r['table_ram_bits']:,} | {r['lut4']:,} | "
-                 f"{r['ff']:,} | {r['bram']} | {r['dram']} | {fmax_text(r)} | "
-                 f"{fmax_text(r, '_speed8')} | {'met' if r['fmax_target_met'] else 'FAIL'} | "
-                 f"{path_text(cp)} |")
-    L.append("")
-    L.append("Fmax of every placer seed (MHz), design / ceiling:")
-    L.append("")
-    L.append("| config | speed grade 6 | speed grade 8 |")
-    L.append("|---|---|---|")
-    for r in results:
-        L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} |")
-    L.append("")
-    L.append("| config | iCE40 LUT4 / FF / RAM40_4K | xc7 LUT / FF / RAMB36+RAMB18 / LUTRAM | "
-             "generic cells (coarse) | memory bits (all RAMs) | logic transistors (cmos) | "
-             "generic FF bits |")
-    L.append("|---|---|---|---|---|---|---|")
-    for r in results:
-        i, x = r["ice40"], r["xc7"]
-        mem_bits = r["table_ram_bits"] + r["other_memory_bits"]
-        L.append(f"| {r['config']} | {i['lut4']:,} / {i['ff']:,} / {i['bram']} | "
-                 f"{x['lut']:,} / {x['ff']:,} / {x['ramb36']}+{x['ramb18']} / {x['lutram']} | "
-                 f"{sum(r['generic_cells'].values()):,} | {mem_bits:,} | "
-                 f"{r['transistors_logic']:,} | {r['generic_ff_bits']:,} |")
-    L.append("")
-    L.append("Storage (model) is the golden model's TableConfig::total_bits() "
-             "(model/src/predictor/pred_table.cc): sets x ways x (valid + tag + count + K node "
-             "ids of the configuration's node-id width + confidence bits + age); the RTL keeps "
-             "two copies (lookup and update RAMs), checked to be exactly "
-             "2 x that many bits. Logic transistors: `stat -tech cmos` after `abc -g cmos2` of the "
-             "generic netlist with the memories kept as $mem cells; it counts the combinational "
-             "gates only (memories and flip-flops excluded: their count is the last column).")
+    if results:  # a sweep of other seeds (synth.py --sweep-only --seeds) has none
+        L.append("| config | table | storage (model) | RAM bits (2 copies) | ECP5 LUT4 | FF | "
+                 "DP16KD | DPR16X4 | Fmax sg6 / ceiling (ratio) | Fmax sg8 / ceiling (ratio) | "
+                 "target | critical path (sg6) |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for r in results:
+            cp = r["critical_path"]
+            L.append(f"| {r['config']} | {r['description']} | {r['table_bits']:,} b = "
+                     f"{fmt_bytes(r['table_bits'])} | {r['table_ram_bits']:,} | {r['lut4']:,} | "
+                     f"{r['ff']:,} | {r['bram']} | {r['dram']} | {fmax_text(r)} | "
+                     f"{fmax_text(r, '_speed8')} | {'met' if r['fmax_target_met'] else 'FAIL'} | "
+                     f"{path_text(cp)} |")
+        L.append("")
+        L.append("Fmax of every placer seed (MHz), design / ceiling:")
+        L.append("")
+        L.append("| config | speed grade 6 | speed grade 8 |")
+        L.append("|---|---|---|")
+        for r in results:
+            L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} |")
+        L.append("")
+        L.append("| config | iCE40 LUT4 / FF / RAM40_4K | xc7 LUT / FF / RAMB36+RAMB18 / LUTRAM | "
+                 "generic cells (coarse) | memory bits (all RAMs) | logic transistors (cmos) | "
+                 "generic FF bits |")
+        L.append("|---|---|---|---|---|---|---|")
+        for r in results:
+            i, x = r["ice40"], r["xc7"]
+            mem_bits = r["table_ram_bits"] + r["other_memory_bits"]
+            L.append(f"| {r['config']} | {i['lut4']:,} / {i['ff']:,} / {i['bram']} | "
+                     f"{x['lut']:,} / {x['ff']:,} / {x['ramb36']}+{x['ramb18']} / {x['lutram']} | "
+                     f"{sum(r['generic_cells'].values()):,} | {mem_bits:,} | "
+                     f"{r['transistors_logic']:,} | {r['generic_ff_bits']:,} |")
+        L.append("")
+        L.append("Storage (model) is the golden model's TableConfig::total_bits() "
+                 "(model/src/predictor/pred_table.cc): sets x ways x (valid + tag + count + K node "
+                 "ids of the configuration's node-id width + confidence bits + age); the RTL keeps "
+                 "two copies (lookup and update RAMs), checked to be exactly 2 x that many "
+                 "bits. Logic transistors: `stat -tech cmos` after `abc -g cmos2` of the generic "
+                 "netlist with the memories kept as $mem cells; it counts the combinational gates "
+                 "only (memories and flip-flops excluded: their count is the last column).")
     if sweep:
         L.append("")
         L.append("Scaling (`make synth-sweep`, speed grade 6; one parameter changed from the "
@@ -270,10 +271,22 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
                   default_text="# Results\n")
 
 
+def report_stem(configs: list[str], seeds: list[int], all_configs: list[str],
+                default_seeds: list[int], sweep: bool) -> str:
+    """The name of a run's report in out/synth/: `report` for `make synth`'s run (every
+    configuration of all_configs with the flow's seeds; a sweep with the flow's seeds), which
+    docs/results.md is written from; for any other run (fewer configurations, other seeds) a
+    name of its own, so that it neither replaces that report nor writes half a docs block."""
+    if seeds == default_seeds and (sweep or sorted(configs) == sorted(all_configs)):
+        return "report"
+    what = "sweep" if sweep else "+".join(configs)
+    return f"report-{what}-seeds{'-'.join(map(str, seeds))}"
+
+
 def write_report(out_dir: Path, yosys_version: str, results: list[dict], sweep: list[dict],
-                 with_json: bool = True) -> None:
-    """OUT_DIR/report.json (unless with_json is false: --doc-only keeps the one it read) and
-    OUT_DIR/report.md; every result carries the Yosys version when one is given."""
+                 with_json: bool = True, stem: str = "report") -> None:
+    """OUT_DIR/STEM.json (unless with_json is false: --doc-only keeps the one it read) and
+    OUT_DIR/STEM.md; every result carries the Yosys version when one is given."""
     if yosys_version:
         for r in results:
             r["yosys"] = yosys_version
@@ -281,6 +294,6 @@ def write_report(out_dir: Path, yosys_version: str, results: list[dict], sweep: 
                        "target_ratio": TARGET_RATIO, "placer_freq_mhz": NEXTPNR_FREQ_MHZ},
               "configurations": results, "sweep": sweep}
     if with_json:
-        write_atomic(Path(out_dir) / "report.json", json.dumps(report, indent=1) + "\n")
-    write_atomic(Path(out_dir) / "report.md",
+        write_atomic(Path(out_dir) / f"{stem}.json", json.dumps(report, indent=1) + "\n")
+    write_atomic(Path(out_dir) / f"{stem}.md",
                  "# HRPP synthesis report\n\n" + report_md(results, sweep))

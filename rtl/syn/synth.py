@@ -27,6 +27,9 @@ warns about an implicitly declared signal, when a tool fails or exceeds its time
 the table's bits disagree with the RAMs. A design or ceiling for which place and route gave no
 result with any seed (each run is limited to --pnr-timeout seconds) does not discard the others:
 the report and the docs block are written with that run marked "no result", then it exits 1.
+out/synth/report.json and the docs block are `make synth`'s run (every configuration, the flow's
+seeds); a run of fewer configurations or other seeds writes
+out/synth/report-<configs>-seeds<seeds>.{json,md} and leaves both as they are.
 nextpnr's exit code says nothing about timing: the Fmax is read from its report and compared
 with the target (85% of the ceiling) in the report.
 
@@ -55,8 +58,10 @@ from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_con
 import flow as flow_module  # noqa: E402  (flow() below is this file's)
 from flow import (NEXTPNR, OUT, SEEDS, YOSYS, FlowError, best_seed, log,  # noqa: E402
                   nextpnr_seed, rtl_files, yosys_ceiling, yosys_design, yosys_netlist)
-from report import (critical_of, failures, fmax_ratio, load_report, summarize,  # noqa: E402
-                    update_results_doc, write_report)
+from report import (critical_of, failures, fmax_ratio, load_report, report_stem,  # noqa: E402
+                    summarize, update_results_doc, write_report)
+
+ALL_CONFIGS = ["small", "primary", "large", "mobile", "default"]  # `make synth`'s run
 
 
 def clog2(n: int) -> int:
@@ -192,13 +197,18 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--configs", default="small,primary,large,mobile,default")
+    ap.add_argument("--configs", default=",".join(ALL_CONFIGS),
+                    help="comma-separated (default: all, `make synth`); a run of fewer "
+                         "configurations or other seeds writes out/synth/report-<configs>-"
+                         "seeds<seeds>.{json,md} and leaves report.json and docs/results.md "
+                         "as they are")
     ap.add_argument("--sweep", action="store_true", help="also the scaling sweep (slow)")
     ap.add_argument("--sweep-only", action="store_true",
                     help="only the sweep; keep report's configs")
     ap.add_argument("--netlist-only", action="store_true",
                     help="only write out/synth/<config>_netlist.v (the netlist parity check)")
     ap.add_argument("--jobs", type=int, default=2)
+    default_seeds = list(SEEDS)
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
     ap.add_argument("--pnr-timeout", type=int, default=flow_module.NEXTPNR_TIMEOUT,
@@ -235,12 +245,19 @@ def main() -> int:
             yosys_netlist(c, read_slang_cmd("hrpp_top", dict(cfgs[c]), rtl_files()))
         return 0
 
+    stem = "report" if args.doc_only else report_stem(
+        names, list(SEEDS), ALL_CONFIGS, default_seeds, args.sweep_only)
+    if stem != "report" and args.sweep:
+        raise FlowError("--sweep: only with every configuration and the flow's seeds "
+                        f"({','.join(map(str, default_seeds))}); use --sweep-only with --seeds")
     yver = "" if args.doc_only else subprocess.run(
         [YOSYS, "-V"], cwd=ROOT, capture_output=True, text=True,
         timeout=300).stdout.split("(")[0].replace("Yosys", "").strip()
     with cf.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         report_path = ROOT / OUT / "report.json"
-        if (args.sweep_only or args.doc_only) and report_path.exists():
+        if args.sweep_only and stem != "report":
+            results = []  # a sweep with other seeds: its own report, the sweep alone
+        elif (args.sweep_only or args.doc_only) and report_path.exists():
             results, old_sweep = load_report(report_path)
         elif args.doc_only:
             raise FlowError(f"--doc-only: no {OUT}/report.json (run `make synth` first)")
@@ -254,13 +271,18 @@ def main() -> int:
             sweep = flow(list(variants.items()), [6], pool, set())
         elif args.doc_only:
             sweep = old_sweep
-        elif report_path.exists():
+        elif report_path.exists() and stem == "report":
             sweep = load_report(report_path)[1]
-    write_report(ROOT / OUT, yver, results, sweep, with_json=not args.doc_only)
-    if not args.no_doc and any(r["config"] == "default" for r in results):
+    write_report(ROOT / OUT, yver, results, sweep, with_json=not args.doc_only, stem=stem)
+    doc = not args.no_doc and stem == "report" and any(r["config"] == "default" for r in results)
+    if doc:
         update_results_doc(results, sweep)
-    log(f"wrote {OUT}/report.json, {OUT}/report.md" + ("" if args.no_doc else ", docs/results.md"))
-    print((ROOT / OUT / "report.md").read_text())
+    log(f"wrote {OUT}/{stem}.json, {OUT}/{stem}.md" + (", docs/results.md" if doc else "") +
+        ("" if stem == "report" else
+         f" (not {OUT}/report.json or docs/results.md: this run "
+         f"({'the sweep' if args.sweep_only else '+'.join(names)}, seeds "
+         f"{','.join(map(str, SEEDS))}) is not `make synth`'s)"))
+    print((ROOT / OUT / f"{stem}.md").read_text())
     failed = failures(results) + (failures(sweep) if args.sweep or args.sweep_only else [])
     if failed:
         print("synth: INCOMPLETE: place and route gave no result for " +
