@@ -330,6 +330,8 @@ class RunWithoutResult(unittest.TestCase):
             self.assertEqual(([r["config"] for r in back], sweep), (["default"], []))
             self.assertEqual(sorted(back[0]["pnr"][6]["seeds"]), ["3", "4"])
             md = (self.d / "report-sweep-seeds3.md").read_text()
+            self.assertTrue(md.startswith("# HRPP synthesis report (sweep-seeds3: rtl/syn/synth.py "
+                                          "--configs / --seeds, not `make synth`'s run)\n"))
             self.assertIn("Scaling", md)
             self.assertNotIn("| config | table |", md)
             with self.assertRaises(flow.FlowError):

@@ -295,5 +295,8 @@ def write_report(out_dir: Path, yosys_version: str, results: list[dict], sweep: 
               "configurations": results, "sweep": sweep}
     if with_json:
         write_atomic(Path(out_dir) / f"{stem}.json", json.dumps(report, indent=1) + "\n")
-    write_atomic(Path(out_dir) / f"{stem}.md",
-                 "# HRPP synthesis report\n\n" + report_md(results, sweep))
+    title = "# HRPP synthesis report"
+    if stem != "report":
+        title += (f" ({stem.removeprefix('report-')}: rtl/syn/synth.py --configs / --seeds, "
+                  "not `make synth`'s run)")
+    write_atomic(Path(out_dir) / f"{stem}.md", f"{title}\n\n" + report_md(results, sweep))
