@@ -340,6 +340,10 @@ class RunWithoutResult(unittest.TestCase):
             self.assertEqual(docs, [["small", "primary", "large", "mobile", "default"]])
             back, sweep = report.load_report(self.d / "report.json")
             self.assertEqual(([r["config"] for r in back][4], sweep), ("default", full_sweep))
+            # make synth-sweep: the sweep's runs all gave a result; the failure it carries from
+            # make synth's report is not its own
+            self.assertEqual(run("--sweep-only"), 0)
+            self.assertEqual(len(docs), 2)
         finally:
             for n, f in saved.items():
                 setattr(self.synth, n, f)
