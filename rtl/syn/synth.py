@@ -196,6 +196,7 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
 
 
 def main() -> int:
+    default_seeds = list(SEEDS)  # the flow's (flow.SEEDS), before --seeds replaces them
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--configs", default=",".join(ALL_CONFIGS),
                     help="comma-separated (default: all, `make synth`); a run of fewer "
@@ -208,7 +209,6 @@ def main() -> int:
     ap.add_argument("--netlist-only", action="store_true",
                     help="only write out/synth/<config>_netlist.v (the netlist parity check)")
     ap.add_argument("--jobs", type=int, default=2)
-    default_seeds = list(SEEDS)
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
     ap.add_argument("--pnr-timeout", type=int, default=flow_module.NEXTPNR_TIMEOUT,
