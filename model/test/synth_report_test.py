@@ -289,7 +289,6 @@ class RunWithoutResult(unittest.TestCase):
         back, sweep = report.load_report(self.d / "report.json")
         self.assertEqual(report.failures(back + sweep), report.failures([r, v]))
 
-
     def test_partial_run_has_its_own_report(self):
         """synth.py on fewer configurations or other seeds writes a report of its own name and
         leaves report.json (make synth's) and the docs block alone; make synth's run writes
@@ -337,7 +336,7 @@ class RunWithoutResult(unittest.TestCase):
             with self.assertRaises(flow.FlowError):
                 run("--configs", "default", "--sweep")
             self.assertEqual(run(), 1)  # make synth's run: default's speed grade 8 failed
-            self.assertEqual(docs, [["small", "primary", "large", "mobile", "default"]])
+            self.assertEqual(docs, [self.synth.ALL_CONFIGS])  # every configuration, in order
             back, sweep = report.load_report(self.d / "report.json")
             self.assertEqual(([r["config"] for r in back][4], sweep), ("default", full_sweep))
             # make synth-sweep: the sweep's runs all gave a result; the failure it carries from
