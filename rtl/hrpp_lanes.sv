@@ -42,6 +42,7 @@ module hrpp_lanes
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   parameter int unsigned Lanes = 2,  /// lanes and table banks: 2 or 4
   parameter int unsigned ConfBits = 0,  /// confidence bits: only 0 (not implemented with lanes)
+  parameter bit IssueReg = DefaultIssueReg,  /// each bank's issue register (+1 cycle of update)
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned BankBits = $clog2(Lanes),
   localparam int unsigned BankIdxWidth = IdxWidth - BankBits,
@@ -180,7 +181,7 @@ module hrpp_lanes
     hrpp_pred_table #(
       .NumSets(NumSets / Lanes), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault),
-      .ConfBits(ConfBits)
+      .ConfBits(ConfBits), .IssueReg(IssueReg)
     ) u_table (
       .clk_i, .rst_ni, .init_done_o(bk_init_done[b]),
       .lk_valid_i(bk_lk_valid[b]), .lk_idx_i(bk_lk_idx[b]), .lk_tag_i(bk_lk_tag[b]),

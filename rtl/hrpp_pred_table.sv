@@ -42,6 +42,8 @@ module hrpp_pred_table
   parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bits per way: 0 or 1
   /// sets per RAM bank: a table of more sets is split into banks of this many (see Memories)
   parameter int unsigned RamBankDepth = 2048,
+  /// 1: the issue register I before T0 (a request waits a cycle in it; see the interlock)
+  parameter bit IssueReg = DefaultIssueReg,
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -378,23 +380,50 @@ module hrpp_pred_table
   // updates of one node (see the top). The merge changes that request as it moves from T0 to T1
   // or from T1 to T2 (mg_t0, mg_t1). Without confidence bits no demote occurs: an identical
   // update is dropped (it would rewrite the row unchanged; docs/microarchitecture.md).
-  logic wr_same_t0, wr_same_t1, wr_drop;
-  assign wr_same_t0     = t0_q.valid && t0_q.idx == tbl_wr_idx_i;
-  assign wr_same_t1     = t1_q.valid && t1_q.idx == tbl_wr_idx_i;
-  logic wr_demote, wr_same_as_t0, wr_same_as_t1, wr_merge;
-  assign wr_demote      = ConfBits > 0 && tbl_wr_demote_i;
-  assign wr_same_as_t0  = t0_q.tag == tbl_wr_tag_i &&
-                          (wr_demote || t0_q.demote || t0_q.node == tbl_wr_node_i);
-  assign wr_same_as_t1  = t1_q.tag == tbl_wr_tag_i &&
-                          (wr_demote || t1_q.demote || t1_q.node == tbl_wr_node_i);
-  assign wr_drop        = wr_same_t0 ? wr_same_as_t0 : wr_same_t1 && wr_same_as_t1;
-  assign wr_merge       = ConfBits > 0 && tbl_wr_valid_i && wr_drop;
+  //
+  // The request the interlock judges (iq) and its four compares against T0 and T1 (set; same key:
+  // tag and demote or node). IssueReg = 0: the request at the input, compared in this cycle.
+  // IssueReg = 1: the issue register I, a request taken from the input in an earlier cycle, with
+  // its compares made in the cycle before, against what T0 and T1 hold now (the input's ready
+  // then depends on I's registers only, not on the compares: docs/microarchitecture.md, "Issue
+  // register"). A request waits a cycle in I, so the update path is a cycle longer.
+  typedef struct packed {
+    logic                   valid;
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+    logic                   demote;  // ConfBits = 1 only
+  } in_req_t;
+  typedef struct packed {
+    logic same_t0, same_t1;      // T0 (T1) is valid and of the request's set
+    logic as_t0, as_t1;          // the request merges into T0's (T1's) by key
+  } cmp_t;
+  in_req_t wr_in, iq;
+  cmp_t    iq_cmp;
+  assign wr_in = '{valid: tbl_wr_valid_i, idx: tbl_wr_idx_i, tag: tbl_wr_tag_i,
+                   node: tbl_wr_node_i, demote: ConfBits > 0 && tbl_wr_demote_i};
+  // The key compare: request r merges into a request of tag `tag`, node `node` (`demote`) by key.
+  /* verilator lint_off UNUSEDSIGNAL */  // r's valid and set
+  function automatic logic same_key(in_req_t r, logic [TagWidth-1:0] tag,
+                                    logic [NodeIdWidth-1:0] node, logic demote);
+    return r.tag == tag && (r.demote || demote || r.node == node);
+  endfunction
+  /* verilator lint_on UNUSEDSIGNAL */
+  logic wr_same_t0, wr_same_t1, wr_drop, wr_go;
+  assign wr_same_t0 = iq_cmp.same_t0;
+  assign wr_same_t1 = iq_cmp.same_t1;
+  assign wr_drop    = wr_same_t0 ? iq_cmp.as_t0 : wr_same_t1 && iq_cmp.as_t1;
+  // The request leaves the interlock: issued into T0, or merged (dropped).
+  assign wr_go      = iq.valid && !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
+  logic wr_demote, wr_merge;
+  assign wr_demote  = iq.demote;
+  assign wr_merge   = ConfBits > 0 && iq.valid && wr_drop;
   // The merge changes the request in T0 (mg_t0) or T1 (mg_t1) as it moves on: an update behind a
   // demote replaces it (demote cleared, its node), and the bit C3 writes is fixed (ovr, ovr_bit):
   // a demote behind an update: 0; the same update again: 1; an update behind a demote: not fixed.
-  // A demote's node is never used, so a demote takes the node at the request input whether an
-  // update merges into it or not: the node path has no compare in it (only the few bits below
-  // wait for wr_merge).
+  // A demote's node is never used, so a demote takes the judged request's node whether an update
+  // merges into it or not: the node path has no compare in it (only the few bits below wait for
+  // wr_merge).
   logic mg_t0, mg_t1;
   assign mg_t0 = wr_merge && wr_same_t0;
   assign mg_t1 = wr_merge && !wr_same_t0;
@@ -407,12 +436,69 @@ module hrpp_pred_table
   function automatic upd_req_t moved(upd_req_t r, logic mg);
     upd_req_t m;
     m = r;
-    m.node = r.demote ? tbl_wr_node_i : r.node;
+    m.node = r.demote ? iq.node : r.node;
     m.demote = r.demote && !(mg && !wr_demote);
     if (mg) {m.ovr, m.ovr_bit} = merged_ovr(r.demote);
     return m;
   endfunction
-  assign tbl_wr_ready_o = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
+
+  if (IssueReg) begin : gen_issue_reg
+    in_req_t i_q;
+    cmp_t    i_cmp_q, in_cmp, hold_cmp;
+    logic    take;
+    // I takes the input when it is empty or its request leaves in this cycle.
+    assign take           = !clearing_q && (!i_q.valid || wr_go);
+    assign tbl_wr_ready_o = take;
+    // Next cycle's T0 is I's request if it is issued now; next cycle's T1 is T0's request as it
+    // moves on (moved(): a demote takes I's node; a merge of an update turns it into an update).
+    // The input's compares against both, and those of I itself if it waits (then nothing is
+    // issued now: no T0 next cycle, and no merge now). Each compare is made on registers; only
+    // the choice among them waits for this cycle's decision.
+    logic t0_next_demote;  // T1's request next cycle is a demote
+    assign t0_next_demote = t0_q.demote && !(mg_t0 && !wr_demote);
+    always_comb begin
+      in_cmp.same_t0 = wr_go && !wr_drop && wr_in.idx == i_q.idx;
+      in_cmp.as_t0   = same_key(wr_in, i_q.tag, i_q.node, i_q.demote);
+      in_cmp.same_t1 = t0_q.valid && wr_in.idx == t0_q.idx;
+      in_cmp.as_t1   = wr_in.tag == t0_q.tag &&
+                       (wr_in.demote || t0_next_demote ||
+                        (t0_q.demote ? i_q.node == wr_in.node : t0_q.node == wr_in.node));
+      hold_cmp.same_t0 = 1'b0;
+      hold_cmp.as_t0   = 1'b0;
+      hold_cmp.same_t1 = t0_q.valid && i_q.idx == t0_q.idx;
+      hold_cmp.as_t1   = same_key(i_q, t0_q.tag, t0_q.node, t0_q.demote);
+    end
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        i_q     <= '0;
+        i_cmp_q <= '0;
+      end else if (take) begin
+        i_q     <= wr_in;
+        i_cmp_q <= in_cmp;
+      end else begin
+        i_cmp_q <= hold_cmp;
+      end
+    end
+    assign iq     = i_q;
+    assign iq_cmp = i_cmp_q;
+`ifndef SYNTHESIS
+    // The compares made a cycle early are those of I's request against T0 and T1 now.
+    IssueCompares_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+        i_q.valid |-> i_cmp_q.same_t0 == (t0_q.valid && t0_q.idx == i_q.idx) &&
+                      i_cmp_q.same_t1 == (t1_q.valid && t1_q.idx == i_q.idx) &&
+                      (!i_cmp_q.same_t0 ||
+                       i_cmp_q.as_t0 == same_key(i_q, t0_q.tag, t0_q.node, t0_q.demote)) &&
+                      (!i_cmp_q.same_t1 ||
+                       i_cmp_q.as_t1 == same_key(i_q, t1_q.tag, t1_q.node, t1_q.demote)));
+`endif
+  end else begin : gen_no_issue_reg
+    assign iq                = wr_in;
+    assign iq_cmp.same_t0    = t0_q.valid && t0_q.idx == wr_in.idx;
+    assign iq_cmp.same_t1    = t1_q.valid && t1_q.idx == wr_in.idx;
+    assign iq_cmp.as_t0      = same_key(wr_in, t0_q.tag, t0_q.node, t0_q.demote);
+    assign iq_cmp.as_t1      = same_key(wr_in, t1_q.tag, t1_q.node, t1_q.demote);
+    assign tbl_wr_ready_o    = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
+  end
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
 
@@ -430,10 +516,10 @@ module hrpp_pred_table
       h1_q         <= '0;
       h2_row_q     <= '0;
     end else begin
-      t0_q.valid <= tbl_wr_valid_i && tbl_wr_ready_o && !wr_drop;
-      t0_q.idx   <= tbl_wr_idx_i;
-      t0_q.tag   <= tbl_wr_tag_i;
-      t0_q.node  <= tbl_wr_node_i;
+      t0_q.valid <= wr_go && !wr_drop;
+      t0_q.idx   <= iq.idx;
+      t0_q.tag   <= iq.tag;
+      t0_q.node  <= iq.node;
       t0_q.demote <= wr_demote;
       t0_q.ovr   <= 1'b0;
       t0_q.ovr_bit <= 1'b0;

@@ -37,6 +37,7 @@ module hrpp_top
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// update queue entries, a power of two >= 2
   parameter bit InjectFault = DefaultInjectFault,  /// test only: a one-bit fault in the table
   parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bit per table way: 0 or 1
+  parameter bit IssueReg = DefaultIssueReg,  /// the table's issue register (+1 cycle of update)
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
@@ -120,7 +121,7 @@ module hrpp_top
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
     .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .InjectFault(InjectFault),
-    .ConfBits(ConfBits)
+    .ConfBits(ConfBits), .IssueReg(IssueReg)
   ) u_table (
     .clk_i, .rst_ni, .init_done_o(init_done),
     .lk_valid_i(lk_req), .lk_idx_i(lk_idx), .lk_tag_i(lk_tag),

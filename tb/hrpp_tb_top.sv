@@ -34,6 +34,7 @@ module hrpp_tb_top
   parameter bit KeyStoreBram = DefaultKeyStoreBram,
   parameter bit InjectFault = DefaultInjectFault,
   parameter int unsigned ConfBits = DefaultConfBits,
+  parameter bit IssueReg = DefaultIssueReg,
   parameter int unsigned Lanes = 1,  /// 1: hrpp_top; 2 or 4: hrpp_lanes (ports per lane)
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1)
 ) (
@@ -86,7 +87,7 @@ module hrpp_tb_top
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
       .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault),
-      .ConfBits(ConfBits)
+      .ConfBits(ConfBits), .IssueReg(IssueReg)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
       .ray_valid_i(ray_valid_i[0]), .ray_ready_o(ray_ready_o[0]), .ray_id_i(ray_id_i[0]),
@@ -111,7 +112,7 @@ module hrpp_tb_top
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
       .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault),
-      .ConfBits(ConfBits), .Lanes(Lanes)
+      .ConfBits(ConfBits), .IssueReg(IssueReg), .Lanes(Lanes)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
       .ray_valid_i, .ray_ready_o, .ray_id_i, .ray_kind_i, .ray_org_i, .ray_dir_i,

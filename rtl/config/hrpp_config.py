@@ -26,7 +26,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package (run by CMake with the system python3)
 from pyhrpp.files import write_atomic  # noqa: E402
-from pyhrpp.rtl_config import (COMBINES, DIR_CODES, JSON_PATH, PARAMS, VARIANTS,  # noqa: E402
+from pyhrpp.rtl_config import (BOOLS, COMBINES, DIR_CODES, JSON_PATH, PARAMS,  # noqa: E402
+                               VARIANTS,
                                ConfigError,
                                config, load, top_params, predict_args, predict_options)
 from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
@@ -77,7 +78,7 @@ def sv_block(data: dict) -> str:
             lines.append(f"  localparam combine_e Default{p} = {COMBINES[v][0]};")
         elif f == "dir_code":
             lines.append(f"  localparam dir_code_e Default{p} = {DIR_CODES[v][0]};")
-        elif f in ("key_store_bram", "inject_fault"):
+        elif f in BOOLS:
             lines.append(f"  localparam bit Default{p} = 1'b{int(v)};")
         else:
             lines.append(f"  localparam int unsigned Default{p} = {v};")
@@ -120,6 +121,7 @@ def cpp_header(data: dict) -> str:
             "  bool inject_fault;", "  uint32_t lanes;  // lookups and updates per cycle",
             "  int confidence_bits;  // a confidence bit per table way (threshold 1): 0 or 1",
             "  bool any_hit_only;  // the RT unit offers any-hit rays only (predict_kinds any-hit)",
+            "  bool issue_reg;  // the table's issue register: +1 cycle of update latency",
             "};",
             "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
@@ -134,7 +136,8 @@ def cpp_header(data: dict) -> str:
             f"{'true' if c['key_store_bram'] else 'false'}, "
             f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}, "
             f"{c['confidence_bits']}, "
-            f"{'true' if c['predict_kinds'] == 'any-hit' else 'false'}}},")
+            f"{'true' if c['predict_kinds'] == 'any-hit' else 'false'}, "
+            f"{'true' if c['issue_reg'] else 'false'}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]

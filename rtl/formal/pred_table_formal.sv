@@ -19,7 +19,10 @@
 // table's interlock window) merges into it when it is a demote, or that request's last update (its
 // own or the last merged into it) is none, or has the request's node: the abstract table applies
 // it by the golden rule right after that request (and those merged before it), in that request's
-// W cycle, instead of in its own.
+// W cycle, instead of in its own. With the issue register (IssueReg = 1) the request judged is
+// the one in I, taken from the input when tbl_wr_ready_o was high; the harness takes from the
+// design when it leaves I (dut.wr_go), and checks that I holds that request and that I's
+// compares, made a cycle early, are those of the request against T0 and T1.
 module pred_table_formal
   import hrpp_pkg::*;
 #(
@@ -31,6 +34,7 @@ module pred_table_formal
   parameter int unsigned ConfBits = 0,
   parameter int unsigned RamBankDepth = 2048,  // tasks *_banks: 2 sets per RAM bank
   parameter bit PipeCheck = 1'b0,  // task prove_conf: assert Pipe_A (below)
+  parameter bit IssueReg = DefaultIssueReg,  // tasks *_noreg: 0 (the table without I)
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
   localparam int unsigned AgeWidth = $clog2(NumWays)
@@ -57,7 +61,7 @@ module pred_table_formal
   hrpp_pred_table #(
     .NumSets(NumSets), .NumWays(NumWays), .NodesPerEntry(NodesPerEntry),
     .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .ConfBits(ConfBits),
-    .RamBankDepth(RamBankDepth)
+    .RamBankDepth(RamBankDepth), .IssueReg(IssueReg)
   ) dut (.*);
 
   // Without confidence bits there are no demotes (hrpp_top ties the input to 0).
@@ -235,27 +239,46 @@ module pred_table_formal
       end
     return r.tag == tag && (demote || last_demote || last_node == node);
   endfunction
+  // The request the table's interlock judges: the input, or with IssueReg the harness's copy of
+  // I (the input taken when tbl_wr_ready_o was high); it leaves (issued or merged) when the
+  // design's wr_go says so.
+  typedef struct packed {
+    logic                   valid;
+    logic [IdxWidth-1:0]    idx;
+    logic [TagWidth-1:0]    tag;
+    logic [NodeIdWidth-1:0] node;
+    logic                   demote;
+  } jreq_t;
+  jreq_t in_req, ai_q, jr;
+  logic  j_go;
+  assign in_req = '{tbl_wr_valid_i, tbl_wr_idx_i, tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i};
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) ai_q <= '0;
+    else if (tbl_wr_ready_o) ai_q <= in_req;
+  end
+  assign jr   = IssueReg ? ai_q : in_req;
+  assign j_go = jr.valid && dut.wr_go;
   function automatic req_t with_merged(req_t r);
     req_t m;
     m = r;
     if (r.m_valid[0]) begin
       m.m_valid[1] = 1'b1;
-      m.m_node[1] = tbl_wr_node_i;
-      m.m_demote[1] = tbl_wr_demote_i;
+      m.m_node[1] = jr.node;
+      m.m_demote[1] = jr.demote;
     end else begin
       m.m_valid[0] = 1'b1;
-      m.m_node[0] = tbl_wr_node_i;
-      m.m_demote[0] = tbl_wr_demote_i;
+      m.m_node[0] = jr.node;
+      m.m_demote[0] = jr.demote;
     end
     return m;
   endfunction
   logic merge_new, merge_0;
   always_comb begin
-    merge_0 = req_q[0].valid && req_q[0].idx == tbl_wr_idx_i;
-    merge_new = merge_0 ? merges(req_q[0], tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i)
-                        : req_q[1].valid && req_q[1].idx == tbl_wr_idx_i &&
-                          merges(req_q[1], tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i);
-    merge_new &= ConfBits > 0 && tbl_wr_valid_i && tbl_wr_ready_o;
+    merge_0 = req_q[0].valid && req_q[0].idx == jr.idx;
+    merge_new = merge_0 ? merges(req_q[0], jr.tag, jr.node, jr.demote)
+                        : req_q[1].valid && req_q[1].idx == jr.idx &&
+                          merges(req_q[1], jr.tag, jr.node, jr.demote);
+    merge_new &= ConfBits > 0 && j_go;
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -265,8 +288,8 @@ module pred_table_formal
       mconf_q <= '0;
     end else begin
       req_q <= {req_q[UpdateStages-2:0],
-                req_t'{tbl_wr_valid_i && tbl_wr_ready_o && !merge_new, tbl_wr_idx_i,
-                       tbl_wr_tag_i, tbl_wr_node_i, tbl_wr_demote_i, 2'b00, '0, 2'b00}};
+                req_t'{j_go && !merge_new, jr.idx, jr.tag, jr.node, jr.demote, 2'b00, '0,
+                       2'b00}};
       if (merge_new && merge_0) req_q[1] <= with_merged(req_q[0]);
       if (merge_new && !merge_0) req_q[2] <= with_merged(req_q[1]);
       model_q <= model_next;
@@ -396,12 +419,42 @@ module pred_table_formal
               req_q[6].valid == dut.w_q.valid && (!req_q[6].valid || req_q[6].idx == dut.w_q.idx);
   end
 
+  // IssueReg: I holds the harness's request, and its compares are those against T0 and T1 now.
+  logic issue_ok;
+  if (IssueReg) begin : gen_issue_check
+    function automatic logic key_eq(logic [TagWidth-1:0] tag, logic [NodeIdWidth-1:0] node,
+                                    logic demote);
+      return ai_q.tag == tag && ((ConfBits > 0 && ai_q.demote) || demote || ai_q.node == node);
+    endfunction
+    always_comb begin
+      issue_ok = dut.gen_issue_reg.i_q.valid == ai_q.valid;
+      if (ai_q.valid) begin
+        issue_ok &= dut.gen_issue_reg.i_q.idx == ai_q.idx && dut.gen_issue_reg.i_q.tag == ai_q.tag
+                    && dut.gen_issue_reg.i_q.node == ai_q.node &&
+                    dut.gen_issue_reg.i_q.demote == (ConfBits > 0 && ai_q.demote);
+        issue_ok &= dut.gen_issue_reg.i_cmp_q.same_t0 ==
+                    (dut.t0_q.valid && dut.t0_q.idx == ai_q.idx);
+        issue_ok &= dut.gen_issue_reg.i_cmp_q.same_t1 ==
+                    (dut.t1_q.valid && dut.t1_q.idx == ai_q.idx);
+        if (dut.gen_issue_reg.i_cmp_q.same_t0)
+          issue_ok &= dut.gen_issue_reg.i_cmp_q.as_t0 ==
+                      key_eq(dut.t0_q.tag, dut.t0_q.node, dut.t0_q.demote);
+        if (dut.gen_issue_reg.i_cmp_q.same_t1)
+          issue_ok &= dut.gen_issue_reg.i_cmp_q.as_t1 ==
+                      key_eq(dut.t1_q.tag, dut.t1_q.node, dut.t1_q.demote);
+      end
+    end
+  end else begin : gen_no_issue_check
+    assign issue_ok = 1'b1;
+  end
+
   always_comb begin
     if (rst_ni && init_done_o) begin
       Invariants_A: assert (inv_ok);
       Model_A: assert (model_ok);
     end
     if (rst_ni && ConfBits > 0 && PipeCheck) Pipe_A: assert (pipe_ok);
+    if (rst_ni && IssueReg) IssueHolds_A: assert (issue_ok);
     if (rst_ni) begin
       LookupValid_A: assert (lk_valid_o == lk_q[L]);
       if (lk_q[L]) begin

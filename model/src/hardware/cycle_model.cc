@@ -44,6 +44,7 @@ void CycleModel::reset() {
   requests_.clear();
   requested_.clear();
   for (auto& u : up_) u.reset();
+  issue_.reset();
 }
 
 void CycleModel::check_against_requests(const Op& written) {
@@ -64,12 +65,14 @@ void CycleModel::tick(const DutIn& in) {
   lane_.lookup(true, table_);  // the table takes every lookup at once
   lane_.pred_fifo(in);
 
-  // The table takes the update queue's head unless it is of the set of an update accepted in
-  // either of the two previous cycles (T0, T1: the same-set interlock); if it merges into the
-  // newer of those of its set (LaneModel::Op::merges), it is taken and merged, not issued.
+  // The table's interlock judges the update queue's head, or with the issue register (IssueReg)
+  // the request in I: it leaves unless it is of the set of an update accepted in either of the
+  // two previous cycles (T0, T1: the same-set interlock); if it merges into the newer of those of
+  // its set (LaneModel::Op::merges), it leaves merged, not issued.
   std::optional<Op> issued;
-  if (!clearing_ && lane_.update_head()) {
-    Op head = *lane_.update_head();
+  const Op* judged = cfg_.issue_reg ? (issue_ ? &*issue_ : nullptr) : lane_.update_head();
+  if (!clearing_ && judged) {
+    Op head = *judged;
     std::optional<Op>& t0 = up_[0];
     std::optional<Op>& t1 = up_[1];
     Op* newer = t0 && t0->idx == head.idx ? &*t0 : t1 && t1->idx == head.idx ? &*t1 : nullptr;
@@ -77,7 +80,10 @@ void CycleModel::tick(const DutIn& in) {
     if (!newer || merge) {
       head.seq = next_seq_++;
       requests_.push_back(head);  // a merged one too: the self-check applies it with `newer`
-      lane_.pop_update();
+      if (cfg_.issue_reg)
+        issue_.reset();
+      else
+        lane_.pop_update();
       if (merge) {
         newer->merge(head);
         stats_.merged++;
@@ -87,6 +93,11 @@ void CycleModel::tick(const DutIn& in) {
     } else {
       stats_.interlock_cycles++;
     }
+  }
+  // I takes the update queue's head when it is empty or its request left in this cycle.
+  if (cfg_.issue_reg && !clearing_ && !issue_ && lane_.update_head()) {
+    issue_ = *lane_.update_head();
+    lane_.pop_update();
   }
 
   // The skip controller, the key store, the lane's pipelines.

@@ -80,8 +80,11 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
   for (size_t i = 0; i < n; ++i) lanes_[i].pred_fifo(in[i]);
 
   // Update crossbar: per bank the first lane whose queue head is of the bank, from the
-  // round-robin pointer on; the bank takes it unless its same-set interlock holds it (then no
-  // lane's head goes), and drops it if identical to the newer same-set update in T0/T1.
+  // round-robin pointer on. The bank's interlock judges that head, or with the issue register
+  // (IssueReg) the request in the bank's I, which then takes that head when it is empty or its
+  // request leaves in this cycle. The judged request waits while its same-set interlock holds it
+  // (then no lane's head goes), and is dropped (merged) if identical to the newer same-set update
+  // in T0/T1.
   // The heads of this cycle (a lane's queue gives at most one request per cycle).
   std::vector<std::optional<Op>> uq_head(n);
   for (size_t i = 0; i < n; ++i)
@@ -96,24 +99,39 @@ void LanesCycleModel::tick(const std::vector<DutIn>& in) {
     }
     for (size_t i = 0; i < n; ++i)
       if (uq_head[i] && bank_of(uq_head[i]->idx) == b && sel != i) lanes_stats_.update_waits++;
-    if (!sel || clearing_) continue;
-    Op head_op = *uq_head[*sel];
-    std::optional<Op>& t0 = bank.up[0];
-    std::optional<Op>& t1 = bank.up[1];
-    Op* newer = t0 && t0->idx == head_op.idx ? &*t0 : t1 && t1->idx == head_op.idx ? &*t1 : nullptr;
-    if (newer && !newer->merges(head_op)) {
-      stats_.interlock_cycles++;
-      continue;
+    if (clearing_) continue;
+    auto take_head = [&] {
+      lanes_[*sel].pop_update();
+      bank.update_rr = int((*sel + 1) % n);
+    };
+    std::optional<Op> judged = cfg_.issue_reg ? bank.issue : sel ? uq_head[*sel] : std::nullopt;
+    if (judged) {
+      Op head_op = *judged;
+      std::optional<Op>& t0 = bank.up[0];
+      std::optional<Op>& t1 = bank.up[1];
+      Op* newer = t0 && t0->idx == head_op.idx   ? &*t0
+                  : t1 && t1->idx == head_op.idx ? &*t1
+                                                 : nullptr;
+      if (newer && !newer->merges(head_op)) {
+        stats_.interlock_cycles++;
+        continue;
+      }
+      if (cfg_.issue_reg)
+        bank.issue.reset();
+      else
+        take_head();
+      head_op.seq = next_seq_++;
+      bank.requests.push_back(head_op);
+      if (newer) {  // merged (no confidence bits: identical, changes nothing), not issued
+        newer->merge(head_op);
+        stats_.merged++;
+      } else {
+        issued[b] = head_op;
+      }
     }
-    lanes_[*sel].pop_update();
-    bank.update_rr = int((*sel + 1) % n);
-    head_op.seq = next_seq_++;
-    bank.requests.push_back(head_op);
-    if (newer) {  // merged (no confidence bits: identical, changes nothing), not issued
-      newer->merge(head_op);
-      stats_.merged++;
-    } else {
-      issued[b] = head_op;
+    if (cfg_.issue_reg && !bank.issue && sel) {
+      bank.issue = uq_head[*sel];
+      take_head();
     }
   }
 

@@ -191,13 +191,17 @@ TimedConfig preset_timing(const std::string& preset) {
     return t;
   }
   // An RTL configuration's latencies (a key store in block RAM adds a cycle to the decision and
-  // the update: rtl_config.h); any other preset, the default configuration's.
-  bool bram = false;
+  // the update, the table's issue register one to the update: rtl_config.h); any other preset,
+  // the declared ones.
+  bool bram = false, issue = false;
   for (const rtl::ConfigData& c : rtl::kConfigs)
-    if (preset == std::string("rtl-") + c.name) bram = c.key_store_bram;
+    if (preset == std::string("rtl-") + c.name) {
+      bram = c.key_store_bram;
+      issue = c.issue_reg;
+    }
   t.lookup_latency = rtl::kPredictionLatency;
   t.decision_latency = rtl::kDecisionLatency + int(bram);
-  t.update_latency = rtl::kUpdateLanding + int(bram);
+  t.update_latency = rtl::kUpdateLanding + int(bram) + int(issue);
   t.lookups_per_cycle = 1;
   t.updates_per_cycle = 1;
   t.credits = 0;

@@ -84,6 +84,9 @@ struct CycleConfig {
   // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
   // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
   bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
+  // The table's issue register (IssueReg): a request taken from the update queue waits a cycle in
+  // I, where the interlock judges it, before T0: one cycle more of update latency.
+  bool issue_reg = rtl::kDefaultConfig.issue_reg;
   /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
   /// cycle_model_lanes.h).
   int lanes = 1;
@@ -129,7 +132,7 @@ struct DutOut {
 struct CycleStats {
   uint64_t updates = 0;           // rows written by updates (W)
   uint64_t evictions = 0;         // updates that replaced a valid entry of another tag
-  uint64_t interlock_cycles = 0;  // cycles the update queue's head waited (same-set interlock)
+  uint64_t interlock_cycles = 0;  // cycles the judged request waited (same-set interlock)
   uint64_t merged = 0;  // requests merged into the newer same-set one in T0/T1 (not issued)
   uint64_t resets = 0;  // reset() calls after construction (cycles in reset)
 };

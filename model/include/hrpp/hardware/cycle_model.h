@@ -60,6 +60,7 @@ class CycleModel {
   // The table's update pipeline after the lane's update queue: T0, T1, T2, C1, C2, C3, W.
   static constexpr int kUpdateStages = rtl::kUpdateStages;
   std::array<std::optional<Op>, kUpdateStages> up_;  // [0] = T0 ... [6] = W
+  std::optional<Op> issue_;  // the issue register I before T0 (cfg_.issue_reg)
 };
 
 }  // namespace hrpp

@@ -51,6 +51,7 @@ class LanesCycleModel {
   static constexpr int kUpdateStages = rtl::kUpdateStages;
   struct Bank {
     std::array<std::optional<Op>, kUpdateStages> up;  // [0] = T0 ... [6] = W
+    std::optional<Op> issue;  // the issue register I before T0 (cfg_.issue_reg)
     std::deque<Op> requests;  // taken (issued or merged), not yet applied to requested_
     int lookup_rr = 0, update_rr = 0;
   };

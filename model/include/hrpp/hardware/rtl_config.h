@@ -33,12 +33,16 @@ struct RtlConfig {
   bool inject_fault = false;    // test only (the "mutant" configuration)
   int lanes = 1;                // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
   bool any_hit_only = false;    // predict_kinds "any-hit": the unit offers any-hit rays only
+  bool issue_reg = false;       // IssueReg: the table's issue register, one cycle more of update
 
   /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
-  /// the declared ones, and one cycle more with the key store in block RAM (its registered read).
+  /// the declared ones, one cycle more with the key store in block RAM (its registered read), and
+  /// one cycle more of update latency with the table's issue register.
   int decision_latency() const { return rtl::kDecisionLatency + int(key_store_bram); }
-  int update_write_latency() const { return rtl::kUpdateWriteLatency + int(key_store_bram); }
-  int update_landing() const { return rtl::kUpdateLanding + int(key_store_bram); }
+  int update_write_latency() const {
+    return rtl::kUpdateWriteLatency + int(key_store_bram) + int(issue_reg);
+  }
+  int update_landing() const { return rtl::kUpdateLanding + int(key_store_bram) + int(issue_reg); }
 
   /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3"; the
   /// octahedral direction code: "improved hash 3/3 oct concat").
@@ -74,6 +78,7 @@ struct RtlConfig {
     c.skip_fifo_depth = skip_fifo_depth;
     c.update_queue_depth = update_queue_depth;
     c.key_store_bram = key_store_bram;
+    c.issue_reg = issue_reg;
     c.lanes = lanes;
     return c;
   }
@@ -117,6 +122,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.key_store_bram = d.key_store_bram;
   c.inject_fault = d.inject_fault;
   c.lanes = int(d.lanes);
+  c.issue_reg = d.issue_reg;
   return c;
 }
 
