@@ -343,7 +343,8 @@ module hrpp_lane
   // final outcome's and a predicted-walk result's, in that order) and gives the table one. The
   // skip controller sees only whether it has room for one and for two (from the count register),
   // so its handshake does not wait for the table's same-set interlock, which looks at the
-  // queue's head (and drops a head identical to the newer same-set update in T0/T1).
+  // queue's head, or with the table's issue register (IssueReg) at the request it took from it
+  // (and drops a request identical to the newer same-set update in T0/T1).
   localparam int unsigned UqPtrWidth = $clog2(UpdateQueueDepth);
   localparam int unsigned UqCountWidth = $clog2(UpdateQueueDepth + 1);
   typedef struct packed {
@@ -386,8 +387,9 @@ module hrpp_lane
     if (uq_take2) uq_mem_q[uq_wr_q + 1'b1] <= uq_req2;  // behind the first, taken too
   end
   // The head, registered (a copy of uq_mem_q[uq_rd_q]): the table's interlock compares it with
-  // T0 and T1 and pops it in the same cycle, so no read multiplexer sits in front of that. Its
-  // next value: the entry at the next read pointer after this cycle's writes.
+  // T0 and T1 and pops it in the same cycle (with IssueReg the table takes it into I when I is
+  // free, and compares it there), so no read multiplexer sits in front of that. Its next value:
+  // the entry at the next read pointer after this cycle's writes.
   function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
     if (uq_take1 && uq_wr_q == i) return uq_req1;
     if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;

@@ -152,7 +152,8 @@ module hrpp_lanes
       bk_wr_demote[b] = uq_demote[wr_sel[b]];
     end
   end
-  // The lanes granted (a bank's update interlock may hold its selected head: then no lane pops).
+  // The lanes granted (a bank's update interlock, or its full issue register I, may hold its
+  // selected head: then no lane pops).
   always_comb begin
     lq_grant = '0;
     uq_pop   = '0;

@@ -6,11 +6,13 @@
 // per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
 //   lookup: L1 read address | L2 RAM data | L3 RAM data registered, collision select, tag
 //           compare | L4 way select, outputs registered: lk_valid_o four cycles after lk_valid_i.
-//   update: T0 read address | T1 RAM data | T2 RAM data registered | C1 forward, match |
-//           C2 select the way | C3 new row | W write to both copies.
+//   update: [I issue register: IssueReg] | T0 read address | T1 RAM data | T2 RAM data
+//           registered | C1 forward, match | C2 select the way | C3 new row | W write to both
+//           copies.
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
-// low), unless it merges into the newer of those two (below): then it is taken and never issued.
+// low; with IssueReg it waits in I, and the input waits while I is full), unless it merges into
+// the newer of those two (below): then it is taken and never issued.
 // Every other hazard is forwarded, so one lookup and one update per cycle are sustained.
 // Without confidence bits only an identical update (set, tag and node) merges: it changes nothing
 // (the update before it left its tag's way the most recently used, holding the node first).
