@@ -5,15 +5,22 @@ that takes a DP16KD data output moved into the block RAM's output register (REGM
 then nextpnr-ecp5 per speed grade and placer seed, beside the same netlist without the move.
 
   .venv/bin/python rtl/syn/outreg_experiment.py [--config primary] [--speeds 6,8] [--seeds 1,2]
+      [--ceiling]
+
+--ceiling measures the configuration's ceiling instead (rtl/syn/hrpp_syn_ceiling.sv as
+`make synth` sizes it: the bare block RAM whose output register, with no reset, moves the same
+way), so that a design's figure with the moved registers can be read against a ceiling that has
+them too.
 
 Yosys 0.70 maps the table's registered reads to a DP16KD (NOREG) and a TRELLIS_FF per output bit
 and does not absorb the flip-flop into the RAM; the move is made on Yosys's JSON netlist. A DO bit
 is moved only when its one load is a TRELLIS_FF's data input with the RAM's clock, no clock
-enable (CE constant 1) and an asynchronous reset to 0 (the table's L3 / T2 registers), and a RAM
-is changed only when every used DO bit qualifies, with one reset net, which becomes the RAM's
-RSTA / RSTB (RESETMODE ASYNC; OCEA / OCEB 1). Timing only: the netlist is not simulated (Yosys's
-DP16KD has no simulation model), so it is a measurement, not a build. Results in out/outreg/
-(CONFIG.json keeps every speed grade and seed run so far).
+enable (CE constant 1) and an asynchronous reset to 0 (the table's L3 / T2 registers) or no reset
+(the ceiling's: LSR constant 0), and a RAM is changed only when every used DO bit qualifies, with
+one reset net, which becomes the RAM's RSTA / RSTB (RESETMODE ASYNC; OCEA / OCEB 1). Timing only:
+the netlist is not simulated (Yosys's DP16KD has no simulation model), so it is a measurement, not
+a build. Results in out/outreg/ (CONFIG.json, or CONFIG-ceiling.json, keeps every speed grade and
+seed run so far).
 """
 from __future__ import annotations
 
@@ -56,10 +63,12 @@ def absorb(netlist: dict) -> tuple[int, int]:
             ld = loads[bits[0]]
             ff = cells.get(ld[0][0]) if len(ld) == 1 and ld[0][0] else None
             pr = ff["parameters"] if ff else {}
+            no_reset = bool(ff) and ff["connections"].get("LSR") == ["0"]
             if not ff or ff["type"] != "TRELLIS_FF" or ld[0][1] != "DI" or \
                     ff["connections"]["CLK"] != clk or pr.get("CEMUX", "").strip() != "1" or \
-                    pr.get("REGSET") != "RESET" or pr.get("SRMODE") != "ASYNC" or \
-                    pr.get("CLKMUX") != "CLK" or pr.get("LSRMUX") != "LSR":
+                    pr.get("CLKMUX") != "CLK" or not (no_reset or (
+                        pr.get("REGSET") == "RESET" and pr.get("SRMODE") == "ASYNC" and
+                        pr.get("LSRMUX") == "LSR")):
                 ok = False
                 break
             resets.add(ff["connections"]["LSR"][0])
@@ -97,6 +106,8 @@ def main() -> int:
     ap.add_argument("--config", default="primary")
     ap.add_argument("--speeds", default="6,8")
     ap.add_argument("--seeds", default="1,2")
+    ap.add_argument("--ceiling", action="store_true",
+                    help="the configuration's ceiling RAM instead of the configuration")
     args = ap.parse_args()
     os.chdir(ROOT)
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
@@ -104,22 +115,29 @@ def main() -> int:
     if args.config not in cfgs:
         raise FlowError(f"unknown configuration {args.config} ({sorted(cfgs)})")
     p = cfgs[args.config]
-    top = "hrpp_lanes" if p.get("Lanes", 1) > 1 else "hrpp_top"
-    base = OUT / args.config
+    name = f"{args.config}-ceiling" if args.ceiling else args.config
+    if args.ceiling:  # sized as synth.py sizes it
+        geo = synth.table_geometry(p)
+        top, params = "hrpp_syn_ceiling", {"Depth": geo["sets"], "Width": geo["row_bits"]}
+        files = ["rtl/syn/hrpp_syn_ceiling.sv"]
+    else:
+        top = "hrpp_lanes" if p.get("Lanes", 1) > 1 else "hrpp_top"
+        params, files = dict(p), rtl_files()
+    base = OUT / name
     (ROOT / f"{base}.ys").write_text(
-        f"{synth.read_slang_cmd(top, dict(p), rtl_files())}\nhierarchy -check -top {top}\n"
+        f"{synth.read_slang_cmd(top, params, files)}\nhierarchy -check -top {top}\n"
         f"synth_ecp5 -top {top} -json {base}.ecp5.json\n")
     run_tool([YOSYS, "-q", "-l", f"{base}.yosys.log", f"{base}.ys"], Path(f"{base}.stdout"),
-             900, f"{args.config}: yosys")
+             900, f"{name}: yosys")
     net = json.loads((ROOT / f"{base}.ecp5.json").read_text())
     done, left = absorb(net)
     if not done:
-        raise FlowError(f"{args.config}: no DP16KD output could take its flip-flops")
+        raise FlowError(f"{name}: no DP16KD output could take its flip-flops")
     (ROOT / f"{base}-outreg.ecp5.json").write_text(json.dumps(net))
-    print(f"{args.config}: {done} DP16KD take their output flip-flops, {left} do not")
-    summary = ROOT / OUT / f"{args.config}.json"
+    print(f"{name}: {done} DP16KD take their output flip-flops, {left} do not")
+    summary = ROOT / OUT / f"{name}.json"
     res = json.loads(summary.read_text()) if summary.exists() else {}  # earlier seeds kept
-    for tag in (args.config, f"{args.config}-outreg"):
+    for tag in (name, f"{name}-outreg"):
         for sp in map(int, args.speeds.split(",")):
             for sd in map(int, args.seeds.split(",")):
                 res[f"{tag} speed {sp} seed {sd}"] = r = pnr(tag, sp, sd)
