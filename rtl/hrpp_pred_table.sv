@@ -16,7 +16,8 @@
 // Every other hazard is forwarded, so one lookup and one update per cycle are sustained.
 // Without confidence bits only an identical update (set, tag and node) merges: it changes nothing
 // (the update before it left its tag's way the most recently used, holding the node first).
-// After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low).
+// After reset the table clears itself, one set per cycle (NumSets cycles, init_done_o low); it
+// takes no lookup and no update until init_done_o (the lane takes no ray before it).
 //
 // Confidence (ConfBits = 1; docs/hash.md, "Confidence", with C = 1, T = 1): each way holds a
 // confidence bit beside its node list (stored in the RAM only when ConfBits = 1: the RAM word is
@@ -242,9 +243,11 @@ module hrpp_pred_table
       l3_wrow_q    <= '0;
     end else begin
       l2_valid_q   <= lk_valid_i;
-      l2_collide_q <= lk_valid_i && we && waddr == lk_idx_i;
+      // No lookup comes while the table clears (NoLookupWhileClearing_A): only W's writes can
+      // collide with one, so neither the compare nor the row waits for the clear's multiplexers.
+      l2_collide_q <= lk_valid_i && w_q.valid && w_q.idx == lk_idx_i;
       l2_tag_q     <= lk_tag_i;
-      l2_wrow_q    <= wdata;
+      l2_wrow_q    <= w_q.row;
       l3_valid_q   <= l2_valid_q;
       l3_collide_q <= l2_collide_q;
       l3_tag_q     <= l2_tag_q;
@@ -738,6 +741,10 @@ module hrpp_pred_table
   // At most one way matches in a lookup too.
   LookupOneMatch_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       $onehot0(l4_match_q));
+  // No lookup while the table clears (the lanes take no ray before init_done_o): L2's collision
+  // compare looks at W's writes only.
+  NoLookupWhileClearing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      clearing_q |-> !lk_valid_i);
   // Lookup outputs are never X.
   LookupKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       lk_valid_o |-> !$isunknown({lk_count_o, lk_nodes_o}));

@@ -160,7 +160,7 @@ PLANTED = [
             "        if (c3_q.sel[w]) c3_new_row[w].conf = c3_q.row[w].conf;",
             ("Model_A",), "a demote leaves the confidence bit as it was", "quick_conf"),
     Planted("table_forward", "pred_table", "rtl/hrpp_pred_table.sv",
-            "l2_collide_q <= lk_valid_i && we && waddr == lk_idx_i;",
+            "l2_collide_q <= lk_valid_i && w_q.valid && w_q.idx == lk_idx_i;",
             "l2_collide_q <= 1'b0;",
             ("LookupCount_A", "LookupNodes_A"),
             "a lookup reading the set being written gets the RAM's read-during-write data"),
