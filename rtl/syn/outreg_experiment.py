@@ -9,8 +9,8 @@ then nextpnr-ecp5 per speed grade and placer seed, beside the same netlist witho
 
 --ceiling measures the configuration's ceiling instead (rtl/syn/hrpp_syn_ceiling.sv as
 `make synth` sizes it: the bare block RAM whose output register, with no reset, moves the same
-way), so that a design's figure with the moved registers can be read against a ceiling that has
-them too.
+way). With its output register moved the ceiling keeps no path out of the RAM, and nextpnr checks
+no minimum cycle of the RAM itself, so its figure bounds nothing (docs/microarchitecture.md).
 
 Yosys 0.70 maps the table's registered reads to a DP16KD (NOREG) and a TRELLIS_FF per output bit
 and does not absorb the flip-flop into the RAM; the move is made on Yosys's JSON netlist. A DO bit
@@ -116,13 +116,10 @@ def main() -> int:
         raise FlowError(f"unknown configuration {args.config} ({sorted(cfgs)})")
     p = cfgs[args.config]
     name = f"{args.config}-ceiling" if args.ceiling else args.config
-    if args.ceiling:  # sized as synth.py sizes it
-        geo = synth.table_geometry(p)
-        top, params = "hrpp_syn_ceiling", {"Depth": geo["sets"], "Width": geo["row_bits"]}
-        files = ["rtl/syn/hrpp_syn_ceiling.sv"]
+    if args.ceiling:
+        top, params, files = "hrpp_syn_ceiling", synth.ceiling_params(p), [synth.CEILING_SV]
     else:
-        top = "hrpp_lanes" if p.get("Lanes", 1) > 1 else "hrpp_top"
-        params, files = dict(p), rtl_files()
+        top, params, files = synth.top_of(p), dict(p), rtl_files()
     base = OUT / name
     (ROOT / f"{base}.ys").write_text(
         f"{synth.read_slang_cmd(top, params, files)}\nhierarchy -check -top {top}\n"

@@ -105,6 +105,22 @@ def table_geometry(p: dict[str, int]) -> dict[str, int]:
             "way_bits": way_bits, "row_bits": row, "table_bits": sets * row}
 
 
+CEILING_SV = "rtl/syn/hrpp_syn_ceiling.sv"
+
+
+def top_of(p: dict[str, int]) -> str:
+    """The top module of a configuration's parameters (rtl_config.top_module's rule: Lanes is a
+    parameter only with more than one lane)."""
+    return "hrpp_lanes" if p.get("Lanes", 1) > 1 else "hrpp_top"
+
+
+def ceiling_params(p: dict[str, int]) -> dict[str, int]:
+    """hrpp_syn_ceiling's parameters for a configuration: as deep as its table (sets), as wide as
+    one set row."""
+    geo = table_geometry(p)
+    return {"Depth": geo["sets"], "Width": geo["row_bits"]}
+
+
 def describe(p: dict[str, int]) -> str:
     if p.get("Variant", 0):
         h = f"improved o{p.get('OriginBits', 5)}/d{p.get('DirBits', 3)}"
@@ -162,14 +178,14 @@ def flow(jobs: list[tuple[str, dict[str, int]]], speeds: list[int], pool: cf.Exe
     for name, params in jobs:
         geo = table_geometry(params)
         info = {"config": name, "params": params, "description": describe(params), **geo}
-        top = "hrpp_lanes" if params.get("Lanes", 1) > 1 else "hrpp_top"
+        top = top_of(params)
         futs[(name, "design")] = pool.submit(
             yosys_design, info, read_slang_cmd(top, dict(params), rtl_files()),
             name in netlist_for, top)
-        ceiling = {"Depth": geo["sets"], "Width": geo["row_bits"]}
+        ceiling = ceiling_params(params)
         futs[(name, "ceiling")] = pool.submit(
-            yosys_ceiling, name, geo["sets"], geo["row_bits"],
-            read_slang_cmd("hrpp_syn_ceiling", ceiling, ["rtl/syn/hrpp_syn_ceiling.sv"]))
+            yosys_ceiling, name, ceiling["Depth"], ceiling["Width"],
+            read_slang_cmd("hrpp_syn_ceiling", ceiling, [CEILING_SV]))
     pnr = {}
     for (name, kind), f in futs.items():
         f.result()
