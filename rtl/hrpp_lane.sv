@@ -356,11 +356,16 @@ module hrpp_lane
   uq_req_t                 uq_mem_q[UpdateQueueDepth];
   uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
   logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
+  logic [UqPtrWidth-1:0]   uq_rd1_q;  // uq_rd_q + 1, a register
+  // One-hot write pointers: uq_wr_oh_q[i] = (uq_wr_q == i), uq_wr1_oh_q[i] = (uq_wr_q + 1 == i)
+  logic [UpdateQueueDepth-1:0] uq_wr_oh_q, uq_wr1_oh_q;
   logic [UqCountWidth-1:0] uq_count_q;
+  logic [UpdateQueueDepth:0] uq_cnt_oh_q;  // one-hot: uq_cnt_oh_q[k] = (uq_count_q == k)
   logic                    uq_take1, uq_take2, uq_pop;
 
-  assign uq_room1 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 1);
-  assign uq_room2 = uq_count_q <= UqCountWidth'(UpdateQueueDepth - 2);
+  // The flags the handshake and the head need come from the one-hot count, a flip-flop each.
+  assign uq_room1 = !uq_cnt_oh_q[UpdateQueueDepth];
+  assign uq_room2 = !uq_cnt_oh_q[UpdateQueueDepth] && !uq_cnt_oh_q[UpdateQueueDepth-1];
   assign uq_req1  = '{idx: sc_tbl_wr_idx, tag: sc_tbl_wr_tag, node: sc_tbl_wr_node,
                       demote: ConfBits > 0 && sc_tbl_wr_demote};
   assign uq_req2  = '{idx: sc_tbl_wr2_idx, tag: sc_tbl_wr2_tag, node: sc_tbl_wr2_node,
@@ -370,43 +375,67 @@ module hrpp_lane
   assign uq_take2 = sc_tbl_wr2_valid && uq_room2;  // the first is taken too
   assign uq_pop   = tbl_wr_valid && tbl_wr_ready;
 
+  function automatic logic [UpdateQueueDepth-1:0] uq_rotl(logic [UpdateQueueDepth-1:0] x,
+                                                           int unsigned n);  // n <= 2
+    return UpdateQueueDepth'((x << n) | (x >> (UpdateQueueDepth - n)));
+  endfunction
+
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      uq_rd_q    <= '0;
-      uq_wr_q    <= '0;
-      uq_count_q <= '0;
+      uq_rd_q     <= '0;
+      uq_wr_q     <= '0;
+      uq_rd1_q    <= UqPtrWidth'(1);
+      uq_wr_oh_q  <= UpdateQueueDepth'(1);
+      uq_wr1_oh_q <= UpdateQueueDepth'(2);
+      uq_count_q  <= '0;
+      uq_cnt_oh_q <= (UpdateQueueDepth + 1)'(1);
     end else begin
       uq_rd_q    <= uq_rd_q + UqPtrWidth'(uq_pop);
+      uq_rd1_q   <= uq_rd1_q + UqPtrWidth'(uq_pop);
       uq_wr_q    <= uq_wr_q + UqPtrWidth'(uq_take1) + UqPtrWidth'(uq_take2);
+      uq_wr_oh_q  <= uq_rotl(uq_wr_oh_q, 32'(uq_take1) + 32'(uq_take2));
+      uq_wr1_oh_q <= uq_rotl(uq_wr1_oh_q, 32'(uq_take1) + 32'(uq_take2));
       uq_count_q <= uq_count_q + UqCountWidth'(uq_take1) + UqCountWidth'(uq_take2) -
                     UqCountWidth'(uq_pop);
+      // take2 implies take1: the count moves by -1, 0, +1 or +2.
+      unique case ({uq_take1, uq_take2, uq_pop})
+        3'b001:         uq_cnt_oh_q <= uq_cnt_oh_q >> 1;
+        3'b100, 3'b111: uq_cnt_oh_q <= uq_cnt_oh_q << 1;
+        3'b110:         uq_cnt_oh_q <= uq_cnt_oh_q << 2;
+        default:        uq_cnt_oh_q <= uq_cnt_oh_q;  // 000, 101
+      endcase
     end
   end
   always_ff @(posedge clk_i) begin
-    if (uq_take1) uq_mem_q[uq_wr_q] <= uq_req1;
-    if (uq_take2) uq_mem_q[uq_wr_q + 1'b1] <= uq_req2;  // behind the first, taken too
+    for (int unsigned i = 0; i < UpdateQueueDepth; i++) begin
+      if (uq_take1 && uq_wr_oh_q[i]) uq_mem_q[i] <= uq_req1;
+      if (uq_take2 && uq_wr1_oh_q[i]) uq_mem_q[i] <= uq_req2;  // behind the first, taken too
+    end
   end
   // The head, registered (a copy of uq_mem_q[uq_rd_q]): the table's interlock compares it with
   // T0 and T1 and pops it in the same cycle (with IssueReg the table takes it into I when I is
   // free, and compares it there), so no read multiplexer sits in front of that. Its next value:
-  // the entry at the next read pointer after this cycle's writes.
-  function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
-    if (uq_take1 && uq_wr_q == i) return uq_req1;
-    if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
-    return stored;
-  endfunction
-  // Both candidates come from registers and this cycle's writes; the pop (the table's interlock,
-  // late in the cycle) only selects between them (kept as nets so that synthesis does not fold
-  // the select into the candidates' logic: docs/microarchitecture.md, "Clock speed").
+  // the entry at the next read pointer after this cycle's writes, needed only when the queue is
+  // not empty after this cycle. Which write lands there follows from the count (the write
+  // pointer is the read pointer plus the count): when the head stays, the first request does
+  // when the queue is empty (the second cannot: it needs room for two); when the head leaves,
+  // the first request does when one entry is in, else the entry behind the head (no write lands
+  // there: the second request behind the first needs the queue empty, and a pop needs it not).
+  // In both cases a queue left empty has no head, so the first request's candidate is taken
+  // whether or not it is taken into the queue: the head does not wait for the skip controller's
+  // handshake (uq_take1, uq_take2). UpdateQueueHeadNext_A below checks this against the
+  // pointers. The pop (the table's interlock, late in the cycle) only selects between the two
+  // candidates (kept as nets so that synthesis does not fold the select into the candidates'
+  // logic: docs/microarchitecture.md, "Clock speed").
   (* keep *) uq_req_t uq_head_if_pop, uq_head_if_hold;
-  assign uq_head_if_pop  = uq_entry_after_writes(uq_rd_q + 1'b1, uq_mem_q[uq_rd_q + 1'b1]);
-  assign uq_head_if_hold = uq_entry_after_writes(uq_rd_q, uq_head_q);
+  assign uq_head_if_pop  = uq_cnt_oh_q[1] ? uq_req1 : uq_mem_q[uq_rd1_q];
+  assign uq_head_if_hold = uq_cnt_oh_q[0] ? uq_req1 : uq_head_q;
   assign uq_head_d = uq_pop ? uq_head_if_pop : uq_head_if_hold;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) uq_head_q <= '0;
     else uq_head_q <= uq_head_d;
   end
-  assign tbl_wr_valid = uq_count_q != '0;
+  assign tbl_wr_valid = !uq_cnt_oh_q[0];
   assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node, tbl_wr_demote} = uq_head_q;
 
   // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
@@ -544,6 +573,31 @@ module hrpp_lane
   assign uq_head_stored = uq_mem_q[uq_rd_q];
   UpdateQueueHead_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       uq_count_q != '0 |-> uq_head_q == uq_head_stored);
+  // The registered pointers and the one-hot count agree with the pointers and the count.
+  UpdateQueueCopies_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      uq_rd1_q == uq_rd_q + 1'b1 && uq_wr_oh_q == UpdateQueueDepth'(1) << uq_wr_q &&
+      uq_wr1_oh_q == UpdateQueueDepth'(1) << UqPtrWidth'(uq_wr_q + 1'b1) &&
+      uq_cnt_oh_q == (UpdateQueueDepth + 1)'(1) << uq_count_q &&
+      uq_wr_q == uq_rd_q + UqPtrWidth'(uq_count_q));
+  // The head's next value is the entry at the next read pointer after this cycle's writes, as
+  // the pointers say, whenever the queue holds one after this cycle.
+  function automatic uq_req_t uq_entry_after_writes(logic [UqPtrWidth-1:0] i, uq_req_t stored);
+    if (uq_take1 && uq_wr_q == i) return uq_req1;
+    if (uq_take2 && uq_wr_q + 1'b1 == i) return uq_req2;
+    return stored;
+  endfunction
+  logic [UqPtrWidth-1:0] uq_rd_plus1;
+  uq_req_t               uq_behind_stored;
+  logic                  uq_empty_next;
+  assign uq_rd_plus1      = uq_rd_q + 1'b1;
+  assign uq_behind_stored = uq_mem_q[uq_rd_plus1];
+  assign uq_empty_next    = uq_count_q + UqCountWidth'(uq_take1) + UqCountWidth'(uq_take2) ==
+                            UqCountWidth'(uq_pop);
+  UpdateQueueHeadNext_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      !uq_empty_next |-> (uq_pop ? uq_head_if_pop ==
+                                   uq_entry_after_writes(uq_rd_plus1, uq_behind_stored) :
+                                   uq_head_if_hold ==
+                                   uq_entry_after_writes(uq_rd_q, uq_head_q)));
   ReadyKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       !$isunknown({ray_ready_o, pw_ready_o, outcome_ready_o, pred_valid_o, skip_valid_o}));
 `endif
