@@ -190,10 +190,13 @@ formal: setup-venv
 synth-sweep: setup-venv
 	$(VENV)/bin/python rtl/syn/synth.py --jobs 2 --sweep-only $(SYNTH_FLAGS)
 
-# The synthesized generic netlists of the default and primary configurations through the parity
-# testbench.
-# Not in `make test`: it needs a Yosys run and a Verilator build of the gate-level netlist (about
-# 2 to 4 minutes) whenever the RTL changes, and verilate() needs the netlist at configure time.
+# The synthesized netlists of the default and primary configurations through the parity
+# testbench: the generic gate-level netlist (tb_hrpp_netlist) and the ECP5 netlist that place and
+# route gets, with the block RAMs' output registers moved in (tb_hrpp_ecp5; rtl/syn/outreg.py,
+# rtl/syn/sim/dp16kd_sim.v).
+# Not in `make test`: it needs a Yosys run and Verilator builds of the gate-level netlists (about
+# 5 to 8 minutes per configuration on 2 cores) whenever the RTL changes, and verilate() needs the
+# netlists at configure time.
 # Each configuration of SYNTH_CHECK_CONFIGS in turn (primary: the default before issue 17's winner).
 NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
 SYNTH_CHECK_CONFIGS ?= default primary
@@ -202,15 +205,17 @@ synth-check: build
 	  echo "synth-check: configuration $$c"; \
 	  $(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs $$c; \
 	  cmake -S . -B $(BUILD) -DHRPP_NETLIST_CONFIG=$$c > /dev/null; \
-	  cmake --build $(BUILD) --target tb_hrpp_netlist -j $(JOBS); \
-	  set -o pipefail; for r in $(NETLIST_RUNS); do set -- $$r; \
-	    $(BUILD)/tb_hrpp_netlist --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 \
-	      --go-up 1 --config $$c | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
+	  cmake --build $(BUILD) --target tb_hrpp_netlist tb_hrpp_ecp5 -j $(JOBS); \
+	  set -o pipefail; for tb in tb_hrpp_netlist tb_hrpp_ecp5; do \
+	    for r in $(NETLIST_RUNS); do set -- $$r; echo "synth-check: $$tb"; \
+	      $(BUILD)/$$tb --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 \
+	        --go-up 1 --config $$c | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \
+	    done; \
+	    if [ -f $(SHARED)/scenes/bunny.glb ]; then echo "synth-check: $$tb"; \
+	      $(BUILD)/$$tb --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config $$c \
+	        --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
+	    else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi; \
 	  done; \
-	  if [ -f $(SHARED)/scenes/bunny.glb ]; then \
-	    $(BUILD)/tb_hrpp_netlist --scene $(SHARED)/scenes/bunny.glb --rays 100000 --config $$c \
-	      --mode closest-exact --go-up 1 | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)'; \
-	  else echo "synth-check: $(SHARED)/scenes/bunny.glb absent: shared-scene run skipped"; fi; \
 	done
 
 # ---------------------------------------------------------------------------------------------

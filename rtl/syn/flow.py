@@ -19,13 +19,18 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
-from pyhrpp.files import commit_tmp  # noqa: E402
+from pyhrpp.files import commit_tmp, write_atomic  # noqa: E402
+
+sys.path.insert(0, str(ROOT / "rtl" / "syn"))
+import outreg  # noqa: E402
 
 OUT = Path("out/synth")  # relative to ROOT (yowasp rejects ../ and absolute paths outside)
 NEXTPNR_FREQ_MHZ = 250   # the placer's timing target (above every figure, so it never relaxes)
 YOSYS_TIMEOUT = 900
 NEXTPNR_TIMEOUT = 900   # per run (seed, grade); a run over it is killed (synth.py --pnr-timeout)
 SEEDS = [1, 2]          # nextpnr placer seeds (--seeds); the best run is reported
+OUTREG = True           # move the block RAMs' output flip-flops into them (rtl/syn/outreg.py;
+                        # synth.py --no-outreg: the netlist as synth_ecp5 writes it)
 def _ram_bank_depth() -> int:
     """hrpp_pred_table's RamBankDepth (a deeper table RAM is built from RAM banks), read from the
     RTL so that it is written in one place."""
@@ -169,7 +174,26 @@ tee -q -o {pre}.xc7.stat.json stat -json
              YOSYS_TIMEOUT, f"{name}: yosys (generic, ECP5, iCE40, xc7)")
     for f in [f"{pre}.coarse.json", f"{pre}.ecp5.json"] + ([f"{pre}_netlist.v"] if netlist else []):
         commit_tmp(ROOT / f)
-    return analyse_design(info, Path(f"{pre}.yosys.log"))
+    moved = move_output_registers(Path(f"{pre}.ecp5.json"))
+    res = analyse_design(info, Path(f"{pre}.yosys.log"))
+    res["outreg"] = moved
+    res["ff"] -= moved["ffs"]  # the netlist placed: the moved flip-flops are in the RAMs
+    res["ecp5_cells"]["TRELLIS_FF"] = res["ff"]
+    return res
+
+
+def move_output_registers(ecp5_json: Path) -> dict:
+    """The block RAMs' output registers (rtl/syn/outreg.py) in the ECP5 netlist ecp5_json, in
+    place, when OUTREG is set; returns what moved (with OUTREG off: nothing, "off")."""
+    if not OUTREG:
+        return {"rams": None, "moved": 0, "ffs": 0, "left": [], "off": True}
+    net = load_json(ecp5_json)
+    moved = outreg.move(net)
+    write_atomic(ROOT / ecp5_json, json.dumps(net))
+    log(f"{ecp5_json}: {moved['moved']} of {moved['rams']} DP16KD take their output "
+        f"flip-flops ({moved['ffs']})" + (f"; left: {', '.join(moved['left'])}"
+                                          if moved["left"] else ""))
+    return moved
 
 
 def analyse_design(info: dict, ylog: Path) -> dict:
@@ -275,19 +299,30 @@ tee -q -o {pre}.ecp5.stat.json stat -json
 
 
 def yosys_netlist(name: str, read_cmd: str) -> None:
-    """Only the generic gate-level netlist of configuration NAME, out/synth/NAME_netlist.v (the
-    netlist parity check simulates it); read_cmd: the read_slang command of hrpp_top."""
+    """The netlists of configuration NAME that `make synth-check` simulates: the generic
+    gate-level one, out/synth/NAME_netlist.v, and the ECP5 one that place and route gets
+    (synth_ecp5, then the output registers moved as the flow moves them),
+    out/synth/NAME_ecp5_netlist.v; read_cmd: the read_slang command of hrpp_top."""
     pre = OUT / f"{name}_netlist"
+    pre_e = OUT / f"{name}_ecp5_netlist"
     (ROOT / f"{pre}.ys").write_text(
-        f"{read_cmd}\nhierarchy -check -top hrpp_top\n"
+        f"{read_cmd}\nhierarchy -check -top hrpp_top\ndesign -save rtl\n"
         "synth -top hrpp_top -flatten -run :fine\nopt -fast -full\nopt -full\ntechmap\n"
         "opt -fast\nabc -g cmos2\nopt -fast\nstat\n"
-        f"write_verilog -noattr {pre}.v.tmp\n")
+        f"write_verilog -noattr {pre}.v.tmp\n"
+        f"design -load rtl\nsynth_ecp5 -top hrpp_top -json {pre_e}.json.tmp\n")
     run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"],
-             Path(f"{pre}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: yosys generic netlist")
+             Path(f"{pre}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: yosys netlists")
     check_warnings(Path(f"{pre}.yosys.log"))
     commit_tmp(ROOT / f"{pre}.v")
-    log(f"wrote {pre}.v")
+    commit_tmp(ROOT / f"{pre_e}.json")
+    move_output_registers(Path(f"{pre_e}.json"))
+    (ROOT / f"{pre_e}.ys").write_text(
+        f"read_json {pre_e}.json\nwrite_verilog -noattr {pre_e}.v.tmp\n")
+    run_tool([YOSYS, "-q", "-l", f"{pre_e}.yosys.log", f"{pre_e}.ys"],
+             Path(f"{pre_e}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: ECP5 netlist as Verilog")
+    commit_tmp(ROOT / f"{pre_e}.v")
+    log(f"wrote {pre}.v, {pre_e}.v")
 
 
 # ------------------------------------------------------------------------------------------------

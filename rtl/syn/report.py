@@ -119,6 +119,15 @@ def fmt_bytes(bits: int) -> str:
     return f"{b:,.0f} B" if b == int(b) else f"{b:,.1f} B"
 
 
+def bram_text(r: dict) -> str:
+    """The DP16KD count, with how many have their output register in use (rtl/syn/outreg.py):
+    "16 (OUTREG 16)"; reports from before the move, or of runs without it: the count alone."""
+    o = r.get("outreg")
+    if not o or o.get("off"):
+        return str(r["bram"])
+    return f"{r['bram']} (OUTREG {o['moved']})"
+
+
 def seed_cells(r: dict, grade: int) -> str:
     """Every placer seed's Fmax at one speed grade, design / ceiling (older reports: none)."""
     d = r["pnr"].get(grade, {}).get("seeds", {})
@@ -135,7 +144,10 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
              "run of each design and of each ceiling is reported; every seed's figure is in the "
              "table below it). Ceiling: a bare registered DP16KD RAM as deep as the "
              "table (sets) and as wide as one set row (the word the table's RAM stores; "
-             "rtl/syn/hrpp_syn_ceiling.sv), same flow. Target: Fmax at least "
+             "rtl/syn/hrpp_syn_ceiling.sv), same flow; its register stays in the fabric, while "
+             "the designs' block RAMs take the flip-flops behind them as their output registers "
+             "(`OUTREG n`: n of the RAMs; rtl/syn/outreg.py, `synth.py --no-outreg` without). "
+             "Target: Fmax at least "
              f"{TARGET_RATIO:.0%} of the ceiling at both speed grades.")
     L.append("")
     if results:  # a sweep of other seeds (synth.py --sweep-only --seeds) has none
@@ -147,7 +159,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
             cp = r["critical_path"]
             L.append(f"| {r['config']} | {r['description']} | {r['table_bits']:,} b = "
                      f"{fmt_bytes(r['table_bits'])} | {r['table_ram_bits']:,} | {r['lut4']:,} | "
-                     f"{r['ff']:,} | {r['bram']} | {r['dram']} | {fmax_text(r)} | "
+                     f"{r['ff']:,} | {bram_text(r)} | {r['dram']} | {fmax_text(r)} | "
                      f"{fmax_text(r, '_speed8')} | {'met' if r['fmax_target_met'] else 'FAIL'} | "
                      f"{path_text(cp)} |")
         L.append("")
@@ -188,7 +200,7 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
         for r in sweep:
             cp = r["critical_path"]
             L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
-                     f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
+                     f"{r['lut4']:,} | {r['ff']:,} | {bram_text(r)} | {r['dram']} | "
                      f"{sweep_fmax_cells(r, '')} | "
                      f"{seed_cells(r, 6)} | {path_text(cp)} |")
     return "\n".join(L) + "\n"
@@ -221,7 +233,7 @@ def sweep_doc(sweep: list[dict]) -> str:
          "ratio |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in sweep:
         L.append(f"| {r['config']} | {r['description']} | {fmt_bytes(r['table_bits'])} | "
-                 f"{r['lut4']:,} | {r['ff']:,} | {r['bram']} | {r['dram']} | "
+                 f"{r['lut4']:,} | {r['ff']:,} | {bram_text(r)} | {r['dram']} | "
                  f"{sweep_fmax_cells(r)} |")
     return "\n".join(L) + "\n"
 
@@ -236,7 +248,7 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
             "| figure | value |", "|---|---|",
             f"| table storage (golden model's accounting) | {d['table_bits']:,} bits = "
             f"{fmt_bytes(d['table_bits'])} (RAM: 2 copies, {d['table_ram_bits']:,} bits) |",
-            f"| ECP5 LUT4 / FF / DP16KD / DPR16X4 | {d['lut4']:,} / {d['ff']:,} / {d['bram']} / "
+            f"| ECP5 LUT4 / FF / DP16KD / DPR16X4 | {d['lut4']:,} / {d['ff']:,} / {bram_text(d)} / "
             f"{d['dram']} |",
             f"| Fmax speed grade 6 / ceiling | {fmax_text(d)} |",
             f"| Fmax speed grade 8 / ceiling | {fmax_text(d, '_speed8')} |",
@@ -261,7 +273,7 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
         for r in results:
             body.append(
                 f"| {r['config']} | {r['description']} | {r['lut4']:,} / {r['ff']:,} / "
-                f"{r['bram']} | {fmax_alone(r)} | {fmax_alone(r, '_speed8')} | "
+                f"{bram_text(r)} | {fmax_alone(r)} | {fmax_alone(r, '_speed8')} | "
                 f"{path_text(r['critical_path'])} | {path_text(r['critical_path_speed8'])} |")
     blocks = {"synth": "\n".join(body) + "\n"}
     if sweep:
@@ -272,15 +284,16 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
 
 
 def report_stem(configs: list[str], seeds: list[int], all_configs: list[str],
-                default_seeds: list[int], sweep: bool) -> str:
+                default_seeds: list[int], sweep: bool, noreg: bool = False) -> str:
     """The name of a run's report in out/synth/: `report` for `make synth`'s run (every
     configuration of all_configs with the flow's seeds; a sweep with the flow's seeds), which
-    docs/results.md is written from; for any other run (fewer configurations, other seeds) a
-    name of its own, so that it neither replaces that report nor writes half a docs block."""
-    if seeds == default_seeds and (sweep or sorted(configs) == sorted(all_configs)):
+    docs/results.md is written from; for any other run (fewer configurations, other seeds, the
+    output registers left in the fabric: noreg) a name of its own, so that it neither replaces
+    that report nor writes half a docs block."""
+    if not noreg and seeds == default_seeds and (sweep or sorted(configs) == sorted(all_configs)):
         return "report"
     what = "sweep" if sweep else "+".join(configs)
-    return f"report-{what}-seeds{'-'.join(map(str, seeds))}"
+    return f"report-{what}-seeds{'-'.join(map(str, seeds))}" + ("-noreg" if noreg else "")
 
 
 def write_report(out_dir: Path, yosys_version: str, results: list[dict], sweep: list[dict],

@@ -11,12 +11,17 @@ top-level parameters come from rtl/config/hrpp_configs.json). Per configuration:
     memories, and the flip-flops, whose transistor counts stat does not know, are not in it),
     and that gate-level netlist written as Verilog (the netlist parity check simulates it);
   * ECP5 (`synth_ecp5`): LUT4, flip-flops, DP16KD, TRELLIS_DPR16X4; which memory went where;
+    then the flip-flops behind each block RAM moved into it as its output register (REGMODE
+    OUTREG; rtl/syn/outreg.py: no cycle changes, `make synth-check` simulates the moved
+    netlist; --no-outreg leaves them in the fabric);
     nextpnr-ecp5 --85k --package CABGA381 --out-of-context at speed grades 6 and 8: Fmax and
     the critical path's start and end points, from its JSON report; placement and routing is
     run with each of the placer seeds (--seeds, default 1,2) and the best run is reported,
     every seed's figure beside it (design and ceiling alike);
   * the ceiling: a bare registered block RAM (rtl/syn/hrpp_syn_ceiling.sv) as deep as the table
-    (sets) and as wide as one set row (the word hrpp_ram_1r1w stores), through the same flow;
+    (sets) and as wide as one set row (the word hrpp_ram_1r1w stores), through the same flow,
+    with its register left in the fabric (moved, it has no path left out of the RAM, and
+    nextpnr checks no minimum cycle of the RAM itself: docs/microarchitecture.md);
   * iCE40 (`synth_ice40`) and Xilinx 7-series (`synth_xilinx -family xc7`) counts;
   * the table's storage in bits (the golden model's TableConfig::total_bits(),
     model/src/predictor/pred_table.cc), checked against the table RAMs found in the synthesized
@@ -223,7 +228,13 @@ def main() -> int:
     ap.add_argument("--sweep-only", action="store_true",
                     help="only the sweep; keep report's configs")
     ap.add_argument("--netlist-only", action="store_true",
-                    help="only write out/synth/<config>_netlist.v (the netlist parity check)")
+                    help="only write out/synth/<config>_netlist.v and <config>_ecp5_netlist.v "
+                         "(the netlist parity check, make synth-check)")
+    ap.add_argument("--no-outreg", action="store_true",
+                    help="leave the block RAMs' output flip-flops in the fabric (the netlist as "
+                         "synth_ecp5 writes it; rtl/syn/outreg.py): a measurement, written to "
+                         "out/synth/report-<configs>-seeds<seeds>-noreg.{json,md}; with "
+                         "--netlist-only, the ECP5 netlist without the move")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
@@ -244,6 +255,9 @@ def main() -> int:
     if args.pnr_timeout <= 0:
         raise FlowError(f"--pnr-timeout {args.pnr_timeout}: expected a positive number of seconds")
     flow_module.NEXTPNR_TIMEOUT = args.pnr_timeout
+    flow_module.OUTREG = not args.no_outreg
+    if args.no_outreg and args.doc_only:
+        raise FlowError("--no-outreg: not with --doc-only (it runs no tool)")
     os.chdir(ROOT)
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     for tool in (YOSYS, NEXTPNR):
@@ -262,7 +276,7 @@ def main() -> int:
         return 0
 
     stem = "report" if args.doc_only else report_stem(
-        names, list(SEEDS), ALL_CONFIGS, default_seeds, args.sweep_only)
+        names, list(SEEDS), ALL_CONFIGS, default_seeds, args.sweep_only, args.no_outreg)
     if stem != "report" and args.sweep:
         raise FlowError("--sweep: only with every configuration and the flow's seeds "
                         f"({','.join(map(str, default_seeds))}); use --sweep-only with --seeds")

@@ -1,0 +1,101 @@
+"""The block RAMs' own output registers (REGMODE OUTREG) for the ECP5 netlist of the flow.
+
+Every block-RAM read in the RTL goes straight into a register (docs/microarchitecture.md,
+"Pipelines"). Yosys 0.70 maps such a read to a DP16KD without its output register (NOREG) and one
+TRELLIS_FF per data bit in the fabric, and has no pass that moves the flip-flops into the RAM; on
+ECP5 the route from the RAM to those flip-flops is what limits the clock. move() makes that move
+on Yosys's JSON netlist, after synth_ecp5 and before nextpnr: it changes no cycle (the output
+register is loaded from the RAM's read latch on the clock, as the flip-flop was), which `make
+synth-check` checks by simulating the moved netlist (rtl/syn/sim/dp16kd_sim.v) against the cycle
+model.
+
+A RAM's flip-flops move when every used data output (DOA*, DOB*) has one load, the data input of
+a TRELLIS_FF with the RAM's read clock (CLKB) and no clock enable, all of them with the same reset
+(none, or one asynchronous reset to 0), and the RAM's own resets (RSTA, RSTB) are unused. The RAM
+then takes REGMODE OUTREG on both ports (OCEA / OCEB high) and the reset as RSTA / RSTB (RESETMODE
+and ASYNC_RESET_RELEASE ASYNC, like the flip-flops' reset); the flip-flops are removed and the RAM
+drives their outputs. Any other RAM is left as it is and named in the result.
+
+Flip-flops with a clock enable (the skip controller's P0 / F0, behind the key store's block RAMs)
+could move too, the enable becoming OCEA / OCEB, and the simulation passes with them moved; they
+are left in the fabric because the clock is lower with them moved (docs/microarchitecture.md,
+"Clock speed": P0's fields then start at the RAM, far from the update queue they feed).
+"""
+from __future__ import annotations
+
+import collections
+
+# Parameter values in Yosys's JSON netlist: strings are written as they are, numbers in binary.
+ASYNC = "ASYNC"
+
+
+def _ff_kind(ff: dict) -> tuple[str, str] | None:
+    """(clock enable, reset) nets of a TRELLIS_FF the move can take ("1" / "0": none), or None
+    (a flip-flop with a clock enable: see the module's docstring)."""
+    p, c = ff["parameters"], ff["connections"]
+    if p.get("CLKMUX", "CLK") != "CLK":
+        return None
+    if str(p.get("CEMUX", "1")).strip() != "1":
+        return None
+    lsr = c.get("LSR", ["0"])[0]
+    if lsr == "0":
+        rst = "0"
+    elif p.get("REGSET") == "RESET" and p.get("SRMODE") == ASYNC and \
+            p.get("LSRMUX", "LSR") == "LSR" and str(p.get("LSRMODE", "LSR")).strip() == "LSR":
+        rst = lsr
+    else:
+        return None
+    return "1", rst
+
+
+def move(netlist: dict) -> dict:
+    """Moves the qualifying flip-flops into their DP16KD's output registers, in place. Returns
+    {"rams": DP16KD cells, "moved": RAMs changed, "ffs": flip-flops removed, "left": the names of
+    the RAMs left as they were}."""
+    mod = next(m for m in netlist["modules"].values() if m.get("attributes", {}).get("top"))
+    cells = mod["cells"]
+    loads = collections.defaultdict(list)
+    for n, c in cells.items():
+        for p, bits in c["connections"].items():
+            if c["port_directions"][p] == "input":
+                for b in bits:
+                    loads[b].append((n, p))
+    for pn, p in mod["ports"].items():
+        for b in p["bits"]:
+            loads[b].append((None, pn))
+    rams = [n for n, c in cells.items() if c["type"] == "DP16KD"]
+    out = {"rams": len(rams), "moved": 0, "ffs": 0, "left": []}
+    for name in rams:
+        c = cells[name]
+        conn = c["connections"]
+        clk = conn["CLKB"]
+        moves, kinds = [], set()
+        ok = conn["RSTB"] == ["0"] and conn["RSTA"] == ["0"]
+        for p, bits in conn.items():
+            if not ok:
+                break
+            if not p.startswith("DO") or not loads[bits[0]]:
+                continue
+            ld = loads[bits[0]]
+            ff = cells.get(ld[0][0]) if len(ld) == 1 and ld[0][0] else None
+            kind = _ff_kind(ff) if ff and ff["type"] == "TRELLIS_FF" and ld[0][1] == "DI" and \
+                ff["connections"]["CLK"] == clk else None
+            if kind is None:
+                ok = False
+                break
+            kinds.add(kind)
+            moves.append((p, ld[0][0]))
+        if not ok or len(kinds) != 1 or not moves:
+            out["left"].append(name)
+            continue
+        ce, rst = kinds.pop()  # ce is "1": OCEA / OCEB always enabled
+        for p, ffn in moves:
+            conn[p] = cells[ffn]["connections"]["Q"]
+            del cells[ffn]
+        c["parameters"].update(REGMODE_A="OUTREG", REGMODE_B="OUTREG")
+        if rst != "0":
+            c["parameters"].update(RESETMODE=ASYNC, ASYNC_RESET_RELEASE=ASYNC)
+        conn.update(OCEA=[ce], OCEB=[ce], RSTA=[rst], RSTB=[rst])
+        out["moved"] += 1
+        out["ffs"] += len(moves)
+    return out
