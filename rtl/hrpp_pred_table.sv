@@ -419,7 +419,8 @@ module hrpp_pred_table
   assign wr_same_t1 = iq_cmp.same_t1;
   assign wr_drop    = wr_same_t0 ? iq_cmp.as_t0 : wr_same_t1 && iq_cmp.as_t1;
   // The request leaves the interlock: issued into T0, or merged (dropped).
-  assign wr_go      = iq.valid && !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
+  // No request comes while the table clears (NoUpdateWhileClearing_A), so no term waits for it.
+  assign wr_go      = iq.valid && (!(wr_same_t0 || wr_same_t1) || wr_drop);
   logic wr_demote, wr_merge;
   assign wr_demote  = iq.demote;
   assign wr_merge   = ConfBits > 0 && iq.valid && wr_drop;
@@ -452,7 +453,7 @@ module hrpp_pred_table
     cmp_t    i_cmp_q, in_cmp, hold_cmp;
     logic    take;
     // I takes the input when it is empty or its request leaves in this cycle.
-    assign take           = !clearing_q && (!i_q.valid || wr_go);
+    assign take           = !i_q.valid || wr_go;
     assign tbl_wr_ready_o = take;
     // Next cycle's T0 is I's request if it is issued now; next cycle's T1 is T0's request as it
     // moves on (moved(): a demote takes I's node; a merge of an update turns it into an update).
@@ -502,7 +503,7 @@ module hrpp_pred_table
     assign iq_cmp.same_t1    = t1_q.valid && t1_q.idx == wr_in.idx;
     assign iq_cmp.as_t0      = same_key(wr_in, t0_q.tag, t0_q.node, t0_q.demote);
     assign iq_cmp.as_t1      = same_key(wr_in, t1_q.tag, t1_q.node, t1_q.demote);
-    assign tbl_wr_ready_o    = !clearing_q && (!(wr_same_t0 || wr_same_t1) || wr_drop);
+    assign tbl_wr_ready_o    = !(wr_same_t0 || wr_same_t1) || wr_drop;
   end
   assign uram_re        = t0_q.valid;
   assign uram_raddr     = t0_q.idx;
@@ -745,6 +746,10 @@ module hrpp_pred_table
   // compare looks at W's writes only.
   NoLookupWhileClearing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       clearing_q |-> !lk_valid_i);
+  // No update request while the table clears (the skip controller is enabled by init_done_o):
+  // the clear has the write port, and tbl_wr_ready_o does not wait for it.
+  NoUpdateWhileClearing_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      clearing_q |-> !tbl_wr_valid_i);
   // Lookup outputs are never X.
   LookupKnown_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
       lk_valid_o |-> !$isunknown({lk_count_o, lk_nodes_o}));

@@ -67,8 +67,9 @@ module pred_table_formal
   // Without confidence bits there are no demotes (hrpp_top ties the input to 0).
   always_comb if (ConfBits == 0) assume (!tbl_wr_demote_i);
 
-  // Lookups start once the reset clear is over (hrpp_top accepts rays only then).
-  always_comb if (rst_ni && !init_done_o) assume (!lk_valid_i);
+  // Lookups and update requests start once the reset clear is over (hrpp_top accepts rays, and
+  // its skip controller messages, only then).
+  always_comb if (rst_ni && !init_done_o) assume (!lk_valid_i && !tbl_wr_valid_i);
 
   // The table's row layout in its RAM word (as in hrpp_pred_table), without the confidence bits,
   // which follow it in the word with ConfBits = 1 (one per way, way 0 first).

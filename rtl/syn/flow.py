@@ -174,7 +174,9 @@ tee -q -o {pre}.xc7.stat.json stat -json
              YOSYS_TIMEOUT, f"{name}: yosys (generic, ECP5, iCE40, xc7)")
     for f in [f"{pre}.coarse.json", f"{pre}.ecp5.json"] + ([f"{pre}_netlist.v"] if netlist else []):
         commit_tmp(ROOT / f)
-    moved = move_output_registers(Path(f"{pre}.ecp5.json"))
+    lanes = info.get("params", {}).get("Lanes", 1)
+    moved = move_output_registers(Path(f"{pre}.ecp5.json"),
+                                  outreg_skip_reason(info["sets"], lanes))
     res = analyse_design(info, Path(f"{pre}.yosys.log"))
     res["outreg"] = moved
     res["ff"] -= moved["ffs"]  # the netlist placed: the moved flip-flops are in the RAMs
@@ -182,11 +184,26 @@ tee -q -o {pre}.xc7.stat.json stat -json
     return res
 
 
-def move_output_registers(ecp5_json: Path) -> dict:
-    """The block RAMs' output registers (rtl/syn/outreg.py) in the ECP5 netlist ecp5_json, in
-    place, when OUTREG is set; returns what moved (with OUTREG off: nothing, "off")."""
+def outreg_skip_reason(sets: int, lanes: int) -> str | None:
+    """Why the flow leaves a configuration's block-RAM output registers in the fabric, or None:
+    --no-outreg, or a table in RAM banks (more sets per lane than RamBankDepth: each bank's data
+    is registered beside its RAM so that the route to the bank select gets a cycle of its own;
+    moved into the RAMs, that route is back in the cycle: docs/microarchitecture.md, "Clock
+    speed", `large`)."""
     if not OUTREG:
-        return {"rams": None, "moved": 0, "ffs": 0, "left": [], "off": True}
+        return "--no-outreg"
+    if sets // lanes > TABLE_RAM_BANK_DEPTH:
+        return "RAM banks"
+    return None
+
+
+def move_output_registers(ecp5_json: Path, skip: str | None) -> dict:
+    """The block RAMs' output registers (rtl/syn/outreg.py) in the ECP5 netlist ecp5_json, in
+    place, unless skip (outreg_skip_reason) says why not; returns what moved (skipped: nothing,
+    "off" the reason)."""
+    if skip:
+        log(f"{ecp5_json}: the block RAMs keep their flip-flops in the fabric ({skip})")
+        return {"rams": None, "moved": 0, "ffs": 0, "left": [], "off": skip}
     net = load_json(ecp5_json)
     moved = outreg.move(net)
     write_atomic(ROOT / ecp5_json, json.dumps(net))
@@ -298,11 +315,12 @@ tee -q -o {pre}.ecp5.stat.json stat -json
             "ff": e.get("TRELLIS_FF", 0)}
 
 
-def yosys_netlist(name: str, read_cmd: str) -> None:
+def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None) -> None:
     """The netlists of configuration NAME that `make synth-check` simulates: the generic
     gate-level one, out/synth/NAME_netlist.v, and the ECP5 one that place and route gets
     (synth_ecp5, then the output registers moved as the flow moves them),
-    out/synth/NAME_ecp5_netlist.v; read_cmd: the read_slang command of hrpp_top."""
+    out/synth/NAME_ecp5_netlist.v; read_cmd: the read_slang command of hrpp_top; outreg_skip:
+    outreg_skip_reason's for the configuration."""
     pre = OUT / f"{name}_netlist"
     pre_e = OUT / f"{name}_ecp5_netlist"
     (ROOT / f"{pre}.ys").write_text(
@@ -316,7 +334,7 @@ def yosys_netlist(name: str, read_cmd: str) -> None:
     check_warnings(Path(f"{pre}.yosys.log"))
     commit_tmp(ROOT / f"{pre}.v")
     commit_tmp(ROOT / f"{pre_e}.json")
-    move_output_registers(Path(f"{pre_e}.json"))
+    move_output_registers(Path(f"{pre_e}.json"), outreg_skip)
     (ROOT / f"{pre_e}.ys").write_text(
         f"read_json {pre_e}.json\nwrite_verilog -noattr {pre_e}.v.tmp\n")
     run_tool([YOSYS, "-q", "-l", f"{pre_e}.yosys.log", f"{pre_e}.ys"],

@@ -121,10 +121,13 @@ def fmt_bytes(bits: int) -> str:
 
 def bram_text(r: dict) -> str:
     """The DP16KD count, with how many have their output register in use (rtl/syn/outreg.py):
-    "16 (OUTREG 16)"; reports from before the move, or of runs without it: the count alone."""
+    "16 (OUTREG 14)"; a configuration the flow leaves as it is: why ("184 (RAM banks: no
+    OUTREG)"); reports from before the move, or of runs without it: the count alone."""
     o = r.get("outreg")
-    if not o or o.get("off"):
+    if not o or o.get("off") in (True, "--no-outreg"):
         return str(r["bram"])
+    if o.get("off"):
+        return f"{r['bram']} ({o['off']}: no OUTREG)"
     return f"{r['bram']} (OUTREG {o['moved']})"
 
 
