@@ -355,6 +355,8 @@ module hrpp_lane
   } uq_req_t;
   uq_req_t                 uq_mem_q[UpdateQueueDepth];
   uq_req_t                 uq_req1, uq_req2, uq_head_q, uq_head_d;
+  // The binary pointers and count (uq_rd_q, uq_wr_q, uq_count_q) are the reference the
+  // assertions below check the registers the logic uses against (synthesis removes them).
   logic [UqPtrWidth-1:0]   uq_rd_q, uq_wr_q;
   logic [UqPtrWidth-1:0]   uq_rd1_q;  // uq_rd_q + 1, a register
   // One-hot write pointers: uq_wr_oh_q[i] = (uq_wr_q == i), uq_wr1_oh_q[i] = (uq_wr_q + 1 == i)

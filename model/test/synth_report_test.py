@@ -16,6 +16,7 @@ import unittest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "rtl" / "syn"))
 import flow  # noqa: E402
+import outreg  # noqa: E402
 import report  # noqa: E402
 
 
@@ -388,6 +389,65 @@ class CriticalPathNames(unittest.TestCase):
         self.assertEqual(flow.block_registers("rtl/hrpp_pred_table.sv:1.1"),
                          "hrpp_pred_table.sv:1")
         self.assertEqual(flow.block_registers("/share/x.v:3.1"), "/share/x.v:3.1")
+
+
+class OutregTest(unittest.TestCase):
+    """rtl/syn/outreg.py's move on a small netlist, and how the report shows it."""
+
+    @staticmethod
+    def netlist(ce_mux: str) -> dict:
+        ff = lambda d, q: {  # noqa: E731
+            "type": "TRELLIS_FF", "port_directions": {"DI": "input", "CLK": "input",
+                                                      "LSR": "input", "CE": "input",
+                                                      "Q": "output"},
+            "parameters": {"CEMUX": ce_mux, "REGSET": "RESET", "SRMODE": "ASYNC"},
+            "connections": {"DI": [d], "CLK": [2], "LSR": [5], "CE": [6], "Q": [q]}}
+        ram = {"type": "DP16KD", "parameters": {"REGMODE_A": "NOREG", "REGMODE_B": "NOREG"},
+               "port_directions": {"CLKB": "input", "RSTA": "input", "RSTB": "input",
+                                   "OCEA": "input", "OCEB": "input", "DOA0": "output",
+                                   "DOA1": "output", "DOB0": "output"},
+               "connections": {"CLKB": [2], "RSTA": ["0"], "RSTB": ["0"], "OCEA": ["1"],
+                               "OCEB": ["1"], "DOA0": [10], "DOA1": [11], "DOB0": [12]}}
+        return {"modules": {"top": {"attributes": {"top": 1}, "ports": {
+            "q": {"direction": "output", "bits": [20, 21]}},
+            "cells": {"ram": ram, "ff0": ff(10, 20), "ff1": ff(11, 21)}}}}
+
+    def test_moves_plain_flip_flops(self):
+        net = self.netlist("1")
+        self.assertEqual(outreg.move(net), {"rams": 1, "moved": 1, "ffs": 2, "left": []})
+        cells = net["modules"]["top"]["cells"]
+        self.assertEqual(sorted(cells), ["ram"])  # DOB0 has no load: not a reason to stay
+        ram = cells["ram"]
+        self.assertEqual((ram["parameters"]["REGMODE_A"], ram["parameters"]["REGMODE_B"],
+                          ram["parameters"]["RESETMODE"]), ("OUTREG", "OUTREG", "ASYNC"))
+        self.assertEqual((ram["connections"]["DOA0"], ram["connections"]["DOA1"],
+                          ram["connections"]["RSTB"]), ([20], [21], [5]))
+
+    def test_leaves_clock_enabled_flip_flops(self):
+        net = self.netlist("CE")
+        before = copy.deepcopy(net)
+        self.assertEqual(outreg.move(net), {"rams": 1, "moved": 0, "ffs": 0, "left": ["ram"]})
+        self.assertEqual(net, before)
+
+    def test_skip_reason_and_report(self):
+        saved = flow.OUTREG
+        try:
+            flow.OUTREG = True
+            self.assertIsNone(flow.outreg_skip_reason(128, 1))
+            self.assertEqual(flow.outreg_skip_reason(4096, 1), "RAM banks")
+            self.assertIsNone(flow.outreg_skip_reason(4096, 2))
+            flow.OUTREG = False
+            self.assertEqual(flow.outreg_skip_reason(128, 1), "--no-outreg")
+        finally:
+            flow.OUTREG = saved
+        r = {"bram": 16}
+        self.assertEqual(report.bram_text(r), "16")
+        r["outreg"] = {"moved": 14, "off": None}
+        self.assertEqual(report.bram_text(r), "16 (OUTREG 14)")
+        r["outreg"] = {"moved": 0, "off": "RAM banks"}
+        self.assertEqual(report.bram_text(r), "16 (RAM banks: no OUTREG)")
+        r["outreg"] = {"moved": 0, "off": "--no-outreg"}
+        self.assertEqual(report.bram_text(r), "16")
 
 
 if __name__ == "__main__":

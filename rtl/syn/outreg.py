@@ -29,23 +29,19 @@ import collections
 ASYNC = "ASYNC"
 
 
-def _ff_kind(ff: dict) -> tuple[str, str] | None:
-    """(clock enable, reset) nets of a TRELLIS_FF the move can take ("1" / "0": none), or None
-    (a flip-flop with a clock enable: see the module's docstring)."""
+def _ff_reset(ff: dict) -> str | None:
+    """The reset net of a TRELLIS_FF the move can take ("0": none), or None (a flip-flop with a
+    clock enable, an inverted clock, a set or a synchronous reset: see the module's docstring)."""
     p, c = ff["parameters"], ff["connections"]
-    if p.get("CLKMUX", "CLK") != "CLK":
-        return None
-    if str(p.get("CEMUX", "1")).strip() != "1":
+    if p.get("CLKMUX", "CLK") != "CLK" or str(p.get("CEMUX", "1")).strip() != "1":
         return None
     lsr = c.get("LSR", ["0"])[0]
     if lsr == "0":
-        rst = "0"
-    elif p.get("REGSET") == "RESET" and p.get("SRMODE") == ASYNC and \
+        return "0"
+    if p.get("REGSET") == "RESET" and p.get("SRMODE") == ASYNC and \
             p.get("LSRMUX", "LSR") == "LSR" and str(p.get("LSRMODE", "LSR")).strip() == "LSR":
-        rst = lsr
-    else:
-        return None
-    return "1", rst
+        return lsr
+    return None
 
 
 def move(netlist: dict) -> dict:
@@ -69,7 +65,7 @@ def move(netlist: dict) -> dict:
         c = cells[name]
         conn = c["connections"]
         clk = conn["CLKB"]
-        moves, kinds = [], set()
+        moves, resets = [], set()
         ok = conn["RSTB"] == ["0"] and conn["RSTA"] == ["0"]
         for p, bits in conn.items():
             if not ok:
@@ -78,24 +74,24 @@ def move(netlist: dict) -> dict:
                 continue
             ld = loads[bits[0]]
             ff = cells.get(ld[0][0]) if len(ld) == 1 and ld[0][0] else None
-            kind = _ff_kind(ff) if ff and ff["type"] == "TRELLIS_FF" and ld[0][1] == "DI" and \
+            rst = _ff_reset(ff) if ff and ff["type"] == "TRELLIS_FF" and ld[0][1] == "DI" and \
                 ff["connections"]["CLK"] == clk else None
-            if kind is None:
+            if rst is None:
                 ok = False
                 break
-            kinds.add(kind)
+            resets.add(rst)
             moves.append((p, ld[0][0]))
-        if not ok or len(kinds) != 1 or not moves:
+        if not ok or len(resets) != 1 or not moves:
             out["left"].append(name)
             continue
-        ce, rst = kinds.pop()  # ce is "1": OCEA / OCEB always enabled
+        rst = resets.pop()
         for p, ffn in moves:
             conn[p] = cells[ffn]["connections"]["Q"]
             del cells[ffn]
         c["parameters"].update(REGMODE_A="OUTREG", REGMODE_B="OUTREG")
         if rst != "0":
             c["parameters"].update(RESETMODE=ASYNC, ASYNC_RESET_RELEASE=ASYNC)
-        conn.update(OCEA=[ce], OCEB=[ce], RSTA=[rst], RSTB=[rst])
+        conn.update(OCEA=["1"], OCEB=["1"], RSTA=[rst], RSTB=[rst])
         out["moved"] += 1
         out["ffs"] += len(moves)
     return out
