@@ -193,7 +193,8 @@ synth-sweep: setup-venv
 # The synthesized netlists of the default and primary configurations through the parity
 # testbench: the generic gate-level netlist (tb_hrpp_netlist) and the ECP5 netlist that place and
 # route gets, with the block RAMs' output registers moved in (tb_hrpp_ecp5; rtl/syn/outreg.py,
-# rtl/syn/sim/dp16kd_sim.v).
+# rtl/syn/sim/dp16kd_sim.v), and the ECP5 netlist before the move (tb_hrpp_ecp5_unmoved: every
+# block RAM without its output register).
 # Not in `make test`: it needs a Yosys run and Verilator builds of the gate-level netlists (about
 # 5 to 8 minutes per configuration on 2 cores) whenever the RTL changes, and verilate() needs the
 # netlists at configure time.
@@ -205,8 +206,9 @@ synth-check: build
 	  echo "synth-check: configuration $$c"; \
 	  $(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs $$c; \
 	  cmake -S . -B $(BUILD) -DHRPP_NETLIST_CONFIG=$$c > /dev/null; \
-	  cmake --build $(BUILD) --target tb_hrpp_netlist tb_hrpp_ecp5 -j $(JOBS); \
-	  set -o pipefail; for tb in tb_hrpp_netlist tb_hrpp_ecp5; do \
+	  cmake --build $(BUILD) --target tb_hrpp_netlist tb_hrpp_ecp5 tb_hrpp_ecp5_unmoved \
+	    -j $(JOBS); \
+	  set -o pipefail; for tb in tb_hrpp_netlist tb_hrpp_ecp5 tb_hrpp_ecp5_unmoved; do \
 	    for r in $(NETLIST_RUNS); do set -- $$r; echo "synth-check: $$tb"; \
 	      $(BUILD)/$$tb --scene scenes/$$1.glb --mode $$2 --rays $$3 --seed $$4 \
 	        --go-up 1 --config $$c | grep -E '^(tb_hrpp|parity|FAIL|MISMATCH|PASS)' || exit 1; \

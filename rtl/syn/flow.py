@@ -317,10 +317,11 @@ tee -q -o {pre}.ecp5.stat.json stat -json
 
 def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None) -> None:
     """The netlists of configuration NAME that `make synth-check` simulates: the generic
-    gate-level one, out/synth/NAME_netlist.v, and the ECP5 one that place and route gets
-    (synth_ecp5, then the output registers moved as the flow moves them),
-    out/synth/NAME_ecp5_netlist.v; read_cmd: the read_slang command of hrpp_top; outreg_skip:
-    outreg_skip_reason's for the configuration."""
+    gate-level one, out/synth/NAME_netlist.v; the ECP5 one as synth_ecp5 writes it, every block
+    RAM's output flip-flops in the fabric, out/synth/NAME_ecp5_unmoved_netlist.v; and the ECP5
+    one that place and route gets (the output registers moved as the flow moves them),
+    out/synth/NAME_ecp5_netlist.v. read_cmd: the read_slang command of hrpp_top; outreg_skip:
+    outreg_skip_reason's for the configuration (then the last two are the same netlist)."""
     pre = OUT / f"{name}_netlist"
     pre_e = OUT / f"{name}_ecp5_netlist"
     (ROOT / f"{pre}.ys").write_text(
@@ -334,13 +335,19 @@ def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None) -> None:
     check_warnings(Path(f"{pre}.yosys.log"))
     commit_tmp(ROOT / f"{pre}.v")
     commit_tmp(ROOT / f"{pre_e}.json")
+    json_to_verilog(name, Path(f"{pre_e}.json"), OUT / f"{name}_ecp5_unmoved_netlist")
     move_output_registers(Path(f"{pre_e}.json"), outreg_skip)
-    (ROOT / f"{pre_e}.ys").write_text(
-        f"read_json {pre_e}.json\nwrite_verilog -noattr {pre_e}.v.tmp\n")
-    run_tool([YOSYS, "-q", "-l", f"{pre_e}.yosys.log", f"{pre_e}.ys"],
-             Path(f"{pre_e}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: ECP5 netlist as Verilog")
-    commit_tmp(ROOT / f"{pre_e}.v")
-    log(f"wrote {pre}.v, {pre_e}.v")
+    json_to_verilog(name, Path(f"{pre_e}.json"), pre_e)
+    log(f"wrote {pre}.v, {OUT / name}_ecp5_unmoved_netlist.v, {pre_e}.v")
+
+
+def json_to_verilog(name: str, netlist_json: Path, pre: Path) -> None:
+    """netlist_json (a Yosys JSON netlist) as Verilog, pre.v (its script and log beside it)."""
+    (ROOT / f"{pre}.ys").write_text(
+        f"read_json {netlist_json}\nwrite_verilog -noattr {pre}.v.tmp\n")
+    run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"],
+             Path(f"{pre}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: {pre.name}.v")
+    commit_tmp(ROOT / f"{pre}.v")
 
 
 # ------------------------------------------------------------------------------------------------

@@ -12,8 +12,8 @@ top-level parameters come from rtl/config/hrpp_configs.json). Per configuration:
     and that gate-level netlist written as Verilog (the netlist parity check simulates it);
   * ECP5 (`synth_ecp5`): LUT4, flip-flops, DP16KD, TRELLIS_DPR16X4; which memory went where;
     then the flip-flops behind each block RAM moved into it as its output register (REGMODE
-    OUTREG; rtl/syn/outreg.py: no cycle changes, `make synth-check` simulates the moved
-    netlist; --no-outreg leaves them in the fabric);
+    OUTREG; rtl/syn/outreg.py: no cycle changes, `make synth-check` simulates the netlist
+    before and after the move; --no-outreg leaves them in the fabric);
     nextpnr-ecp5 --85k --package CABGA381 --out-of-context at speed grades 6 and 8: Fmax and
     the critical path's start and end points, from its JSON report; placement and routing is
     run with each of the placer seeds (--seeds, default 1,2) and the best run is reported,
@@ -228,13 +228,14 @@ def main() -> int:
     ap.add_argument("--sweep-only", action="store_true",
                     help="only the sweep; keep report's configs")
     ap.add_argument("--netlist-only", action="store_true",
-                    help="only write out/synth/<config>_netlist.v and <config>_ecp5_netlist.v "
-                         "(the netlist parity check, make synth-check)")
+                    help="only write the netlists that make synth-check simulates: "
+                         "out/synth/<config>_netlist.v (generic gates), "
+                         "<config>_ecp5_unmoved_netlist.v (synth_ecp5's) and "
+                         "<config>_ecp5_netlist.v (the output registers moved, as placed)")
     ap.add_argument("--no-outreg", action="store_true",
                     help="leave the block RAMs' output flip-flops in the fabric (the netlist as "
                          "synth_ecp5 writes it; rtl/syn/outreg.py): a measurement, written to "
-                         "out/synth/report-<configs>-seeds<seeds>-noreg.{json,md}; with "
-                         "--netlist-only, the ECP5 netlist without the move")
+                         "out/synth/report-<configs>-seeds<seeds>-noreg.{json,md}")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seeds", default=",".join(map(str, SEEDS)),
                     help="nextpnr placer seeds, comma-separated; the best run is reported")
@@ -258,6 +259,9 @@ def main() -> int:
     flow_module.OUTREG = not args.no_outreg
     if args.no_outreg and args.doc_only:
         raise FlowError("--no-outreg: not with --doc-only (it runs no tool)")
+    if args.no_outreg and args.netlist_only:
+        raise FlowError("--no-outreg: not with --netlist-only (it writes the ECP5 netlist "
+                        "without the move too: out/synth/<config>_ecp5_unmoved_netlist.v)")
     os.chdir(ROOT)
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     for tool in (YOSYS, NEXTPNR):
