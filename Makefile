@@ -195,9 +195,9 @@ synth-sweep: setup-venv
 # route gets, with the block RAMs' output registers moved in (tb_hrpp_ecp5; rtl/syn/outreg.py,
 # rtl/syn/sim/dp16kd_sim.v), and the ECP5 netlist before the move (tb_hrpp_ecp5_unmoved: every
 # block RAM without its output register).
-# Not in `make test`: it needs a Yosys run and Verilator builds of the gate-level netlists (about
-# 5 to 8 minutes per configuration on 2 cores) whenever the RTL changes, and verilate() needs the
-# netlists at configure time.
+# Not in `make test`: it needs a Yosys run and Verilator builds of the gate-level netlists (17
+# minutes for both configurations on 2 cores, 20ba18f) whenever the RTL changes, and verilate()
+# needs the netlists at configure time.
 # Each configuration of SYNTH_CHECK_CONFIGS in turn (primary: the default before issue 17's winner).
 NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
 SYNTH_CHECK_CONFIGS ?= default primary
