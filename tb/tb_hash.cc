@@ -180,7 +180,10 @@ int main(int argc, char** argv) {
   std::normal_distribution<float> gauss;
   for (uint64_t i = 0; i < n_random / 4; ++i) {
     float d[3], n2 = 0;
-    for (float& c : d) n2 += (c = gauss(rng)) * c;
+    for (float& c : d) {
+      c = gauss(rng);
+      n2 += c * c;
+    }
     const float inv = 1.f / std::sqrt(n2);
     check({static_cast<uint32_t>(rng()), static_cast<uint32_t>(rng()), static_cast<uint32_t>(rng()),
            std::bit_cast<uint32_t>(d[0] * inv), std::bit_cast<uint32_t>(d[1] * inv),
