@@ -336,6 +336,9 @@ class RunWithoutResult(unittest.TestCase):
             self.assertNotIn("| config | table |", md)
             with self.assertRaises(flow.FlowError):
                 run("--configs", "default", "--sweep")
+            # --netlist-only writes the unmoved ECP5 netlist anyway
+            with self.assertRaisesRegex(flow.FlowError, "--no-outreg: not with --netlist-only"):
+                run("--configs", "default", "--netlist-only", "--no-outreg")
             self.assertEqual(run(), 1)  # make synth's run: default's speed grade 8 failed
             self.assertEqual(docs, [self.synth.ALL_CONFIGS])  # every configuration, in order
             back, sweep = report.load_report(self.d / "report.json")
