@@ -121,8 +121,9 @@ def fmt_bytes(bits: int) -> str:
 
 def bram_text(r: dict) -> str:
     """The DP16KD count, with how many have their output register in use (rtl/syn/outreg.py):
-    "16 (OUTREG 14)"; a configuration the flow leaves as it is: why ("184 (RAM banks: no
-    OUTREG)"); reports from before the move, or of runs without it: the count alone."""
+    "16 (OUTREG 14)"; a configuration the flow left as it was: why (reports of 9fbbb06's flow,
+    `large`: "184 (RAM banks: no OUTREG)"); reports from before the move, or of runs without it:
+    the count alone."""
     o = r.get("outreg")
     if not o or o.get("off") in (True, "--no-outreg"):
         return str(r["bram"])

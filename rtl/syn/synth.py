@@ -280,7 +280,7 @@ def main() -> int:
     if args.netlist_only:
         for c in names:
             yosys_netlist(c, read_slang_cmd("hrpp_top", dict(cfgs[c]), rtl_files()),
-                          flow_module.outreg_skip_reason(cfgs[c]["NumSets"], 1))
+                          flow_module.outreg_skip_reason())
         return 0
 
     stem = "report" if args.doc_only else report_stem(
