@@ -199,12 +199,15 @@ synth-sweep: setup-venv
 # minutes for both configurations on 2 cores, 20ba18f) whenever the RTL changes, and verilate()
 # needs the netlists at configure time.
 # Each configuration of SYNTH_CHECK_CONFIGS in turn (primary: the default before issue 17's winner).
+# synth.py writes a configuration's netlists here only when it has none: once they exist, the
+# build's rule (tb/CMakeLists.txt) rewrites them when the RTL or the flow changes.
 NETLIST_RUNS := "spd_balls anyhit 50000 7" "glass_spheres closest-spec 30000 3"
 SYNTH_CHECK_CONFIGS ?= default primary
 synth-check: build
 	@set -e; for c in $(SYNTH_CHECK_CONFIGS); do \
 	  echo "synth-check: configuration $$c"; \
-	  $(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs $$c; \
+	  [ -f out/synth/$${c}_ecp5_unmoved_netlist.v ] || \
+	    $(VENV)/bin/python rtl/syn/synth.py --netlist-only --configs $$c; \
 	  cmake -S . -B $(BUILD) -DHRPP_NETLIST_CONFIG=$$c > /dev/null; \
 	  cmake --build $(BUILD) --target tb_hrpp_netlist tb_hrpp_ecp5 tb_hrpp_ecp5_unmoved \
 	    -j $(JOBS); \

@@ -173,8 +173,7 @@ def sweep_variants(cfgs: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]
     for d in (4, 16):
         v[f"uq{d}"] = {**base, "UpdateQueueDepth": d}
     v["lanes2"] = {**base, "Lanes": 2}
-    # The issue register (the default and large configurations have it; small, primary and
-    # mobile do not).
+    # The issue register (`issue_reg` in rtl/config/hrpp_configs.json).
     v["ireg"] = {**base, "IssueReg": 1}
     return v
 
