@@ -32,17 +32,19 @@ PARAMS = [("variant", "Variant"), ("precision", "Precision"), ("exp_bits", "ExpB
           ("pred_fifo_depth", "PredFifoDepth"), ("skip_fifo_depth", "SkipFifoDepth"),
           ("update_queue_depth", "UpdateQueueDepth"),
           ("key_store_bram", "KeyStoreBram"), ("inject_fault", "InjectFault"),
-          ("confidence_bits", "ConfBits"), ("issue_reg", "IssueReg")]
-BOOLS = ("key_store_bram", "inject_fault", "issue_reg")
+          ("confidence_bits", "ConfBits"), ("issue_reg", "IssueReg"),
+          ("key_store_reg", "KeyStoreReg")]
+BOOLS = ("key_store_bram", "inject_fault", "issue_reg", "key_store_reg")
 # Optional fields, with their value when absent. lanes: lookups and updates per cycle
 # (docs/microarchitecture.md, "Lanes"); one lane is hrpp_top; 2 or 4 lanes are hrpp_lanes, which
 # has hrpp_top's parameters and Lanes. dir_code: the improved hash's direction code (docs/hash.md).
 # confidence_bits: a confidence bit per table way (0 or 1: docs/hash.md, "Confidence", with
 # threshold 1; hrpp_top only). predict_kinds: which rays the RT unit offers the predictor ("all",
 # or "any-hit": shadow and AO rays only, as MICRO 2021's unit does); the rtl-NAME preset's
-# --predict-kinds (the RTL predicts whatever it is offered).
+# --predict-kinds (the RTL predicts whatever it is offered). key_store_reg: the block-RAM key
+# store's read register (docs/microarchitecture.md, "Key store"; needs key_store_bram).
 OPTIONAL_FIELDS = {"lanes": 1, "dir_code": "grid", "confidence_bits": 0, "predict_kinds": "all",
-                   "issue_reg": False}
+                   "issue_reg": False, "key_store_reg": False}
 FIELDS = [f for f, _ in PARAMS if f not in OPTIONAL_FIELDS]
 LATENCIES = ["hash_stages", "lookup_stages", "update_stages", "decision_latency"]
 
@@ -98,6 +100,9 @@ def _check(name: str, c: dict) -> None:
     if c["lanes"] != 1 and c["key_store_bram"]:
         raise ConfigError(f"configuration {name}: key_store_bram is not available with lanes > 1 "
                           "(hrpp_lanes keeps each lane's key store in distributed RAM)")
+    if c["key_store_reg"] and not c["key_store_bram"]:
+        raise ConfigError(f"configuration {name}: key_store_reg needs key_store_bram (it is the "
+                          "block RAM's output register)")
 
 
 def load(path: Path = JSON_PATH) -> dict:
@@ -139,10 +144,11 @@ def load(path: Path = JSON_PATH) -> dict:
 def latencies(c: dict, data: dict | None = None) -> dict:
     """The latencies of configuration c: the declared ones, and with a key store in block RAM
     (key_store_bram) one cycle more of decision, update write and update landing latency (its
-    registered read: docs/microarchitecture.md, "Key store"), and with the table's issue register
-    (issue_reg) one cycle more of update write and landing latency."""
+    registered read: docs/microarchitecture.md, "Key store") and one more with its read register
+    (key_store_reg), and with the table's issue register (issue_reg) one cycle more of update
+    write and landing latency."""
     lat = dict((data or load())["latencies"])
-    k = int(c["key_store_bram"])
+    k = int(c["key_store_bram"]) + int(c["key_store_reg"])
     for n in ("decision_latency", "update_write_latency", "update_landing"):
         lat[n] += k
     # The table's issue register (issue_reg): a request waits a cycle in I before T0.

@@ -31,6 +31,7 @@ module hrpp_lane
   // Interfaces
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
   parameter bit KeyStoreBram = DefaultKeyStoreBram,  /// key store in block RAM (+1 cycle)
+  parameter bit KeyStoreReg = DefaultKeyStoreReg,  /// its read register (KeyStoreBram; +1 cycle)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// update queue entries, a power of two >= 2
@@ -189,7 +190,10 @@ module hrpp_lane
   // in front of the skip controller (K: the message, and the RAM's output register); the RAM's
   // data goes straight into P0 / F0 one cycle later. The block RAM's slow clock-to-output thus
   // starts no logic (the handshake paths start at P0 / F0 as before), at one cycle more of
-  // decision and update latency (docs/microarchitecture.md, "Key store").
+  // decision and update latency (docs/microarchitecture.md, "Key store"). KeyStoreReg = 1: the
+  // RAM's data goes into a register first (J: the message and the key, the key register being
+  // the block RAM's own output register in the ECP5 flow), and from J into P0 / F0: the RAM's
+  // clock-to-output then ends at the RAM, at one more cycle of decision and update latency.
   localparam int unsigned KsWidth = IdxWidth + TagWidth + 1;
   logic [IdWidth-1:0]  ksp_id, ksf_id;  // the skip controller's read addresses (distributed RAM)
   logic [IdxWidth-1:0] ksp_idx, ksf_idx;
@@ -203,8 +207,9 @@ module hrpp_lane
   logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
   logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
   logic                   ks_outcome_load;  // KeyStoreBram: K takes the outcome at the port
-  logic                   ks_load_unused;   // read by the pred-given bit's K register only
-  assign ks_load_unused = ks_outcome_load;
+  logic                   ks_outcome_jload;  // KeyStoreReg: J takes K's outcome
+  logic                   ks_load_unused;   // read by the pred-given bit's registers only
+  assign ks_load_unused = ks_outcome_load ^ ks_outcome_jload;
 
   if (!KeyStoreBram) begin : gen_ks_distributed
     (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
@@ -219,17 +224,21 @@ module hrpp_lane
         {outcome_valid_i, outcome_id_i, outcome_hit_i, outcome_node_i};
     assign pw_ready_o      = sc_pw_ready;
     assign outcome_ready_o = sc_outcome_ready;
-    assign ks_outcome_load = 1'b0;  // unused
+    assign ks_outcome_load  = 1'b0;  // unused
+    assign ks_outcome_jload = 1'b0;  // unused
   end else begin : gen_ks_bram
-    // K: a message waits here while its ray's key is read; it moves on to P0 / F0 when the skip
-    // controller takes it, and K takes the next (the RAM reads only then: its output holds).
+    // K: a message waits here while its ray's key is read; it moves on to P0 / F0 (J with
+    // KeyStoreReg) when that takes it, and K takes the next (the RAM reads only then: its output
+    // holds).
     logic                   kp_valid_q, kp_hit_q, kf_valid_q, kf_hit_q, kp_load, kf_load;
+    logic                   kp_next, kf_next;  // the stage after K takes its message
     logic [IdWidth-1:0]     kp_id_q, kf_id_q;
     logic [NodeIdWidth-1:0] kp_node_q, kf_node_q;
+    logic [KsWidth-1:0]     ksp_rd, ksf_rd;  // the RAMs' data: K's rays' keys
     logic [IdWidth-1:0]     ks_unused;  // the skip controller's read addresses
     assign ks_unused = ksp_id ^ ksf_id;
-    assign kp_load = init_done && (!kp_valid_q || sc_pw_ready);
-    assign kf_load = init_done && (!kf_valid_q || sc_outcome_ready);
+    assign kp_load = init_done && (!kp_valid_q || kp_next);
+    assign kf_load = init_done && (!kf_valid_q || kf_next);
     always_ff @(posedge clk_i or negedge rst_ni) begin
       if (!rst_ni) begin
         kp_valid_q <= 1'b0;
@@ -258,18 +267,73 @@ module hrpp_lane
     // An entry is never read in the cycle it is written: a ray's result arrives after its
     // prediction left, and an id is reused only after its ray finished.
     hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_pw (
-      .clk_i, .re_i(kp_load), .raddr_i(pw_id_i), .rdata_o({ksp_idx, ksp_tag, ksp_any_hit}),
+      .clk_i, .re_i(kp_load), .raddr_i(pw_id_i), .rdata_o(ksp_rd),
       .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
     );
     hrpp_ram_1r1w #(.Depth(2**IdWidth), .Width(KsWidth)) u_ks_outcome (
       .clk_i, .re_i(kf_load), .raddr_i(outcome_id_i),
-      .rdata_o({ksf_idx, ksf_tag, ksf_any_hit_unused}),
+      .rdata_o(ksf_rd),
       .we_i(b_valid_q), .waddr_i(b_id_q), .wdata_i(ks_wdata)
     );
-    assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {kp_valid_q, kp_id_q, kp_hit_q,
-                                                             kp_node_q};
-    assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
-        {kf_valid_q, kf_id_q, kf_hit_q, kf_node_q};
+    if (!KeyStoreReg) begin : gen_ks_noreg
+      assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {kp_valid_q, kp_id_q, kp_hit_q,
+                                                               kp_node_q};
+      assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
+          {kf_valid_q, kf_id_q, kf_hit_q, kf_node_q};
+      assign {ksp_idx, ksp_tag, ksp_any_hit} = ksp_rd;
+      assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = ksf_rd;
+      assign kp_next = sc_pw_ready;
+      assign kf_next = sc_outcome_ready;
+      assign ks_outcome_jload = 1'b0;  // unused
+    end else begin : gen_ks_reg
+      // J: K's message and its ray's key from the RAM, taken when J is empty or moves on to P0 /
+      // F0. The key registers have no reset and load only with J (the ECP5 flow makes them the
+      // RAM's output register, the load its OCE: rtl/syn/outreg.py).
+      logic                   jp_valid_q, jp_hit_q, jf_valid_q, jf_hit_q, jp_load, jf_load;
+      logic [IdWidth-1:0]     jp_id_q, jf_id_q;
+      logic [NodeIdWidth-1:0] jp_node_q, jf_node_q;
+      logic [KsWidth-1:0]     jp_key_q, jf_key_q;
+      assign jp_load = init_done && (!jp_valid_q || sc_pw_ready);
+      assign jf_load = init_done && (!jf_valid_q || sc_outcome_ready);
+      always_ff @(posedge clk_i or negedge rst_ni) begin
+        if (!rst_ni) begin
+          jp_valid_q <= 1'b0;
+          jp_id_q    <= '0;
+          jp_hit_q   <= 1'b0;
+          jp_node_q  <= '0;
+          jf_valid_q <= 1'b0;
+          jf_id_q    <= '0;
+          jf_hit_q   <= 1'b0;
+          jf_node_q  <= '0;
+        end else begin
+          if (jp_load) begin
+            jp_valid_q <= kp_valid_q;
+            jp_id_q    <= kp_id_q;
+            jp_hit_q   <= kp_hit_q;
+            jp_node_q  <= kp_node_q;
+          end
+          if (jf_load) begin
+            jf_valid_q <= kf_valid_q;
+            jf_id_q    <= kf_id_q;
+            jf_hit_q   <= kf_hit_q;
+            jf_node_q  <= kf_node_q;
+          end
+        end
+      end
+      always_ff @(posedge clk_i) begin
+        if (jp_load) jp_key_q <= ksp_rd;
+        if (jf_load) jf_key_q <= ksf_rd;
+      end
+      assign {sc_pw_valid, sc_pw_id, sc_pw_hit, sc_pw_node} = {jp_valid_q, jp_id_q, jp_hit_q,
+                                                               jp_node_q};
+      assign {sc_outcome_valid, sc_outcome_id, sc_outcome_hit, sc_outcome_node} =
+          {jf_valid_q, jf_id_q, jf_hit_q, jf_node_q};
+      assign {ksp_idx, ksp_tag, ksp_any_hit} = jp_key_q;
+      assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = jf_key_q;
+      assign kp_next = jp_load;
+      assign kf_next = jf_load;
+      assign ks_outcome_jload = jf_load;
+    end
     assign pw_ready_o      = kp_load;
     assign outcome_ready_o = kf_load;
     assign ks_outcome_load = kf_load;
@@ -497,12 +561,17 @@ module hrpp_lane
     if (!KeyStoreBram) begin : gen_pg_comb
       assign ksf_pred = pg_mem_q[ksf_id];
     end else begin : gen_pg_k
-      logic pg_k_q;
+      logic pg_k_q, pg_j_q;  // K's outcome's bit; with KeyStoreReg, J's
       always_ff @(posedge clk_i or negedge rst_ni) begin
-        if (!rst_ni) pg_k_q <= 1'b0;
-        else if (ks_outcome_load) pg_k_q <= pg_mem_q[outcome_id_i];
+        if (!rst_ni) begin
+          pg_k_q <= 1'b0;
+          pg_j_q <= 1'b0;
+        end else begin
+          if (ks_outcome_load) pg_k_q <= pg_mem_q[outcome_id_i];
+          if (ks_outcome_jload) pg_j_q <= pg_k_q;
+        end
       end
-      assign ksf_pred = pg_k_q;
+      assign ksf_pred = KeyStoreReg ? pg_j_q : pg_k_q;
     end
   end else begin : gen_no_pred_given
     assign ksf_pred = 1'b0;
@@ -551,6 +620,9 @@ module hrpp_lane
   if (Stages != PredictionLatency) begin : gen_latency_check
     $error("hrpp_lane predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
            PredictionLatency);
+  end
+  if (KeyStoreReg && !KeyStoreBram) begin : gen_ks_reg_check
+    $error("KeyStoreReg needs KeyStoreBram (the register is the key store's block-RAM output)");
   end
   if (ConfBits > 1) begin : gen_conf_check
     $error("ConfBits %0d: the RTL has 0 or 1 confidence bits per way", ConfBits);

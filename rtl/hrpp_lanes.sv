@@ -36,6 +36,7 @@ module hrpp_lanes
   parameter int unsigned TagWidth = DefaultTagWidth,            /// stored tag bits (<= full tag)
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits (per lane)
   parameter bit KeyStoreBram = DefaultKeyStoreBram,  /// each lane's key store in block RAM
+  parameter bit KeyStoreReg = DefaultKeyStoreReg,  /// its read register (KeyStoreBram)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// per lane, a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// per lane, a power of two
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// per lane, a power of two >= 2
@@ -209,7 +210,7 @@ module hrpp_lanes
       .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode),
       .NumSets(NumSets), .NodesPerEntry(NodesPerEntry), .NodeIdWidth(NodeIdWidth),
       .TagWidth(TagWidth), .IdWidth(IdWidth), .KeyStoreBram(KeyStoreBram),
-      .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+      .KeyStoreReg(KeyStoreReg), .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
       .UpdateQueueDepth(UpdateQueueDepth), .ConfBits(ConfBits), .LookupQueue(1'b1)
     ) u_lane (
       .clk_i, .rst_ni, .init_done_i(init_done), .cfg_mode_i, .cfg_cell_exp_i,

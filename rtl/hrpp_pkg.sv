@@ -51,6 +51,7 @@ package hrpp_pkg;
   localparam bit DefaultInjectFault = 1'b0;
   localparam int unsigned DefaultConfBits = 1;
   localparam bit DefaultIssueReg = 1'b1;
+  localparam bit DefaultKeyStoreReg = 1'b1;
   // END generated
 
   // Width of one origin or direction field of the key (docs/hash.md): faithful, sign | ExpBits

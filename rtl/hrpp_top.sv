@@ -32,6 +32,7 @@ module hrpp_top
   // Interfaces
   parameter int unsigned IdWidth = DefaultIdWidth,  /// ray id bits: rays in flight are distinct
   parameter bit KeyStoreBram = DefaultKeyStoreBram,  /// key store in block RAM (+1 cycle)
+  parameter bit KeyStoreReg = DefaultKeyStoreReg,  /// its read register (KeyStoreBram; +1 cycle)
   parameter int unsigned PredFifoDepth = DefaultPredFifoDepth,  /// a power of two
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,  /// a power of two
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,  /// update queue entries, a power of two >= 2
@@ -100,7 +101,7 @@ module hrpp_top
     .DirBits(DirBits), .Combine(Combine), .DirCode(DirCode),
     .NumSets(NumSets), .NodesPerEntry(NodesPerEntry), .NodeIdWidth(NodeIdWidth),
     .TagWidth(TagWidth), .IdWidth(IdWidth), .KeyStoreBram(KeyStoreBram),
-    .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
+    .KeyStoreReg(KeyStoreReg), .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
     .UpdateQueueDepth(UpdateQueueDepth), .ConfBits(ConfBits), .LookupQueue(1'b0)
   ) u_lane (
     .clk_i, .rst_ni, .init_done_i(init_done), .cfg_mode_i, .cfg_cell_exp_i,

@@ -32,6 +32,7 @@ module hrpp_tb_top
   parameter int unsigned SkipFifoDepth = DefaultSkipFifoDepth,
   parameter int unsigned UpdateQueueDepth = DefaultUpdateQueueDepth,
   parameter bit KeyStoreBram = DefaultKeyStoreBram,
+  parameter bit KeyStoreReg = DefaultKeyStoreReg,
   parameter bit InjectFault = DefaultInjectFault,
   parameter int unsigned ConfBits = DefaultConfBits,
   parameter bit IssueReg = DefaultIssueReg,
@@ -87,6 +88,7 @@ module hrpp_tb_top
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
       .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault),
+      .KeyStoreReg(KeyStoreReg),
       .ConfBits(ConfBits), .IssueReg(IssueReg)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),
@@ -112,6 +114,7 @@ module hrpp_tb_top
       .NodeIdWidth(NodeIdWidth), .TagWidth(TagWidth), .IdWidth(IdWidth),
       .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(SkipFifoDepth),
       .UpdateQueueDepth(UpdateQueueDepth), .KeyStoreBram(KeyStoreBram), .InjectFault(InjectFault),
+      .KeyStoreReg(KeyStoreReg),
       .ConfBits(ConfBits), .IssueReg(IssueReg), .Lanes(Lanes)
     ) u_dut (
       .clk_i, .rst_ni, .cfg_mode_i(cfg_mode_q), .cfg_cell_exp_i(cfg_cell_exp_q),

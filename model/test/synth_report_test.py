@@ -432,6 +432,22 @@ class OutregTest(unittest.TestCase):
         self.assertEqual(outreg.move(net), {"rams": 1, "moved": 0, "ffs": 0, "left": ["ram"]})
         self.assertEqual(net, before)
 
+    def test_moves_clock_enabled_flip_flops_when_asked(self):
+        net = self.netlist("CE")
+        self.assertEqual(outreg.move(net, clock_enables=True),
+                         {"rams": 1, "moved": 1, "ffs": 2, "left": []})
+        ram = net["modules"]["top"]["cells"]["ram"]
+        self.assertEqual(sorted(net["modules"]["top"]["cells"]), ["ram"])
+        self.assertEqual((ram["connections"]["OCEA"], ram["connections"]["OCEB"],
+                          ram["connections"]["DOA1"]), ([6], [6], [21]))
+        # Two enables on one RAM: its output register has one, so nothing moves.
+        net = self.netlist("CE")
+        net["modules"]["top"]["cells"]["ff1"]["connections"]["CE"] = [7]
+        self.assertEqual(outreg.move(net, clock_enables=True)["moved"], 0)
+        # Only KeyStoreReg configurations move them.
+        self.assertTrue(flow.outreg_clock_enables({"KeyStoreReg": 1}))
+        self.assertFalse(flow.outreg_clock_enables({"KeyStoreBram": 1, "KeyStoreReg": 0}))
+
     def test_skip_reason_and_report(self):
         saved = flow.OUTREG
         try:

@@ -122,6 +122,7 @@ def cpp_header(data: dict) -> str:
             "  int confidence_bits;  // a confidence bit per table way (threshold 1): 0 or 1",
             "  bool any_hit_only;  // the RT unit offers any-hit rays only (predict_kinds any-hit)",
             "  bool issue_reg;  // the table's issue register: +1 cycle of update latency",
+            "  bool key_store_reg;  // the key store's read register: +1 cycle of decision and update",
             "};",
             "",
             f"inline constexpr std::array<ConfigData, {len(cfgs)}> kConfigs{{{{"]
@@ -137,7 +138,8 @@ def cpp_header(data: dict) -> str:
             f"{'true' if c['inject_fault'] else 'false'}, {c['lanes']}, "
             f"{c['confidence_bits']}, "
             f"{'true' if c['predict_kinds'] == 'any-hit' else 'false'}, "
-            f"{'true' if c['issue_reg'] else 'false'}}},")
+            f"{'true' if c['issue_reg'] else 'false'}, "
+            f"{'true' if c['key_store_reg'] else 'false'}}},")
     out += ["}};", "", "/// The default configuration (hrpp_top's parameter defaults).",
             f"inline constexpr const ConfigData& kDefaultConfig = "
             f"kConfigs[{list(cfgs).index('default')}];", "", "}  // namespace hrpp::rtl", ""]

@@ -77,6 +77,7 @@ module top_formal
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
     .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2), .KeyStoreBram(1'b0),
+    .KeyStoreReg(1'b0),
     .InjectFault(1'b0), .ConfBits(0)
   ) dut (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),
@@ -133,6 +134,7 @@ module top_formal
     .Variant(HashFaithful), .Precision(1), .ExpBits(1), .Combine(CombineXor), .NumSets(2),
     .NumWays(2), .NodesPerEntry(1), .NodeIdWidth(NodeIdWidth), .TagWidth(2), .IdWidth(IdWidth),
     .PredFifoDepth(PredFifoDepth), .SkipFifoDepth(2), .UpdateQueueDepth(2), .KeyStoreBram(1'b0),
+    .KeyStoreReg(1'b0),
     .InjectFault(1'b0), .ConfBits(0)
   ) dut_b (
     .clk_i, .rst_ni, .cfg_mode_i(mode_e'(mode_i)), .cfg_cell_exp_i(cell_exp_i),

@@ -174,7 +174,8 @@ tee -q -o {pre}.xc7.stat.json stat -json
              YOSYS_TIMEOUT, f"{name}: yosys (generic, ECP5, iCE40, xc7)")
     for f in [f"{pre}.coarse.json", f"{pre}.ecp5.json"] + ([f"{pre}_netlist.v"] if netlist else []):
         commit_tmp(ROOT / f)
-    moved = move_output_registers(Path(f"{pre}.ecp5.json"), outreg_skip_reason())
+    moved = move_output_registers(Path(f"{pre}.ecp5.json"), outreg_skip_reason(),
+                                  outreg_clock_enables(info["params"]))
     res = analyse_design(info, Path(f"{pre}.yosys.log"))
     res["outreg"] = moved
     res["ff"] -= moved["ffs"]  # the netlist placed: the moved flip-flops are in the RAMs
@@ -192,15 +193,22 @@ def outreg_skip_reason() -> str | None:
     return None
 
 
-def move_output_registers(ecp5_json: Path, skip: str | None) -> dict:
+def outreg_clock_enables(params: dict) -> bool:
+    """Whether clock-enabled flip-flops move too (rtl/syn/outreg.py): with the key store's read
+    register (KeyStoreReg), whose key registers are there to be the RAM's output register."""
+    return bool(params.get("KeyStoreReg", 0))
+
+
+def move_output_registers(ecp5_json: Path, skip: str | None, clock_enables: bool) -> dict:
     """The block RAMs' output registers (rtl/syn/outreg.py) in the ECP5 netlist ecp5_json, in
-    place, unless skip (outreg_skip_reason) says why not; returns what moved (skipped: nothing,
-    "off" the reason)."""
+    place, unless skip (outreg_skip_reason) says why not, clock-enabled flip-flops too when
+    clock_enables (outreg_clock_enables); returns what moved (skipped: nothing, "off" the
+    reason)."""
     if skip:
         log(f"{ecp5_json}: the block RAMs keep their flip-flops in the fabric ({skip})")
         return {"rams": None, "moved": 0, "ffs": 0, "left": [], "off": skip}
     net = load_json(ecp5_json)
-    moved = outreg.move(net)
+    moved = outreg.move(net, clock_enables)
     write_atomic(ROOT / ecp5_json, json.dumps(net))
     log(f"{ecp5_json}: {moved['moved']} of {moved['rams']} DP16KD take their output "
         f"flip-flops ({moved['ffs']})" + (f"; left: {', '.join(moved['left'])}"
@@ -310,13 +318,15 @@ tee -q -o {pre}.ecp5.stat.json stat -json
             "ff": e.get("TRELLIS_FF", 0)}
 
 
-def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None) -> None:
+def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None,
+                  clock_enables: bool) -> None:
     """The netlists of configuration NAME that `make synth-check` simulates: the generic
     gate-level one, out/synth/NAME_netlist.v; the ECP5 one as synth_ecp5 writes it, every block
     RAM's output flip-flops in the fabric, out/synth/NAME_ecp5_unmoved_netlist.v; and the ECP5
     one that place and route gets (the output registers moved as the flow moves them),
     out/synth/NAME_ecp5_netlist.v. read_cmd: the read_slang command of hrpp_top; outreg_skip:
-    outreg_skip_reason's for the configuration (then the last two are the same netlist)."""
+    outreg_skip_reason's for the configuration (then the last two are the same netlist);
+    clock_enables: outreg_clock_enables's."""
     pre = OUT / f"{name}_netlist"
     pre_e = OUT / f"{name}_ecp5_netlist"
     (ROOT / f"{pre}.ys").write_text(
@@ -331,7 +341,7 @@ def yosys_netlist(name: str, read_cmd: str, outreg_skip: str | None) -> None:
     commit_tmp(ROOT / f"{pre}.v")
     commit_tmp(ROOT / f"{pre_e}.json")
     json_to_verilog(name, Path(f"{pre_e}.json"), OUT / f"{name}_ecp5_unmoved_netlist")
-    move_output_registers(Path(f"{pre_e}.json"), outreg_skip)
+    move_output_registers(Path(f"{pre_e}.json"), outreg_skip, clock_enables)
     json_to_verilog(name, Path(f"{pre_e}.json"), pre_e)
     log(f"wrote {pre}.v, {OUT / name}_ecp5_unmoved_netlist.v, {pre_e}.v")
 

@@ -137,6 +137,7 @@ def describe(p: dict[str, int]) -> str:
     conf = ", confidence bit" if p.get("ConfBits", 0) else ""
     ids = f", {2 ** p['IdWidth']:,} ray ids" if p.get("IdWidth", 6) != 6 else ""
     ks = ", key store in block RAM" if p.get("KeyStoreBram", 0) else ""
+    ks += " with its read register" if p.get("KeyStoreReg", 0) else ""
     uq = (f", update queue {p['UpdateQueueDepth']}" if p.get("UpdateQueueDepth", 8) != 8
           else "")
     return (f"{p['NumSets']}x{p['NumWays']}x{p['NodesPerEntry']}, tag {p['TagWidth']}, {h}{lanes}"
@@ -279,7 +280,8 @@ def main() -> int:
     if args.netlist_only:
         for c in names:
             yosys_netlist(c, read_slang_cmd("hrpp_top", dict(cfgs[c]), rtl_files()),
-                          flow_module.outreg_skip_reason())
+                          flow_module.outreg_skip_reason(),
+                          flow_module.outreg_clock_enables(dict(cfgs[c])))
         return 0
 
     stem = "report" if args.doc_only else report_stem(

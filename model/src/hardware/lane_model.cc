@@ -21,6 +21,8 @@ void LaneModel::reset() {
   key_store_written_.assign(size_t{1} << cfg_.id_bits, false);
   kp_ = Msg{};
   kf_ = Msg{};
+  jp_ = Msg{};
+  jf_ = Msg{};
   p0_ = Msg{};
   f0_ = Msg{};
   update_queue_.clear();
@@ -57,6 +59,8 @@ LaneModel::Decision LaneModel::decide(bool clearing) const {
   d.p_advance = p0_.valid && !fifo_full && (!p_needs || (d.f_req ? d.room2 : d.room1));
   d.p_take = !clearing && (!p0_.valid || d.p_advance);
   d.f_take = !clearing && (!f0_.valid || d.f_advance);
+  d.jp_take = !clearing && (!jp_.valid || d.p_take);
+  d.jf_take = !clearing && (!jf_.valid || d.f_take);
   return d;
 }
 
@@ -82,8 +86,9 @@ DutOut LaneModel::outputs(const Decision& d, bool clearing) const {
     o.pred_nodes = p.nodes;
   }
   if (cfg_.key_store_bram) {  // K takes a message when empty or when it moves on
-    o.pw_ready = !clearing && (!kp_.valid || d.p_take);
-    o.outcome_ready = !clearing && (!kf_.valid || d.f_take);
+    const bool reg = cfg_.key_store_reg;
+    o.pw_ready = !clearing && (!kp_.valid || (reg ? d.jp_take : d.p_take));
+    o.outcome_ready = !clearing && (!kf_.valid || (reg ? d.jf_take : d.f_take));
   } else {
     o.pw_ready = d.p_take;
     o.outcome_ready = d.f_take;
@@ -158,7 +163,8 @@ void LaneModel::finish(const DutIn& in, const PredTable& table, std::string* err
   if (o.pw_ready) check_key(in.pw_valid, in.pw_id, "predicted-walk result accepted");
   if (o.outcome_ready) check_key(in.outcome_valid, in.outcome_id, "final outcome accepted");
   // The key is read as the message is accepted: into P0 / F0 (distributed RAM), or into K, whose
-  // message and key move on to P0 / F0 when those take it (block RAM: the RAM's output holds).
+  // message and key move on to P0 / F0 when those take it (block RAM: the RAM's output holds),
+  // through J with the read register (the key in the RAM's output register).
   Msg& pw_to = cfg_.key_store_bram ? kp_ : p0_;
   Msg& outcome_to = cfg_.key_store_bram ? kf_ : f0_;
   // Confidence: a final outcome entering F0 requests a demote when its ray was given a
@@ -168,11 +174,14 @@ void LaneModel::finish(const DutIn& in, const PredTable& table, std::string* err
     return conf && m.valid && !m.hit && pred_given_[m.id] != 0;
   };
   if (cfg_.key_store_bram) {
-    if (dec.p_take) p0_ = kp_;
+    const bool reg = cfg_.key_store_reg;
+    if (dec.p_take) p0_ = reg ? jp_ : kp_;
     if (dec.f_take) {
-      f0_ = kf_;
+      f0_ = reg ? jf_ : kf_;
       f0_.demote = demotes_in_f0(f0_);
     }
+    if (reg && dec.jp_take) jp_ = kp_;
+    if (reg && dec.jf_take) jf_ = kf_;
   }
   if (o.pw_ready) pw_to = Msg{in.pw_valid, in.pw_id, in.pw_hit, in.pw_node, key_store_[in.pw_id]};
   if (o.outcome_ready) {

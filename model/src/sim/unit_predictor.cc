@@ -191,17 +191,18 @@ TimedConfig preset_timing(const std::string& preset) {
     return t;
   }
   // An RTL configuration's latencies (a key store in block RAM adds a cycle to the decision and
-  // the update, the table's issue register one to the update: rtl_config.h); any other preset,
-  // the declared ones.
-  bool bram = false, issue = false;
+  // the update, its read register another, the table's issue register one to the update:
+  // rtl_config.h); any other preset, the declared ones.
+  int ks = 0;
+  bool issue = false;
   for (const rtl::ConfigData& c : rtl::kConfigs)
     if (preset == std::string("rtl-") + c.name) {
-      bram = c.key_store_bram;
+      ks = int(c.key_store_bram) + int(c.key_store_reg);
       issue = c.issue_reg;
     }
   t.lookup_latency = rtl::kPredictionLatency;
-  t.decision_latency = rtl::kDecisionLatency + int(bram);
-  t.update_latency = rtl::kUpdateLanding + int(bram) + int(issue);
+  t.decision_latency = rtl::kDecisionLatency + ks;
+  t.update_latency = rtl::kUpdateLanding + ks + int(issue);
   t.lookups_per_cycle = 1;
   t.updates_per_cycle = 1;
   t.credits = 0;

@@ -84,6 +84,9 @@ struct CycleConfig {
   // The key store in block RAM (KeyStoreBram): a predicted-walk result or final outcome waits a
   // cycle in K (its key read) before P0 / F0: one cycle more of decision and update latency.
   bool key_store_bram = rtl::kDefaultConfig.key_store_bram;
+  // Its read register (KeyStoreReg, with key_store_bram): the message and its key wait one more
+  // cycle in J between K and P0 / F0: one more cycle of decision and update latency.
+  bool key_store_reg = rtl::kDefaultConfig.key_store_reg;
   // The table's issue register (IssueReg): a request taken from the update queue waits a cycle in
   // I, where the interlock judges it, before T0: one cycle more of update latency.
   bool issue_reg = rtl::kDefaultConfig.issue_reg;

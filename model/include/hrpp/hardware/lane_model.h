@@ -121,8 +121,9 @@ class LaneModel {
     bool f_req = false, p_req = false, p_advance = false, f_advance = false;
     std::optional<Op> update;   // the first request to the update queue (a final outcome's first)
     std::optional<Op> update2;  // the second, behind it (a predicted-walk result's)
-    bool room1 = false, room2 = false;    // the update queue has room for one, for two requests
-    bool p_take = false, f_take = false;  // P0, F0 take a message (the port's, or K's)
+    bool room1 = false, room2 = false;      // the update queue has room for one, for two requests
+    bool p_take = false, f_take = false;    // P0, F0 take a message (the port's, K's or J's)
+    bool jp_take = false, jf_take = false;  // J takes K's message (key_store_reg)
   };
   Decision decide(bool clearing) const;
   DutOut outputs(const Decision& d, bool clearing) const;
@@ -155,8 +156,9 @@ class LaneModel {
   std::vector<KeyEntry> key_store_;      // no reset, as in the RTL
   std::vector<uint8_t> pred_given_;      // by id: the ray was given a prediction (ConfBits)
   std::vector<bool> key_store_written_;  // since the last reset
-  // Update path: (K: kp_, kf_ with the key store in block RAM) P0 and F0, the update queue (U).
-  Msg kp_, kf_, p0_, f0_;
+  // Update path: (K: kp_, kf_ with the key store in block RAM; J: jp_, jf_ with its read
+  // register) P0 and F0, the update queue (U).
+  Msg kp_, kf_, jp_, jf_, p0_, f0_;
   std::deque<Op> update_queue_;
   std::deque<std::pair<uint32_t, Action>> skip_fifo_;
 };

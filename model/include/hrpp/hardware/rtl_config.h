@@ -34,15 +34,19 @@ struct RtlConfig {
   int lanes = 1;                // lookups and updates per cycle: 1 (hrpp_top), 2 or 4 (hrpp_lanes)
   bool any_hit_only = false;    // predict_kinds "any-hit": the unit offers any-hit rays only
   bool issue_reg = false;       // IssueReg: the table's issue register, one cycle more of update
+  bool key_store_reg = false;   // KeyStoreReg: the key store's read register, one cycle more of
+                                // decision and update latency (with key_store_bram)
 
   /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
-  /// the declared ones, one cycle more with the key store in block RAM (its registered read), and
-  /// one cycle more of update latency with the table's issue register.
-  int decision_latency() const { return rtl::kDecisionLatency + int(key_store_bram); }
+  /// the declared ones, one cycle more with the key store in block RAM (its registered read) and
+  /// one more with its read register, and one cycle more of update latency with the table's issue
+  /// register.
+  int key_store_cycles() const { return int(key_store_bram) + int(key_store_reg); }
+  int decision_latency() const { return rtl::kDecisionLatency + key_store_cycles(); }
   int update_write_latency() const {
-    return rtl::kUpdateWriteLatency + int(key_store_bram) + int(issue_reg);
+    return rtl::kUpdateWriteLatency + key_store_cycles() + int(issue_reg);
   }
-  int update_landing() const { return rtl::kUpdateLanding + int(key_store_bram) + int(issue_reg); }
+  int update_landing() const { return rtl::kUpdateLanding + key_store_cycles() + int(issue_reg); }
 
   /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3"; the
   /// octahedral direction code: "improved hash 3/3 oct concat").
@@ -78,6 +82,7 @@ struct RtlConfig {
     c.skip_fifo_depth = skip_fifo_depth;
     c.update_queue_depth = update_queue_depth;
     c.key_store_bram = key_store_bram;
+    c.key_store_reg = key_store_reg;
     c.issue_reg = issue_reg;
     c.lanes = lanes;
     return c;
@@ -123,6 +128,7 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.inject_fault = d.inject_fault;
   c.lanes = int(d.lanes);
   c.issue_reg = d.issue_reg;
+  c.key_store_reg = d.key_store_reg;
   return c;
 }
 
