@@ -231,7 +231,8 @@ def sweep_doc(sweep: list[dict]) -> str:
          "changed from the `primary` configuration "
          "(128 sets x 8 ways x 2 nodes, 8-bit tags, improved hash o5/d3 concat) at a time; "
          "`faithful-pN`: the study's faithful hash at precision N (3 exponent bits, XOR); "
-         "`idsN`: 2^N ray ids (`ids10` with the key store in block RAM); `uqN`: an update queue "
+         "`idsN`: 2^N ray ids (`ids10` with the key store in block RAM; `ids10-ksreg` with its "
+         "read register too, as the default configuration); `uqN`: an update queue "
          "of N entries; `lanes2`: two lanes (`hrpp_lanes`, as `primary_x2`); `ireg`: the issue "
          "register (as the default and `large` configurations).", "",
          "| variant | table | storage | ECP5 LUT4 | FF | DP16KD | DPR16X4 | Fmax sg6 | ceiling | "

@@ -171,6 +171,8 @@ def sweep_variants(cfgs: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]
     # `make synth`).
     for ids, bram in ((8, 0), (10, 1)):
         v[f"ids{ids}"] = {**base, "IdWidth": ids, "KeyStoreBram": bram}
+    # ... and the key store's read register (`key_store_reg`, as the default configuration).
+    v["ids10-ksreg"] = {**v["ids10"], "KeyStoreReg": 1}
     for d in (4, 16):
         v[f"uq{d}"] = {**base, "UpdateQueueDepth": d}
     v["lanes2"] = {**base, "Lanes": 2}
