@@ -206,10 +206,12 @@ module hrpp_lane
   logic                   sc_outcome_valid, sc_outcome_ready, sc_outcome_hit;
   logic [IdWidth-1:0]     sc_pw_id, sc_outcome_id;
   logic [NodeIdWidth-1:0] sc_pw_node, sc_outcome_node;
-  logic                   ks_outcome_load;  // KeyStoreBram: K takes the outcome at the port
-  logic                   ks_outcome_jload;  // KeyStoreReg: J takes K's outcome
-  logic                   ks_load_unused;   // read by the pred-given bit's registers only
-  assign ks_load_unused = ks_outcome_load ^ ks_outcome_jload;
+  // KeyStoreBram: [0] K takes the outcome at the port, [1] J takes K's (KeyStoreReg). One net:
+  // a configuration without the block-RAM key store has the nets it had before J, and Yosys
+  // maps it to the same netlist (a new net alone changed ABC's mapping of `primary`).
+  logic [1:0]             ks_outcome_load;
+  logic [1:0]             ks_load_unused;   // read by the pred-given bit's registers only
+  assign ks_load_unused = ks_outcome_load;
 
   if (!KeyStoreBram) begin : gen_ks_distributed
     (* ram_style = "distributed" *) logic [KsWidth-1:0] ks_mem_q[2**IdWidth];
@@ -224,8 +226,7 @@ module hrpp_lane
         {outcome_valid_i, outcome_id_i, outcome_hit_i, outcome_node_i};
     assign pw_ready_o      = sc_pw_ready;
     assign outcome_ready_o = sc_outcome_ready;
-    assign ks_outcome_load  = 1'b0;  // unused
-    assign ks_outcome_jload = 1'b0;  // unused
+    assign ks_outcome_load = '0;  // unused
   end else begin : gen_ks_bram
     // K: a message waits here while its ray's key is read; it moves on to P0 / F0 (J with
     // KeyStoreReg) when that takes it, and K takes the next (the RAM reads only then: its output
@@ -284,7 +285,7 @@ module hrpp_lane
       assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = ksf_rd;
       assign kp_next = sc_pw_ready;
       assign kf_next = sc_outcome_ready;
-      assign ks_outcome_jload = 1'b0;  // unused
+      assign ks_outcome_load[1] = 1'b0;  // unused
     end else begin : gen_ks_reg
       // J: K's message and its ray's key from the RAM, taken when J is empty or moves on to P0 /
       // F0. The key registers have no reset and load only with J (the ECP5 flow makes them the
@@ -332,11 +333,11 @@ module hrpp_lane
       assign {ksf_idx, ksf_tag, ksf_any_hit_unused} = jf_key_q;
       assign kp_next = jp_load;
       assign kf_next = jf_load;
-      assign ks_outcome_jload = jf_load;
+      assign ks_outcome_load[1] = jf_load;
     end
     assign pw_ready_o      = kp_load;
     assign outcome_ready_o = kf_load;
-    assign ks_outcome_load = kf_load;
+    assign ks_outcome_load[0] = kf_load;
   end
 
   // ---------------------------------------------------------------------------------------------
@@ -567,8 +568,8 @@ module hrpp_lane
           pg_k_q <= 1'b0;
           pg_j_q <= 1'b0;
         end else begin
-          if (ks_outcome_load) pg_k_q <= pg_mem_q[outcome_id_i];
-          if (ks_outcome_jload) pg_j_q <= pg_k_q;
+          if (ks_outcome_load[0]) pg_k_q <= pg_mem_q[outcome_id_i];
+          if (ks_outcome_load[1]) pg_j_q <= pg_k_q;
         end
       end
       assign ksf_pred = KeyStoreReg ? pg_j_q : pg_k_q;

@@ -130,6 +130,13 @@ class RtlConfig(unittest.TestCase):
         self.assertEqual((lb["prediction_latency"], lb["decision_latency"],
                           lb["update_write_latency"], lb["update_landing"]), (10, 3, 12, 7))
         self.assertEqual(rtl_config.latencies(small, data)["decision_latency"], 2)
+        # Its read register (J): one cycle more again.
+        reg = dict(bram, key_store_reg=True)
+        self.assertEqual(rtl_config.hrpp_top_params(reg)["KeyStoreReg"], "1'b1")
+        lr = rtl_config.latencies(reg, data)
+        self.assertEqual((lr["prediction_latency"], lr["decision_latency"],
+                          lr["update_write_latency"], lr["update_landing"]),
+                         (10, 4, lb["update_write_latency"] + 1, lb["update_landing"] + 1))
 
     def test_errors(self):
         bad = [({"small": self.BASE}, "no configuration named default"),
@@ -144,7 +151,9 @@ class RtlConfig(unittest.TestCase):
                ({"default": {**self.BASE, "confidence_bits": True}},
                 "confidence_bits must be 0 or 1"),
                ({"default": {**self.BASE, "confidence_bits": 1, "lanes": 2}},
-                "confidence_bits is not available with lanes > 1")]
+                "confidence_bits is not available with lanes > 1"),
+               ({"default": {**self.BASE, "key_store_bram": False, "key_store_reg": True}},
+                "key_store_reg needs key_store_bram")]
         for configs, message in bad:
             with self.assertRaises(rtl_config.ConfigError) as e:
                 self.load(configs)
