@@ -4,6 +4,7 @@
 #include <bit>
 #include <functional>
 
+#include "hrpp/hardware/rtl_config.h"
 #include "hrpp/rtl_config_data.h"
 
 namespace hrpp::sim {
@@ -190,19 +191,18 @@ TimedConfig preset_timing(const std::string& preset) {
     t.credits = 0;
     return t;
   }
-  // An RTL configuration's latencies (a key store in block RAM adds a cycle to the decision and
-  // the update, its read register another, the table's issue register one to the update:
-  // rtl_config.h); any other preset, the declared ones.
-  int ks = 0;
-  bool issue = false;
+  // An RTL configuration's latencies (RtlConfig's: the key store in block RAM, its read register
+  // and the table's issue register add to the declared ones); any other preset, the declared
+  // ones.
+  t.lookup_latency = rtl::kPredictionLatency;
+  t.decision_latency = rtl::kDecisionLatency;
+  t.update_latency = rtl::kUpdateLanding;
   for (const rtl::ConfigData& c : rtl::kConfigs)
     if (preset == std::string("rtl-") + c.name) {
-      ks = int(c.key_store_bram) + int(c.key_store_reg);
-      issue = c.issue_reg;
+      const RtlConfig r = make_rtl_config(c);
+      t.decision_latency = r.decision_latency();
+      t.update_latency = r.update_landing();
     }
-  t.lookup_latency = rtl::kPredictionLatency;
-  t.decision_latency = rtl::kDecisionLatency + ks;
-  t.update_latency = rtl::kUpdateLanding + ks + int(issue);
   t.lookups_per_cycle = 1;
   t.updates_per_cycle = 1;
   t.credits = 0;

@@ -241,13 +241,11 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
           std::fprintf(stderr, "hrpp simulate --rtl: MISMATCH in %s\n", log->back().c_str());
         });
       };
-      r.timing =
-          "the Verilated RTL (configuration " + config +
-          ") at its ports, compared with its cycle model on every cycle (" + rtl_lanes_text(cc) +
-          std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
-          std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
-          std::to_string(rtl::kDecisionLatency + int(cc.key_store_bram) + int(cc.key_store_reg)) +
-          ")";
+      r.timing = "the Verilated RTL (configuration " + config +
+                 ") at its ports, compared with its cycle model on every cycle (" +
+                 rtl_lanes_text(cc) + std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
+                 std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
+                 std::to_string(rtl_config(config).decision_latency()) + ")";
 #else
       std::fprintf(stderr,
                    "hrpp simulate: --rtl: this hrpp was built without the Verilated RTL "
