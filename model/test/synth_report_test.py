@@ -124,7 +124,10 @@ class Report(unittest.TestCase):
                       "110,592 | 5,253 | 6,550 | 24 | 56 | 129.8 / 143.4 MHz (90%) | "
                       "169.1 / 192.0 MHz (88%) | met | `a_q` -> `b_q` |\n", md)
         self.assertIn("| default | seed 1: 129.75 / 143.37, seed 2: 124.19 / 141.1 | seed 1: "
-                      "failed: timeout / 190.01, seed 2: 169.12 / 192.01 |\n", md)
+                      "failed: timeout / 190.01, seed 2: 169.12 / 192.01 | - |\n", md)
+        digested = copy.deepcopy(self.results)
+        digested[0]["netlist_digest"] = "0123456789ab"
+        self.assertIn("169.12 / 192.01 | 0123456789ab |\n", report.report_md(digested, []))
         self.assertIn("| default | 5,981 / 7,463 / 56 | 4,187 / 6,550 / 12+0 / 3 | 15 | 111,826 | "
                       "63,604 | 6,550 |\n", md)
         self.assertIn("| k4 | k4 description | 12,160.1 B | 1,000 | 2,000 | 24 | 56 | 115.5 | "
@@ -392,6 +395,32 @@ class CriticalPathNames(unittest.TestCase):
         self.assertEqual(flow.block_registers("rtl/hrpp_pred_table.sv:1.1"),
                          "hrpp_pred_table.sv:1")
         self.assertEqual(flow.block_registers("/share/x.v:3.1"), "/share/x.v:3.1")
+
+
+class NetlistDigest(unittest.TestCase):
+    """flow.netlist_digest: source positions do not count, anything else does."""
+
+    def digest(self, netlist: dict) -> str:
+        with tempfile.TemporaryDirectory(prefix="digest-") as d:
+            p = pathlib.Path(d) / "n.json"
+            p.write_text(json.dumps(netlist))
+            return flow.netlist_digest(p)
+
+    def test_source_positions_do_not_count(self):
+        cell = {"type": "LUT4", "attributes": {"src": "a.sv:10.1-10.5"},
+                "connections": {"A": [2], "Z": [3]}}
+        net = {"bits": [2], "attributes": {"src": "a.sv:3"}}
+        n = {"modules": {"top": {"cells": {"c": cell}, "netnames": {"x": net}}}}
+        moved = copy.deepcopy(n)
+        moved["modules"]["top"]["cells"]["c"]["attributes"]["src"] = "a.sv:12.1-12.5"
+        moved["modules"]["top"]["netnames"]["x"]["attributes"]["src"] = "a.sv:5"
+        self.assertEqual(self.digest(n), self.digest(moved))
+        self.assertRegex(self.digest(n), r"^[0-9a-f]{12}$")
+        rewired = copy.deepcopy(n)
+        rewired["modules"]["top"]["cells"]["c"]["connections"]["A"] = [4]
+        renamed = copy.deepcopy(n)
+        renamed["modules"]["top"]["netnames"]["y"] = renamed["modules"]["top"]["netnames"].pop("x")
+        self.assertEqual(len({self.digest(n), self.digest(rewired), self.digest(renamed)}), 3)
 
 
 class OutregTest(unittest.TestCase):

@@ -8,6 +8,7 @@ temporary names, then renamed).
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import re
@@ -177,6 +178,7 @@ tee -q -o {pre}.xc7.stat.json stat -json
     moved = move_output_registers(Path(f"{pre}.ecp5.json"), outreg_skip_reason(),
                                   outreg_clock_enables(info["params"]))
     res = analyse_design(info, Path(f"{pre}.yosys.log"))
+    res["netlist_digest"] = netlist_digest(ROOT / f"{pre}.ecp5.json")
     res["outreg"] = moved
     res["ff"] -= moved["ffs"]  # the netlist placed: the moved flip-flops are in the RAMs
     res["ecp5_cells"]["TRELLIS_FF"] = res["ff"]
@@ -353,6 +355,24 @@ def json_to_verilog(name: str, netlist_json: Path, pre: Path) -> None:
     run_tool([YOSYS, "-q", "-l", f"{pre}.yosys.log", f"{pre}.ys"],
              Path(f"{pre}.yosys.stdout"), YOSYS_TIMEOUT, f"{name}: {pre.name}.v")
     commit_tmp(ROOT / f"{pre}.v")
+
+
+def netlist_digest(path: Path) -> str:
+    """The first 12 hex digits of the SHA-256 of a Yosys JSON netlist without its source positions
+    (the `src` attributes, which move with any edit of the RTL's text): the netlist nextpnr gets.
+    Equal digests are the same netlist, which places and routes to the same figures per seed
+    (nextpnr is deterministic); a change of the RTL that keeps a configuration's digest keeps its
+    figures, and one that changes it may move them (Yosys's mapping is sensitive to the RTL's
+    elaboration, not only its logic: docs/microarchitecture.md, "Tried and measured")."""
+    def strip(x):
+        if isinstance(x, dict):
+            return {k: strip(v) for k, v in x.items() if k != "src"}
+        if isinstance(x, list):
+            return [strip(v) for v in x]
+        return x
+    text = json.dumps(strip(json.loads(Path(path).read_text())), sort_keys=True,
+                      separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -167,12 +167,15 @@ def report_md(results: list[dict], sweep: list[dict]) -> str:
                      f"{fmax_text(r, '_speed8')} | {'met' if r['fmax_target_met'] else 'FAIL'} | "
                      f"{path_text(cp)} |")
         L.append("")
-        L.append("Fmax of every placer seed (MHz), design / ceiling:")
+        L.append("Fmax of every placer seed (MHz), design / ceiling, and the placed ECP5 netlist's "
+                 "digest (rtl/syn/flow.py netlist_digest: equal digests, equal netlists and "
+                 "figures):")
         L.append("")
-        L.append("| config | speed grade 6 | speed grade 8 |")
-        L.append("|---|---|---|")
+        L.append("| config | speed grade 6 | speed grade 8 | netlist |")
+        L.append("|---|---|---|---|")
         for r in results:
-            L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} |")
+            L.append(f"| {r['config']} | {seed_cells(r, 6)} | {seed_cells(r, 8)} | "
+                     f"{r.get('netlist_digest', '-')} |")
         L.append("")
         L.append("| config | iCE40 LUT4 / FF / RAM40_4K | xc7 LUT / FF / RAMB36+RAMB18 / LUTRAM | "
                  "generic cells (coarse) | memory bits (all RAMs) | logic transistors (cmos) | "
@@ -281,6 +284,10 @@ def update_results_doc(results: list[dict], sweep: list[dict], doc: Path = RESUL
                 f"| {r['config']} | {r['description']} | {r['lut4']:,} / {r['ff']:,} / "
                 f"{bram_text(r)} | {fmax_alone(r)} | {fmax_alone(r, '_speed8')} | "
                 f"{path_text(r['critical_path'])} | {path_text(r['critical_path_speed8'])} |")
+        body += ["", "The placed ECP5 netlists' digests (rtl/syn/flow.py `netlist_digest`: the "
+                 "netlist without source positions; an RTL change that keeps a configuration's "
+                 "digest keeps its figures): " + ", ".join(
+                     f"{r['config']} `{r.get('netlist_digest', '-')}`" for r in results) + "."]
     blocks = {"synth": "\n".join(body) + "\n"}
     if sweep:
         blocks["synth-sweep"] = sweep_doc(sweep)
