@@ -8,7 +8,7 @@
 namespace hrpp::tb {
 
 Latencies declared_latencies(const RtlConfig& rc) {
-  return {rtl::kPredictionLatency, rc.decision_latency(), rc.update_landing()};
+  return {rc.prediction_latency(), rc.decision_latency(), rc.update_landing()};
 }
 
 namespace {

@@ -37,16 +37,19 @@ struct RtlConfig {
   bool key_store_reg = false;   // KeyStoreReg: the key store's read register, one cycle more of
                                 // decision and update latency (with key_store_bram)
 
-  /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"):
-  /// the declared ones, one cycle more with the key store in block RAM (its registered read) and
-  /// one more with its read register, and one cycle more of update latency with the table's issue
-  /// register.
-  int key_store_cycles() const { return int(key_store_bram) + int(key_store_reg); }
-  int decision_latency() const { return rtl::kDecisionLatency + key_store_cycles(); }
-  int update_write_latency() const {
-    return rtl::kUpdateWriteLatency + key_store_cycles() + int(issue_reg);
-  }
-  int update_landing() const { return rtl::kUpdateLanding + key_store_cycles() + int(issue_reg); }
+  /// The latencies of this configuration (docs/microarchitecture.md, "Declared latencies"): the
+  /// declared ones, one cycle more with the key store in block RAM (its registered read) and one
+  /// more with its read register, and one cycle more of update latency with the table's issue
+  /// register. The rule is written once, in pyhrpp.rtl_config.latencies(); the generator writes
+  /// each configuration's figures into rtl::ConfigData, and tb_hrpp --latency (ctest
+  /// tb.latency.<config>) measures them at the RTL's and the cycle model's ports.
+  int prediction_latency() const { return latencies.prediction; }
+  int decision_latency() const { return latencies.decision; }
+  int update_write_latency() const { return latencies.update_write; }
+  int update_landing() const { return latencies.update_landing; }
+  struct {
+    int prediction = 0, decision = 0, update_write = 0, update_landing = 0;
+  } latencies;
 
   /// "improved hash 5/3 concat, 128x8 table, K=2, 8-bit tags" (faithful: "P=6 E=3"; the
   /// octahedral direction code: "improved hash 3/3 oct concat").
@@ -129,6 +132,8 @@ inline RtlConfig make_rtl_config(const rtl::ConfigData& d) {
   c.lanes = int(d.lanes);
   c.issue_reg = d.issue_reg;
   c.key_store_reg = d.key_store_reg;
+  c.latencies = {d.prediction_latency, d.decision_latency, d.update_write_latency,
+                 d.update_landing};
   return c;
 }
 
