@@ -420,7 +420,15 @@ class NetlistDigest(unittest.TestCase):
         rewired["modules"]["top"]["cells"]["c"]["connections"]["A"] = [4]
         renamed = copy.deepcopy(n)
         renamed["modules"]["top"]["netnames"]["y"] = renamed["modules"]["top"]["netnames"].pop("x")
-        self.assertEqual(len({self.digest(n), self.digest(rewired), self.digest(renamed)}), 3)
+        reordered = copy.deepcopy(n)  # the same cells in another order: nextpnr reads them so
+        top = reordered["modules"]["top"]
+        top["cells"] = {"d": dict(cell, type="LUT2"), "c": cell}
+        swapped = copy.deepcopy(top["cells"])
+        top["cells"] = {"c": swapped["c"], "d": swapped["d"]}
+        other = copy.deepcopy(reordered)
+        other["modules"]["top"]["cells"] = {"d": swapped["d"], "c": swapped["c"]}
+        self.assertEqual(len({self.digest(n), self.digest(rewired), self.digest(renamed),
+                              self.digest(reordered), self.digest(other)}), 5)
 
 
 class OutregTest(unittest.TestCase):

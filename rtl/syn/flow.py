@@ -359,8 +359,9 @@ def json_to_verilog(name: str, netlist_json: Path, pre: Path) -> None:
 
 def netlist_digest(path: Path) -> str:
     """The first 12 hex digits of the SHA-256 of a Yosys JSON netlist without its source positions
-    (the `src` attributes, which move with any edit of the RTL's text): the netlist nextpnr gets.
-    Equal digests are the same netlist, which places and routes to the same figures per seed
+    (the `src` attributes, which move with any edit of the RTL's text): the netlist nextpnr gets,
+    in its order (nextpnr reads cells in file order). Equal digests are the same netlist, which
+    places and routes to the same figures per seed
     (nextpnr is deterministic); a change of the RTL that keeps a configuration's digest keeps its
     figures, and one that changes it may move them (Yosys's mapping is sensitive to the RTL's
     elaboration, not only its logic: docs/microarchitecture.md, "Tried and measured")."""
@@ -370,8 +371,7 @@ def netlist_digest(path: Path) -> str:
         if isinstance(x, list):
             return [strip(v) for v in x]
         return x
-    text = json.dumps(strip(json.loads(Path(path).read_text())), sort_keys=True,
-                      separators=(",", ":"))
+    text = json.dumps(strip(json.loads(Path(path).read_text())), separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
