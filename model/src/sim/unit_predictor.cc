@@ -200,6 +200,7 @@ TimedConfig preset_timing(const std::string& preset) {
   for (const rtl::ConfigData& c : rtl::kConfigs)
     if (preset == std::string("rtl-") + c.name) {
       const RtlConfig r = make_rtl_config(c);
+      t.lookup_latency = r.prediction_latency();
       t.decision_latency = r.decision_latency();
       t.update_latency = r.update_landing();
     }

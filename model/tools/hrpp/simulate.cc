@@ -241,11 +241,12 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
           std::fprintf(stderr, "hrpp simulate --rtl: MISMATCH in %s\n", log->back().c_str());
         });
       };
+      const RtlConfig rc = rtl_config(config);
       r.timing = "the Verilated RTL (configuration " + config +
                  ") at its ports, compared with its cycle model on every cycle (" +
                  rtl_lanes_text(cc) + std::to_string(1 << cc.id_bits) + " ray ids, prediction " +
-                 std::to_string(rtl::kPredictionLatency) + " cycles, decision " +
-                 std::to_string(rtl_config(config).decision_latency()) + ")";
+                 std::to_string(rc.prediction_latency()) + " cycles, decision " +
+                 std::to_string(rc.decision_latency()) + ")";
 #else
       std::fprintf(stderr,
                    "hrpp simulate: --rtl: this hrpp was built without the Verilated RTL "
