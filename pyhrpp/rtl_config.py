@@ -57,7 +57,7 @@ def _pow2(n: int) -> bool:
     return n >= 1 and n & (n - 1) == 0
 
 
-def _check(name: str, c: dict) -> None:
+def _check(name: str, c: dict, bank_depth: int) -> None:
     missing = [f for f in FIELDS if f not in c]
     extra = [f for f in c if f not in FIELDS and f not in OPTIONAL_FIELDS]
     if missing or extra:
@@ -100,6 +100,9 @@ def _check(name: str, c: dict) -> None:
     if c["lanes"] != 1 and c["key_store_bram"]:
         raise ConfigError(f"configuration {name}: key_store_bram is not available with lanes > 1 "
                           "(hrpp_lanes keeps each lane's key store in distributed RAM)")
+    if c["lanes"] != 1 and c["sets"] > bank_depth:
+        raise ConfigError(f"configuration {name}: more than {bank_depth} sets (the "
+                          "table_bank_depth) is not available with lanes > 1 (hrpp_lanes)")
     if c["key_store_reg"] and not c["key_store_bram"]:
         raise ConfigError(f"configuration {name}: key_store_reg needs key_store_bram (it is the "
                           "block RAM's output register)")
@@ -127,6 +130,11 @@ def load(path: Path = JSON_PATH) -> dict:
     # write is accepted update_landing cycles after the outcome (a lookup sees a write presented
     # in the cycle of its read).
     lat["update_landing"] = lat["update_write_latency"] - (2 + lat["hash_stages"])
+    bank_depth = raw.get("table_bank_depth")
+    if not isinstance(bank_depth, int) or isinstance(bank_depth, bool) or not _pow2(bank_depth) \
+            or bank_depth < 2:
+        raise ConfigError(f"{path}: table_bank_depth must be a power of two >= 2, got "
+                          f"{bank_depth!r}")
     cfgs: dict[str, dict] = {}
     for name, c in raw["configurations"].items():
         if "base" in c:
@@ -134,11 +142,11 @@ def load(path: Path = JSON_PATH) -> dict:
                 raise ConfigError(f"configuration {name}: base {c['base']} is not defined above it")
             c = {**cfgs[c["base"]], **{k: v for k, v in c.items() if k != "base"}}
         c = {**OPTIONAL_FIELDS, **c}
-        _check(name, c)
+        _check(name, c, bank_depth)
         cfgs[name] = c
     if "default" not in cfgs:
         raise ConfigError(f"{path}: no configuration named default")
-    return {"latencies": lat, "configurations": cfgs}
+    return {"latencies": lat, "table_bank_depth": bank_depth, "configurations": cfgs}
 
 
 def latencies(c: dict, data: dict | None = None) -> dict:
@@ -146,8 +154,13 @@ def latencies(c: dict, data: dict | None = None) -> dict:
     (key_store_bram) one cycle more of decision, update write and update landing latency (its
     registered read: docs/microarchitecture.md, "Key store") and one more with its read register
     (key_store_reg), and with the table's issue register (issue_reg) one cycle more of update
-    write and landing latency."""
-    lat = dict((data or load())["latencies"])
+    write and landing latency. A table of more sets per lane than table_bank_depth (RAM banks) has
+    one lookup stage more (L3b): one cycle more of lookup and prediction latency."""
+    data = data or load()
+    lat = dict(data["latencies"])
+    if c["sets"] // c["lanes"] > data["table_bank_depth"]:
+        for n in ("lookup_stages", "prediction_latency"):
+            lat[n] += 1
     k = int(c["key_store_bram"]) + int(c["key_store_reg"])
     for n in ("decision_latency", "update_write_latency", "update_landing"):
         lat[n] += k

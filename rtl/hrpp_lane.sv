@@ -5,7 +5,7 @@
 // with its own ray ids, around a table split by set into banks (crossbars between).
 //
 //   rays in ──> [A: input regs] ─hash (3 stages)─> [B: key regs, key store write] ─> lookup
-//               request (─> lookup queue, LookupQueue = 1) ... lookup result (LookupLatency
+//               request (─> lookup queue, LookupQueue = 1) ... lookup result (LookupCycles
 //               cycles after the request is taken) ─> prediction FIFO ──> predictions out
 //   predicted-walk results, final outcomes in ──> skip controller ──> update queue ──> table
 //                                                                 └──> skip decisions out
@@ -41,6 +41,8 @@ module hrpp_lane
   parameter bit LookupQueue = 1'b0,
   localparam int unsigned IdxWidth = $clog2(NumSets),
   localparam int unsigned CountWidth = $clog2(NodesPerEntry + 1),
+  /// the table's lookup latency (one cycle more for a table of RAM banks: hrpp_pkg)
+  localparam int unsigned LookupCycles = lookup_latency(NumSets, TableBankDepth),
   localparam int unsigned KeyWidth = key_width(Variant, Precision, ExpBits, OriginBits, DirBits,
                                                Combine, DirCode)
 ) (
@@ -82,7 +84,7 @@ module hrpp_lane
   input  logic                                       lk_ready_i,
   output logic [IdxWidth-1:0]                        lk_idx_o,
   output logic [TagWidth-1:0]                        lk_tag_o,
-  // The lookup taken LookupLatency cycles ago: lk_due_o says one is due now, its result in
+  // The lookup taken LookupCycles cycles ago: lk_due_o says one is due now, its result in
   output logic                                       lk_due_o,
   input  logic [CountWidth-1:0]                      lk_count_i,
   input  logic [NodesPerEntry-1:0][NodeIdWidth-1:0]  lk_nodes_i,
@@ -505,21 +507,21 @@ module hrpp_lane
   assign tbl_wr_valid = !uq_cnt_oh_q[0];
   assign {tbl_wr_idx, tbl_wr_tag, tbl_wr_node, tbl_wr_demote} = uq_head_q;
 
-  // The ray's id and validity travel beside the table's lookup (LookupLatency cycles).
-  logic [LookupLatency-1:0]              d_valid_q, d_invalid_q;
-  logic [LookupLatency-1:0][IdWidth-1:0] d_id_q;
+  // The ray's id and validity travel beside the table's lookup (LookupCycles cycles).
+  logic [LookupCycles-1:0]               d_valid_q, d_invalid_q;
+  logic [LookupCycles-1:0][IdWidth-1:0]  d_id_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       d_valid_q   <= '0;
       d_invalid_q <= '0;
       d_id_q      <= '0;
     end else begin
-      d_valid_q   <= {d_valid_q[LookupLatency-2:0], hd_go};
-      d_invalid_q <= {d_invalid_q[LookupLatency-2:0], hd_invalid};
-      d_id_q      <= {d_id_q[LookupLatency-2:0], hd_id};
+      d_valid_q   <= {d_valid_q[LookupCycles-2:0], hd_go};
+      d_invalid_q <= {d_invalid_q[LookupCycles-2:0], hd_invalid};
+      d_id_q      <= {d_id_q[LookupCycles-2:0], hd_id};
     end
   end
-  localparam int unsigned DLast = LookupLatency - 1;
+  localparam int unsigned DLast = LookupCycles - 1;
   assign lk_due_o = d_valid_q[DLast] && !d_invalid_q[DLast];
 
   // ---------------------------------------------------------------------------------------------
@@ -582,7 +584,7 @@ module hrpp_lane
     in_flight = (PredCountWidth + 1)'(a_valid_q) + (PredCountWidth + 1)'(b_valid_q) +
                 (PredCountWidth + 1)'(lq_count);
     for (int i = 0; i < HashLatency; i++) in_flight += (PredCountWidth + 1)'(h_valid_q[i]);
-    for (int i = 0; i < LookupLatency; i++) in_flight += (PredCountWidth + 1)'(d_valid_q[i]);
+    for (int i = 0; i < LookupCycles; i++) in_flight += (PredCountWidth + 1)'(d_valid_q[i]);
   end
   assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <
                                     (PredCountWidth + 1)'(PredFifoDepth);
@@ -617,10 +619,10 @@ module hrpp_lane
   // A ray accepted in cycle c is in A in c+1, then the hash's stages, B (the table's read), the
   // lookup's stages, and at the prediction FIFO's head: the latency hrpp_pkg declares (with the
   // lookup queue: when no other lane's request for the same bank is taken first).
-  localparam int unsigned Stages = 1 + HashLatency + 1 + LookupLatency + 1;
-  if (Stages != PredictionLatency) begin : gen_latency_check
-    $error("hrpp_lane predicts in %0d cycles; hrpp_pkg::PredictionLatency declares %0d", Stages,
-           PredictionLatency);
+  localparam int unsigned Stages = 1 + HashLatency + 1 + LookupCycles + 1;
+  if (Stages != PredictionLatency + LookupCycles - LookupLatency) begin : gen_latency_check
+    $error("hrpp_lane predicts in %0d cycles; hrpp_pkg declares %0d", Stages,
+           PredictionLatency + LookupCycles - LookupLatency);
   end
   if (KeyStoreReg && !KeyStoreBram) begin : gen_ks_reg_check
     $error("KeyStoreReg needs KeyStoreBram (the register is the key store's block-RAM output)");

@@ -272,6 +272,12 @@ module hrpp_lanes
   if (NumSets / Lanes < 2) begin : gen_bank_sets_check
     $error("hrpp_lanes: NumSets %0d gives banks of fewer than 2 sets", NumSets);
   end
+  // Each lane counts the lookup latency of a table of NumSets sets (hrpp_lane), the banks' tables
+  // have NumSets / Lanes: the two agree while no table is built of RAM banks.
+  if (NumSets > TableBankDepth) begin : gen_bank_depth_check
+    $error("hrpp_lanes: NumSets %0d is more than TableBankDepth (%0d): not supported", NumSets,
+           TableBankDepth);
+  end
   if (UpdateQueueDepth < 2 || (UpdateQueueDepth & (UpdateQueueDepth - 1)) != 0)
   begin : gen_update_queue_check
     $error("UpdateQueueDepth %0d is not a power of two >= 2", UpdateQueueDepth);

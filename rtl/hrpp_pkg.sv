@@ -29,6 +29,9 @@ package hrpp_pkg;
   localparam int unsigned UpdateStages = 7;         // hrpp_pred_table: T0 .. C3, W
   localparam int unsigned DecisionLatency = 2;      // hrpp_skip_ctrl: pw accepted to skip_valid_o
   localparam int unsigned PredictionLatency = 10;   // hrpp_top: ray accepted to pred_valid_o
+  // A table of more sets than this is built of RAM banks of this many sets
+  // (hrpp_pred_table's RamBankDepth) and has one lookup stage more: lookup_latency().
+  localparam int unsigned TableBankDepth = 2048;
 
   // The default configuration: hrpp_top's parameter defaults.
   localparam hash_variant_e DefaultVariant = HashImproved;
@@ -53,6 +56,12 @@ package hrpp_pkg;
   localparam bit DefaultIssueReg = 1'b1;
   localparam bit DefaultKeyStoreReg = 1'b1;
   // END generated
+
+  // The lookup latency of a table of num_sets sets in RAM banks of bank_depth sets: LookupLatency,
+  // and one cycle more when it has more than one bank (hrpp_pred_table's L3b).
+  function automatic int unsigned lookup_latency(int unsigned num_sets, int unsigned bank_depth);
+    return LookupLatency + (num_sets > bank_depth ? 1 : 0);
+  endfunction
 
   // Width of one origin or direction field of the key (docs/hash.md): faithful, sign | ExpBits
   // exponent bits | Precision mantissa bits; improved, the field's grid bits.

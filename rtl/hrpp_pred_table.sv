@@ -5,7 +5,9 @@
 // Two copies of the table in block RAM, written together: the lookup copy serves one lookup
 // per cycle, the update copy one read-modify-write per cycle. Timing (docs/microarchitecture.md):
 //   lookup: L1 read address | L2 RAM data | L3 RAM data registered, collision select, tag
-//           compare | L4 way select, outputs registered: lk_valid_o four cycles after lk_valid_i.
+//           compare | L4 way select, outputs registered: lk_valid_o four cycles after lk_valid_i;
+//           a table of RAM banks (NumSets > RamBankDepth) has L3b after L3 (the bank read's row
+//           registered; the collision select and tag compare there): five cycles.
 //   update: [I issue register: IssueReg] | T0 read address | T1 RAM data | T2 RAM data
 //           registered | C1 forward, match | C2 select the way | C3 new row | W write to both
 //           copies.
@@ -44,7 +46,7 @@ module hrpp_pred_table
   parameter bit InjectFault = 1'b0,  /// test only: a one-bit fault in the node update
   parameter int unsigned ConfBits = DefaultConfBits,  /// confidence bits per way: 0 or 1
   /// sets per RAM bank: a table of more sets is split into banks of this many (see Memories)
-  parameter int unsigned RamBankDepth = 2048,
+  parameter int unsigned RamBankDepth = TableBankDepth,
   /// 1: the issue register I before T0 (a request waits a cycle in it; see the interlock)
   parameter bit IssueReg = DefaultIssueReg,
   localparam int unsigned IdxWidth = $clog2(NumSets),
@@ -125,9 +127,12 @@ module hrpp_pred_table
   // ---------------------------------------------------------------------------------------------
   logic                clearing_q;
   logic [IdxWidth-1:0] clear_idx_q;
+  // The write port (with RAM banks each bank's is its own, from W's copy beside it: below).
+  /* verilator lint_off UNUSEDSIGNAL */
   logic                we;
   logic [IdxWidth-1:0] waddr;
   row_t                wdata;
+  /* verilator lint_on UNUSEDSIGNAL */
   // W: the update pipeline's last stage
   typedef struct packed {
     logic                valid;
@@ -172,7 +177,9 @@ module hrpp_pred_table
   logic [RamBanks-1:0][RamWidth-1:0] lk_rdata, uram_rdata;  // per bank
   logic [IdxWidth-1:0]               uram_raddr;
   logic                              uram_re;
+  /* verilator lint_off UNUSEDSIGNAL */
   logic [BankIdxWidth-1:0]           lk_baddr, uram_baddr, baddr;  // addresses in a bank
+  /* verilator lint_on UNUSEDSIGNAL */
   assign lk_baddr   = lk_idx_i[BankIdxWidth-1:0];
   assign uram_baddr = uram_raddr[BankIdxWidth-1:0];
   assign baddr      = waddr[BankIdxWidth-1:0];
@@ -182,16 +189,39 @@ module hrpp_pred_table
   logic [BankSelWidth-1:0]           l2_bank_q, t1_bank_q;
   /* verilator lint_on UNUSEDSIGNAL */
 
+  // With banks, the write ports take W's copy (wb_*, loaded beside W below): its registers drive
+  // the 184 RAMs and nothing else, and its row needs no clear multiplexer; with one bank, unused.
+  /* verilator lint_off UNUSEDSIGNAL */
+  /* verilator lint_off UNDRIVEN */
+  logic                wb_valid_q;
+  logic [IdxWidth-1:0] wb_idx_q;
+  row_t                wb_row_q;
+  /* verilator lint_on UNDRIVEN */
+  /* verilator lint_on UNUSEDSIGNAL */
+
   for (genvar b = 0; b < RamBanks; b++) begin : gen_ram_bank
-    logic bank_we;
-    assign bank_we = we && bank_of(waddr) == BankSelWidth'(b);
+    logic                    bank_we;
+    logic [BankIdxWidth-1:0] bank_waddr;
+    row_t                    bank_wdata;
+    if (RamBanks > 1) begin : gen_wb
+      // The clear writes the reset value of wb_row_q (the cleared row): no update comes while
+      // the table clears (NoUpdateWhileClearing_A), so the bank's copy holds it until then.
+      assign bank_we    = clearing_q ? bank_of(clear_idx_q) == BankSelWidth'(b)
+                                     : wb_valid_q && bank_of(wb_idx_q) == BankSelWidth'(b);
+      assign bank_waddr = clearing_q ? clear_idx_q[BankIdxWidth-1:0] : wb_idx_q[BankIdxWidth-1:0];
+      assign bank_wdata = wb_row_q;
+    end else begin : gen_w
+      assign bank_we    = we;
+      assign bank_waddr = baddr;
+      assign bank_wdata = wdata;
+    end
     hrpp_ram_1r1w #(.Depth(BankDepth), .Width(RamWidth)) u_lookup_ram (
       .clk_i, .re_i(lk_valid_i), .raddr_i(lk_baddr), .rdata_o(lk_rdata[b]),
-      .we_i(bank_we), .waddr_i(baddr), .wdata_i(to_ram(wdata))
+      .we_i(bank_we), .waddr_i(bank_waddr), .wdata_i(to_ram(bank_wdata))
     );
     hrpp_ram_1r1w #(.Depth(BankDepth), .Width(RamWidth)) u_update_ram (
       .clk_i, .re_i(uram_re), .raddr_i(uram_baddr), .rdata_o(uram_rdata[b]),
-      .we_i(bank_we), .waddr_i(baddr), .wdata_i(to_ram(wdata))
+      .we_i(bank_we), .waddr_i(bank_waddr), .wdata_i(to_ram(bank_wdata))
     );
   end
 
@@ -223,6 +253,10 @@ module hrpp_pred_table
   /* verilator lint_on UNUSEDSIGNAL */
   row_t [RamBanks-1:0]     l3_ram_q;
   row_t                    l3_wrow_q;
+  // The stage in front of L4: L3 with one bank; with banks L3b (below), a cycle later.
+  logic                lc_valid, lc_collide;
+  logic [TagWidth-1:0] lc_tag;
+  row_t                lc_ram, lc_wrow;
   // L4: per way, whether it matches, and its count and nodes.
   logic                                                   l4_valid_q;
   logic [NumWays-1:0]                                     l4_match_q;
@@ -257,20 +291,51 @@ module hrpp_pred_table
     end
   end
 
-  // L3: the row (the colliding write, else the RAM data of the bank read); per way, tag match
-  // (with ConfBits = 1 only a way whose confidence bit is set predicts: a way below the
-  // threshold counts as none).
-  row_t               l3_ram, l3_row;
-  logic [NumWays-1:0] l3_match;
+  // With banks, L3b: the bank read's row and L3's other registers. Every bank's data is
+  // registered beside its RAM in L3 (the flow moves those registers into the RAMs); the route from
+  // the 2 x 46 RAMs of a 4,096-set table to the bank select gets a cycle of its own, and the
+  // collision select and tag compare work on a register beside them.
   if (RamBanks > 1) begin : gen_l3_bank_sel
-    assign l3_ram = l3_ram_q[l3_bank_q];
+    logic                l3b_valid_q, l3b_collide_q;
+    logic [TagWidth-1:0] l3b_tag_q;
+    row_t                l3b_ram_q, l3b_wrow_q;
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        l3b_valid_q   <= 1'b0;
+        l3b_collide_q <= 1'b0;
+        l3b_tag_q     <= '0;
+        l3b_ram_q     <= '0;
+        l3b_wrow_q    <= '0;
+      end else begin
+        l3b_valid_q   <= l3_valid_q;
+        l3b_collide_q <= l3_collide_q;
+        l3b_tag_q     <= l3_tag_q;
+        l3b_ram_q     <= l3_ram_q[l3_bank_q];
+        l3b_wrow_q    <= l3_wrow_q;
+      end
+    end
+    assign lc_valid   = l3b_valid_q;
+    assign lc_collide = l3b_collide_q;
+    assign lc_tag     = l3b_tag_q;
+    assign lc_ram     = l3b_ram_q;
+    assign lc_wrow    = l3b_wrow_q;
   end else begin : gen_l3_one_bank
-    assign l3_ram = l3_ram_q[0];
+    assign lc_valid   = l3_valid_q;
+    assign lc_collide = l3_collide_q;
+    assign lc_tag     = l3_tag_q;
+    assign lc_ram     = l3_ram_q[0];
+    assign lc_wrow    = l3_wrow_q;
   end
+
+  // L3 (L3b): the row (the colliding write, else the RAM data of the bank read); per way, tag
+  // match (with ConfBits = 1 only a way whose confidence bit is set predicts: a way below the
+  // threshold counts as none).
+  row_t               l3_row;
+  logic [NumWays-1:0] l3_match;
   always_comb begin
-    l3_row = l3_collide_q ? l3_wrow_q : l3_ram;
+    l3_row = lc_collide ? lc_wrow : lc_ram;
     for (int w = 0; w < NumWays; w++)
-      l3_match[w] = l3_row[w].valid && l3_row[w].tag == l3_tag_q &&
+      l3_match[w] = l3_row[w].valid && l3_row[w].tag == lc_tag &&
                     (ConfBits == 0 || l3_row[w].conf);
   end
 
@@ -281,8 +346,8 @@ module hrpp_pred_table
       l4_count_q <= '0;
       l4_nodes_q <= '0;
     end else begin
-      l4_valid_q <= l3_valid_q;
-      l4_match_q <= l3_valid_q ? l3_match : '0;
+      l4_valid_q <= lc_valid;
+      l4_match_q <= lc_valid ? l3_match : '0;
       for (int w = 0; w < NumWays; w++) begin
         l4_count_q[w] <= l3_row[w].count;
         l4_nodes_q[w] <= l3_row[w].nodes;
@@ -679,17 +744,33 @@ module hrpp_pred_table
       w_q.row   <= c3_new_row;
     end
   end
+  // With banks, W's copy for the RAMs' write ports (above); it loads only with a write.
+  if (RamBanks > 1) begin : gen_w_ports
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        wb_valid_q <= 1'b0;
+        wb_idx_q   <= '0;
+        wb_row_q   <= init_row();
+      end else begin
+        wb_valid_q <= c3_q.valid;
+        if (c3_q.valid) begin
+          wb_idx_q <= c3_q.idx;
+          wb_row_q <= c3_new_row;
+        end
+      end
+    end
+  end
 
   // ---------------------------------------------------------------------------------------------
   // Assertions
   // ---------------------------------------------------------------------------------------------
   // The pipelines have the stages hrpp_pkg declares: lookup L1 .. L4 (lk_valid_o four cycles
-  // after lk_valid_i), update T0, T1, T2, C1, C2, C3, W.
-  localparam int unsigned LookupStages = 4;
+  // after lk_valid_i; with banks L3b too: five), update T0, T1, T2, C1, C2, C3, W.
+  localparam int unsigned LookupStages = RamBanks > 1 ? 5 : 4;
   localparam int unsigned WriteStages = 7;
-  if (LookupStages != LookupLatency) begin : gen_lookup_latency_check
-    $error("the lookup takes %0d cycles; hrpp_pkg::LookupLatency declares %0d", LookupStages,
-           LookupLatency);
+  if (LookupStages != lookup_latency(NumSets, RamBankDepth)) begin : gen_lookup_latency_check
+    $error("the lookup takes %0d cycles; hrpp_pkg::lookup_latency declares %0d", LookupStages,
+           lookup_latency(NumSets, RamBankDepth));
   end
   if (WriteStages != UpdateStages) begin : gen_update_stages_check
     $error("the update pipeline has %0d stages; hrpp_pkg::UpdateStages declares %0d",

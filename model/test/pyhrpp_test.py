@@ -101,10 +101,11 @@ class RtlConfig(unittest.TestCase):
             "skip_fifo_depth": 8, "update_queue_depth": 8, "key_store_bram": False,
             "inject_fault": False}
 
-    def load(self, configs, latencies=None):
+    def load(self, configs, latencies=None, bank_depth=2048):
         with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
             path = pathlib.Path(d) / "c.json"
             path.write_text(json.dumps({"latencies": latencies or self.LAT,
+                                        "table_bank_depth": bank_depth,
                                         "configurations": configs}))
             return rtl_config.load(path)
 
@@ -137,6 +138,13 @@ class RtlConfig(unittest.TestCase):
         self.assertEqual((lr["prediction_latency"], lr["decision_latency"],
                           lr["update_write_latency"], lr["update_landing"]),
                          (10, 4, lb["update_write_latency"] + 1, lb["update_landing"] + 1))
+        # A table of more sets than a RAM bank holds (RAM banks, L3b): one cycle more of lookup
+        # and prediction latency, none of the update's.
+        banked = dict(small, sets=4096)
+        lk = rtl_config.latencies(banked, data)
+        self.assertEqual((lk["lookup_stages"], lk["prediction_latency"], lk["decision_latency"],
+                          lk["update_landing"]), (5, 11, 2, 6))
+        self.assertEqual(rtl_config.latencies(dict(small, sets=2048), data)["lookup_stages"], 4)
 
     def test_errors(self):
         bad = [({"small": self.BASE}, "no configuration named default"),
@@ -160,6 +168,14 @@ class RtlConfig(unittest.TestCase):
             self.assertIn(message, str(e.exception))
         with self.assertRaises(rtl_config.ConfigError):
             self.load({"default": self.BASE}, {**self.LAT, "hash_stages": 0})
+        for depth in (0, 3000, True, "2048", None):
+            with self.assertRaises(rtl_config.ConfigError) as e:
+                self.load({"default": self.BASE}, bank_depth=depth)
+            self.assertIn("table_bank_depth must be a power of two", str(e.exception))
+        with self.assertRaises(rtl_config.ConfigError) as e:
+            self.load({"default": {**self.BASE, "sets": 4096, "lanes": 2}})
+        self.assertIn("more than 2048 sets (the table_bank_depth) is not available with lanes",
+                      str(e.exception))
         with self.assertRaises(rtl_config.ConfigError) as e:
             rtl_config.config("nope", self.load({"default": self.BASE}))
         self.assertIn("unknown configuration 'nope'", str(e.exception))
@@ -213,7 +229,13 @@ class RtlConfig(unittest.TestCase):
         self.assertIn("predict_kinds must be", str(e.exception))
 
     def test_the_project_file_loads(self):
-        self.assertIn("default", rtl_config.load()["configurations"])
+        data = rtl_config.load()
+        self.assertIn("default", data["configurations"])
+        # large (4,096 sets) is the configuration whose table is built of RAM banks.
+        self.assertEqual(rtl_config.latencies(data["configurations"]["large"], data)
+                         ["lookup_stages"], 5)
+        self.assertEqual(rtl_config.latencies(data["configurations"]["default"], data)
+                         ["lookup_stages"], 4)
 
 
 class Tools(unittest.TestCase):

@@ -69,6 +69,9 @@ def sv_block(data: dict) -> str:
                     "hrpp_skip_ctrl: pw accepted to skip_valid_o"),
                    ("PredictionLatency", "prediction_latency",
                     "hrpp_top: ray accepted to pred_valid_o")]],
+             "  // A table of more sets than this is built of RAM banks of this many sets",
+             "  // (hrpp_pred_table's RamBankDepth) and has one lookup stage more: lookup_latency().",
+             f"  localparam int unsigned TableBankDepth = {data['table_bank_depth']};",
              "", "  // The default configuration: hrpp_top's parameter defaults."]
     for f, p in PARAMS:
         v = d[f]
@@ -112,6 +115,9 @@ def cpp_header(data: dict) -> str:
     for k, v in lat.items():
         cname = "k" + "".join(w.capitalize() for w in k.split("_"))
         out.append(f"inline constexpr int {cname + ' = ' + str(v) + ';':<24}  // {doc[k]}")
+    out += ["// A table (per lane) of more sets than this is built of RAM banks and has one lookup",
+            "// stage more (RtlConfig::lookup_latency()).",
+            f"inline constexpr uint32_t kTableBankDepth = {data['table_bank_depth']};"]
     out += ["", "/// One configuration's hrpp_top parameters.", "struct ConfigData {",
             "  const char* name;", "  HashVariant variant;",
             "  int precision, exp_bits, origin_bits, dir_bits;", "  CombineMode combine;",

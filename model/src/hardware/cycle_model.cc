@@ -22,6 +22,9 @@ std::string CycleConfig::validate() const {
            std::to_string(table.conf_bits) + " bits, threshold " +
            std::to_string(table.conf_threshold);
   if (table.conf_bits != 0 && lanes != 1) return "confidence bits need one lane (hrpp_top)";
+  if (lanes != 1 && table.sets > rtl::kTableBankDepth)
+    return "more than " + std::to_string(rtl::kTableBankDepth) +
+           " sets (a table of RAM banks) need one lane (hrpp_top)";
   if (key_store_reg && !key_store_bram)
     return "the key store's read register needs it in block RAM";
   return {};

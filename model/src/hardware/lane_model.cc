@@ -5,6 +5,7 @@ namespace hrpp {
 LaneModel::LaneModel(const CycleConfig& cfg, std::string where)
     : cfg_(cfg),
       where_(std::move(where)),
+      lookup_latency_(cfg.lookup_latency()),
       key_store_(size_t{1} << cfg.id_bits),
       pred_given_(size_t{1} << cfg.id_bits, 0) {
   reset();
@@ -139,9 +140,9 @@ void LaneModel::pred_fifo(const DutIn& in) {
   // reads in finish(), as the RTL's register array.
   if (out_.pred_valid && in.pred_ready) pred_fifo_.pop_front();
   given_.reset();
-  if (d_[kLookupLatency - 1]) {
-    pred_fifo_.push_back(*d_[kLookupLatency - 1]);
-    given_.emplace(d_[kLookupLatency - 1]->id, d_[kLookupLatency - 1]->count > 0);
+  if (const std::optional<Pred>& due = d_[lookup_latency_ - 1]) {
+    pred_fifo_.push_back(*due);
+    given_.emplace(due->id, due->count > 0);
   }
 }
 
@@ -198,7 +199,7 @@ void LaneModel::finish(const DutIn& in, const PredTable& table, std::string* err
   }
 
   // Pipelines advance.
-  for (int i = kLookupLatency - 1; i > 0; --i) d_[i] = d_[i - 1];
+  for (int i = lookup_latency_ - 1; i > 0; --i) d_[i] = d_[i - 1];
   d_[0] = looked_up_;
   const std::optional<DutIn> hashed = h_[kHashLatency - 1];
   for (int i = kHashLatency - 1; i > 0; --i) h_[i] = h_[i - 1];

@@ -192,8 +192,8 @@ TimedConfig preset_timing(const std::string& preset) {
     return t;
   }
   // An RTL configuration's latencies (RtlConfig's: the key store in block RAM, its read register
-  // and the table's issue register add to the declared ones); any other preset, the declared
-  // ones.
+  // and the table's issue register add to the declared ones, a table of RAM banks to the lookup's);
+  // any other preset, the declared ones.
   t.lookup_latency = rtl::kPredictionLatency;
   t.decision_latency = rtl::kDecisionLatency;
   t.update_latency = rtl::kUpdateLanding;

@@ -93,6 +93,9 @@ struct CycleConfig {
   /// Lookups and updates per cycle: 1 (hrpp_top: CycleModel), 2 or 4 (hrpp_lanes: LanesCycleModel,
   /// cycle_model_lanes.h).
   int lanes = 1;
+  /// The table's lookup latency: the declared one, and one cycle more for a table of more sets
+  /// than a RAM bank holds (hrpp_pred_table's L3b; hrpp_lanes has no such table: validate()).
+  int lookup_latency() const { return rtl::kLookupStages + int(table.sets > rtl::kTableBankDepth); }
   // table.conf_bits: 0, or 1 with threshold 1 (ConfBits: a confidence bit per way, demotes from
   // final outcomes of predicted rays that missed; hrpp_top only).
   std::string validate() const;

@@ -143,15 +143,16 @@ class LaneModel {
   std::optional<std::pair<uint32_t, bool>> given_;
 
   // Lookup path: A (input regs), H0..H2 (the hash's stages), B (key regs), the lookup queue,
-  // D0..D3 (beside the table's lookup). The latencies are the RTL's declared ones
-  // (rtl/config/hrpp_configs.json).
+  // D0..D3 (beside the table's lookup; D4 too for a table of RAM banks). The latencies are the
+  // RTL's declared ones (rtl/config/hrpp_configs.json; CycleConfig::lookup_latency()).
   static constexpr int kHashLatency = rtl::kHashStages;
-  static constexpr int kLookupLatency = rtl::kLookupStages;
+  static constexpr int kMaxLookupLatency = rtl::kLookupStages + 1;
+  int lookup_latency_;
   std::optional<DutIn> a_;
   std::array<std::optional<DutIn>, kHashLatency> h_;
   std::optional<B> b_;
   std::deque<B> lookup_queue_;
-  std::array<std::optional<Pred>, kLookupLatency> d_;
+  std::array<std::optional<Pred>, kMaxLookupLatency> d_;  // the first lookup_latency_ used
   std::deque<Pred> pred_fifo_;
   std::vector<KeyEntry> key_store_;      // no reset, as in the RTL
   std::vector<uint8_t> pred_given_;      // by id: the ray was given a prediction (ConfBits)
