@@ -70,7 +70,10 @@ module hrpp_skip_ctrl
 );
 
   // P0 and F0: the registered messages and their rays' keys
-  logic                   p0_valid_q, p0_hit_q, p0_any_hit_q, f0_valid_q, f0_hit_q;
+  logic                   p0_valid_q, p0_hit_q, f0_valid_q, f0_hit_q;
+  // P0's decision is taken as the result enters P0 (the mode is static): p0_skip_q = ActSkip, so
+  // the table request (p_needs) starts at a register.
+  logic                   p0_skip_q;
   logic                   f0_demote_q;  // ConfBits = 1: the outcome requests a demote
   logic [IdWidth-1:0]     p0_id_q;
   logic [IdxWidth-1:0]    p0_idx_q, f0_idx_q;
@@ -85,14 +88,11 @@ module hrpp_skip_ctrl
 
   always_comb begin
     action = ActFull;
-    if (p0_hit_q) begin
-      if (p0_any_hit_q || cfg_mode_i == ModeClosestSpec) action = ActSkip;
-      else action = ActShrink;
-    end
+    if (p0_hit_q) action = p0_skip_q ? ActSkip : ActShrink;
   end
 
   // The table's request ports: a final outcome first, a predicted-walk result behind it.
-  assign p_needs        = action == ActSkip;
+  assign p_needs        = p0_skip_q;  // action == ActSkip
   // A final outcome requests an update when it hit, a demote (ConfBits = 1) when its ray was given
   // a prediction and missed: an outcome follows only a predicted-walk result without a hit
   // (ActFull; ActShrink's answer is at least the predicted hit, so its outcome hits), so the
@@ -123,7 +123,7 @@ module hrpp_skip_ctrl
       p0_node_q    <= '0;
       p0_idx_q     <= '0;
       p0_tag_q     <= '0;
-      p0_any_hit_q <= 1'b0;
+      p0_skip_q    <= 1'b0;
       f0_valid_q   <= 1'b0;
       f0_hit_q     <= 1'b0;
       f0_demote_q  <= 1'b0;
@@ -138,7 +138,7 @@ module hrpp_skip_ctrl
         p0_node_q    <= pw_node_i;
         p0_idx_q     <= ksp_idx_i;
         p0_tag_q     <= ksp_tag_i;
-        p0_any_hit_q <= ksp_any_hit_i;
+        p0_skip_q    <= pw_hit_i && (ksp_any_hit_i || cfg_mode_i == ModeClosestSpec);
       end
       if (outcome_ready_o) begin
         f0_valid_q <= outcome_valid_i;

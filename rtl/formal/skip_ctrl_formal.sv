@@ -191,7 +191,8 @@ module skip_ctrl_formal
       // Induction strengthening: where the tracked result is.
       if (phase_q == 2'd1) begin
         InP0_A: assert (dut.p0_valid_q && dut.p0_id_q == t_id_q && dut.p0_hit_q == t_hit_q &&
-                        dut.p0_any_hit_q == t_any_q && dut.p0_node_q == t_node_q &&
+                        dut.p0_skip_q == (t_hit_q && (t_any_q || cfg_mode_i == ModeClosestSpec)) &&
+                        dut.p0_node_q == t_node_q &&
                         dut.p0_idx_q == t_idx_q && dut.p0_tag_q == t_tag_q);
       end
       if (phase_q == 2'd2) begin
