@@ -204,6 +204,9 @@ module skip_ctrl_formal
       FifoPtr_A: assert (dut.u_fifo.count_q <= CountWidth'(FifoDepth) &&
                          dut.u_fifo.wr_q - dut.u_fifo.rd_q ==
                          dut.u_fifo.count_q[$clog2(FifoDepth)-1:0]);
+      // The skip FIFO's registered flags (ab1b8be) follow its count.
+      FifoFlags_A: assert (dut.u_fifo.full_q == (dut.u_fifo.count_q == CountWidth'(FifoDepth)) &&
+                           dut.u_fifo.empty_q == (dut.u_fifo.count_q == '0));
     end
   end
 

@@ -110,6 +110,11 @@ module top_formal
       PredFifo_A: assert (dut.u_lane.u_pred_fifo.count_q <= CountWidth'(PredFifoDepth) &&
                           dut.u_lane.u_pred_fifo.wr_q - dut.u_lane.u_pred_fifo.rd_q ==
                           dut.u_lane.u_pred_fifo.count_q[$clog2(PredFifoDepth)-1:0]);
+      // ... and its registered flags (ab1b8be) with its count.
+      PredFifoFlags_A: assert (dut.u_lane.u_pred_fifo.full_q ==
+                               (dut.u_lane.u_pred_fifo.count_q == CountWidth'(PredFifoDepth)) &&
+                               dut.u_lane.u_pred_fifo.empty_q ==
+                               (dut.u_lane.u_pred_fifo.count_q == '0));
     end
   end
 `else
