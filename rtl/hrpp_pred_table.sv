@@ -10,7 +10,8 @@
 //           registered; the collision select and tag compare there): five cycles.
 //   update: [I issue register: IssueReg] | T0 read address | T1 RAM data | T2 RAM data
 //           registered | C1 forward, match | C2 select the way | C3 new row | W write to both
-//           copies.
+//           copies (with RAM banks from W's copy, wb_*, whose row C3B's decisions compute beside
+//           it).
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
 // low; with IssueReg it waits in I, and the input waits while I is full), unless it merges into
@@ -189,8 +190,9 @@ module hrpp_pred_table
   logic [BankSelWidth-1:0]           l2_bank_q, t1_bank_q;
   /* verilator lint_on UNUSEDSIGNAL */
 
-  // With banks, the write ports take W's copy (wb_*, loaded beside W below): its registers drive
-  // the 184 RAMs and nothing else, and its row needs no clear multiplexer; with one bank, unused.
+  // With banks, the write ports take W's copy (wb_*, computed beside W below): its registers
+  // drive the 184 RAMs and nothing else, and its row needs no clear multiplexer; with one bank,
+  // unused.
   /* verilator lint_off UNUSEDSIGNAL */
   /* verilator lint_off UNDRIVEN */
   logic                wb_valid_q;
@@ -409,8 +411,8 @@ module hrpp_pred_table
     row_t     fwd_row;
   } c1_t;
   c1_t c1_q;
-  // Per way: whether C1 uses fwd_row (one copy per way: each drives a way's bits of C1's 2:1
-  // mux); T1 -> T2: which rows T2 forwards (set compares one cycle ahead; one copy per way).
+  // Per way: whether C1 uses fwd_row (a bit per way, for a way's bits of C1's 2:1 mux; Yosys
+  // merges the equal bits: one flip-flop each); T1 -> T2: which rows T2 forwards (set compares).
   (* keep *) logic [NumWays-1:0] c1_use_fwd_q;
   (* keep *) logic [NumWays-1:0] t2_fwd_c3_q, t2_fwd_w_q, t2_fwd_h1_q, t2_fwd_h2_q;
   // C2: the current row and, per way, one-hot decisions (see C1).
@@ -744,21 +746,79 @@ module hrpp_pred_table
       w_q.row   <= c3_new_row;
     end
   end
-  // With banks, W's copy for the RAMs' write ports (above); it loads only with a write.
+  // With banks, W's copy for the RAMs' write ports (above); it loads only with a write. Its row
+  // is C3's result computed a second time, beside the copy (the copy sits by the RAMs, C3 by the
+  // update pipeline): C2 registers, per way, what C3 decides from the selected way's compares
+  // (C3B below), so each bit of the copy's row is a choice among C3's registers, one LUT deep.
   if (RamBanks > 1) begin : gen_w_ports
+    // C3B, beside C3: per way, whether it takes the new way (upd), ages by one if younger than
+    // the selected way (plain: neither selected nor a demote), has its bit cleared by a demote
+    // (clr); for the way the update selects: whether node i moves to i + 1 (shift: i < the
+    // node's position), whether the count grows (inc), its new confidence bit (conf).
+    typedef struct packed {
+      logic [NumWays-1:0]                      upd, plain, clr, inc, conf;
+      logic [NumWays-1:0][NodesPerEntry-1:0] shift;  // [i]: node i moves to i + 1
+    } c3b_t;
+    c3b_t c3b_d, c3b_q;
+    always_comb begin
+      for (int w = 0; w < NumWays; w++) begin
+        c3b_d.upd[w]   = c2_sel[w] && !c2_q.req.demote;
+        c3b_d.plain[w] = !c2_sel[w] && !c2_q.req.demote;
+        c3b_d.clr[w]   = c2_sel[w] && c2_q.req.demote;
+        // A new way (no match) is empty: nothing moves, its count becomes 1, its bit 0.
+        c3b_d.inc[w]   = !c2_q.any_match ||
+                         (!(|c2_node_eq[w]) && c2_q.row[w].count < CountWidth'(NodesPerEntry));
+        c3b_d.conf[w]  = ConfBits > 0 && (c2_q.req.ovr ? c2_q.req.ovr_bit
+                                                       : c2_q.any_match && |c2_node_eq[w]);
+        // Node i moves when no node before it is the node and i is within the list (the node
+        // found at j or inserted at min(count, K - 1): i <= that position).
+        for (int i = 0; i < NodesPerEntry; i++) begin
+          c3b_d.shift[w][i] = c2_q.any_match && CountWidth'(i + 1) <= c2_q.row[w].count;
+          for (int j = 0; j <= i; j++)
+            if (c2_node_eq[w][j]) c3b_d.shift[w][i] = 1'b0;
+        end
+      end
+    end
+    row_t wb_new_row;  // C3's result (c3_new_row), from C3's registers and C3B
+    always_comb begin
+      for (int w = 0; w < NumWays; w++) begin
+        wb_new_row[w] = c3_q.row[w];
+        if (c3b_q.plain[w] && c3_q.row[w].age < c3_q.way.age)
+          wb_new_row[w].age = c3_q.row[w].age + 1'b1;
+        if (c3b_q.clr[w]) wb_new_row[w].conf = 1'b0;
+        if (c3b_q.upd[w]) begin
+          wb_new_row[w].valid = c3_q.way.valid;
+          wb_new_row[w].tag   = c3_q.way.tag;
+          wb_new_row[w].count = c3_q.way.count + CountWidth'(c3b_q.inc[w]);
+          wb_new_row[w].nodes[0] = c3_q.node ^ NodeIdWidth'(InjectFault && w == 0);
+          for (int i = 1; i < NodesPerEntry; i++)
+            wb_new_row[w].nodes[i] = c3b_q.shift[w][i-1] ? c3_q.way.nodes[i-1]
+                                                          : c3_q.way.nodes[i];
+          wb_new_row[w].age   = '0;
+          wb_new_row[w].conf  = c3b_q.conf[w];
+        end
+      end
+    end
     always_ff @(posedge clk_i or negedge rst_ni) begin
       if (!rst_ni) begin
+        c3b_q      <= '0;
         wb_valid_q <= 1'b0;
         wb_idx_q   <= '0;
         wb_row_q   <= init_row();
       end else begin
+        c3b_q      <= c3b_d;
         wb_valid_q <= c3_q.valid;
         if (c3_q.valid) begin
           wb_idx_q <= c3_q.idx;
-          wb_row_q <= c3_new_row;
+          wb_row_q <= wb_new_row;
         end
       end
     end
+`ifndef SYNTHESIS
+    // The copy's row is C3's.
+    WbRow_A: assert property (@(posedge clk_i) disable iff (!rst_ni)
+        c3_q.valid |-> wb_new_row == c3_new_row);
+`endif
   end
 
   // ---------------------------------------------------------------------------------------------

@@ -186,6 +186,18 @@ PLANTED = [
             "assign t2_ram = t2_q.ram[t2_q.bank];", "assign t2_ram = t2_q.ram[0];",
             ("Invariants_A", "Model_A"),
             "an update of a set in the second RAM bank reads the first bank's row", "quick_banks"),
+    Planted("table_bank_shift", "pred_table", "rtl/hrpp_pred_table.sv",
+            "          for (int j = 0; j <= i; j++)", "          for (int j = 0; j < i; j++)",
+            ("Model_A", "LookupNodes_A"),
+            "with RAM banks, the write ports' copy of C3's result moves a node found in the list "
+            "past its place: the node after it is lost", "quick_banks"),
+    Planted("table_bank_conf", "pred_table", "rtl/hrpp_pred_table.sv",
+            "        if (c3b_q.clr[w]) wb_new_row[w].conf = 1'b0;",
+            "        if (c3b_q.plain[w]) wb_new_row[w].conf = 1'b0;",
+            ("Model_A", "LookupCount_A", "LookupNodes_A"),
+            "with RAM banks and the confidence bit, the write ports' copy of C3's result clears "
+            "the bit of the ways an update did not select, not the bit of the way a demote "
+            "selected", "quick_banks_conf"),
     Planted("top_credits", "top", "rtl/hrpp_lane.sv",
             "for (int i = 0; i < LookupCycles; i++) in_flight",
             "for (int i = 1; i < LookupCycles; i++) in_flight",
