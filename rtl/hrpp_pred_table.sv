@@ -11,7 +11,7 @@
 //   update: [I issue register: IssueReg] | T0 read address | T1 RAM data | T2 RAM data
 //           registered | C1 forward, match | C2 select the way | C3 new row | W write to both
 //           copies (with RAM banks from W's copy, wb_*, whose row C3B's decisions compute beside
-//           it).
+//           it; the update RAMs' read address from T0's copy, t0r_idx_q).
 // A lookup sees every write presented in the cycle of its read or earlier. An update whose set
 // equals that of an update accepted in either of the two previous cycles waits (tbl_wr_ready_o
 // low; with IssueReg it waits in I, and the input waits while I is full), unless it merges into
@@ -572,8 +572,22 @@ module hrpp_pred_table
     assign iq_cmp.as_t1      = same_key(wr_in, t1_q.tag, t1_q.node, t1_q.demote);
     assign tbl_wr_ready_o    = !(wr_same_t0 || wr_same_t1) || wr_drop;
   end
-  assign uram_re        = t0_q.valid;
-  assign uram_raddr     = t0_q.idx;
+  if (RamBanks > 1) begin : gen_t0_raddr
+    // With banks, the update RAMs' read address is a copy of T0's set (loaded with a request, so
+    // synthesis keeps it apart from t0_q), beside the 2 x 46 RAMs it addresses; T0's registers
+    // stay with the interlock's compares. The RAMs read every cycle: a read without a request
+    // is never used (T2 and C1 carry it with valid low).
+    logic [IdxWidth-1:0] t0r_idx_q;
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) t0r_idx_q <= '0;
+      else if (wr_go && !wr_drop) t0r_idx_q <= iq.idx;
+    end
+    assign uram_re        = 1'b1;
+    assign uram_raddr     = t0r_idx_q;
+  end else begin : gen_t0_raddr_one_bank
+    assign uram_re        = t0_q.valid;
+    assign uram_raddr     = t0_q.idx;
+  end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
