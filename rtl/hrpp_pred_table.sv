@@ -771,7 +771,7 @@ module hrpp_pred_table
     // node's position), whether the count grows (inc), its new confidence bit (conf).
     typedef struct packed {
       logic [NumWays-1:0]                      upd, plain, clr, inc, conf;
-      logic [NumWays-1:0][NodesPerEntry-1:0] shift;  // [i]: node i moves to i + 1
+      logic [NumWays-1:0][NodesPerEntry-1:0] shift;  // [i]: node i moves (bit K - 1 unused)
     } c3b_t;
     c3b_t c3b_d, c3b_q;
     always_comb begin
@@ -784,8 +784,8 @@ module hrpp_pred_table
                          (!(|c2_node_eq[w]) && c2_q.row[w].count < CountWidth'(NodesPerEntry));
         c3b_d.conf[w]  = ConfBits > 0 && (c2_q.req.ovr ? c2_q.req.ovr_bit
                                                        : c2_q.any_match && |c2_node_eq[w]);
-        // Node i moves when no node before it is the node and i is within the list (the node
-        // found at j or inserted at min(count, K - 1): i <= that position).
+        // Node i moves when none of nodes 0..i is the node and i + 1 <= count: i < the node's
+        // position (found at j: nodes 0..j - 1 move; inserted: nodes 0..min(count, K - 1) - 1).
         for (int i = 0; i < NodesPerEntry; i++) begin
           c3b_d.shift[w][i] = c2_q.any_match && CountWidth'(i + 1) <= c2_q.row[w].count;
           for (int j = 0; j <= i; j++)
