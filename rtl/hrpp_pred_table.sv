@@ -574,9 +574,9 @@ module hrpp_pred_table
   end
   if (RamBanks > 1) begin : gen_t0_raddr
     // With banks, the update RAMs' read address is a copy of T0's set (loaded with a request, so
-    // synthesis keeps it apart from t0_q), beside the 2 x 46 RAMs it addresses; T0's registers
-    // stay with the interlock's compares. The RAMs read every cycle: a read without a request
-    // is never used (T2 and C1 carry it with valid low).
+    // synthesis keeps it apart from t0_q), beside the RAMs it addresses (2 x 46 in `large`); T0's
+    // registers stay with the interlock's compares. The RAMs read every cycle: a read without a
+    // request is never used (T2 and C1 carry it with valid low).
     logic [IdxWidth-1:0] t0r_idx_q;
     always_ff @(posedge clk_i or negedge rst_ni) begin
       if (!rst_ni) t0r_idx_q <= '0;
@@ -768,7 +768,8 @@ module hrpp_pred_table
     // C3B, beside C3: per way, whether it takes the new way (upd), ages by one if younger than
     // the selected way (plain: neither selected nor a demote), has its bit cleared by a demote
     // (clr); for the way the update selects: whether node i moves to i + 1 (shift: i < the
-    // node's position), whether the count grows (inc), its new confidence bit (conf).
+    // node's position), whether the count grows (inc), its new confidence bit (conf). upd, plain
+    // and clr restate C3's sel and demote, a bit each, so that a node bit's LUT has five inputs.
     typedef struct packed {
       logic [NumWays-1:0]                      upd, plain, clr, inc, conf;
       logic [NumWays-1:0][NodesPerEntry-1:0] shift;  // [i]: node i moves (bit K - 1 unused)
