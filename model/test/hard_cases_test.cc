@@ -1,7 +1,8 @@
-// The traversal hard cases T1-T18 of ../shared/HARD_CASES.md, each checked on our BVH and, where
+// The traversal hard cases T1-T18 of ../shared/HARD_CASES.md (and the project's own T19), each checked on our BVH and, where
 // the ray is valid, on Embree (robust mode, the pinned reference configuration).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -365,6 +366,91 @@ TEST(HardCases, T18_OffsetOriginsGiveNoSelfHits) {
   EXPECT_GT(spawned, 10000u);
   // The check can fail: without the offset, rays do re-hit their own triangle.
   EXPECT_GT(self_hits(tris, false, &spawned), spawned / 20);
+}
+
+// T19 (the project's own, beyond HARD_CASES.md's list; docs/bvh.md, "Culling against the current
+// hit"): a triangle P1 in the face plane z = 1 of its leaf's box, and a tilted triangle P2 whose
+// leaf is entered first. Float rounding puts P1's t one ulp below its box's computed entry
+// distance, and P2's t at that entry: a walk that culls P1's box against P2's hit unwidened
+// returns P2, one ulp behind P1. Found by a search over random rays (constants in hex).
+TEST(HardCases, T19_TriangleInABoxFacePlane) {
+  const Triangle p1{{-4, -4, 1}, {4, -4, 1}, {0, 4, 1}};
+  const Triangle p2{{-0x1.167b7p+1f, -0x1.732764p+0f, 0x1.fae144p-1f},
+                    {0x1.d3092p+0f, -0x1.732764p+0f, 0x1.fae144p-1f},
+                    {-0x1.67b706p-3f, 0x1.466c4ep+1f, 0x1.028f5ap+0f}};
+  const Ray ray = make_ray({-0x1.6bd93p-5f, 0x1.c9a82p-3f, -0x1.1d144p-3f},
+                           {-0x1.c2ca04p-4f, 0x1.1894eep-2f, 0x1.e92b84p-1f});
+  // The case is what it claims: t(P1) < t(P2) = P1's box entry, and P2's box is entered first.
+  const RayPre pre(ray);
+  float t1, t2, e1, e2, u, v;
+  ASSERT_TRUE(intersect_triangle(pre, p1, 0.f, kInf, &t1, &u, &v));
+  ASSERT_TRUE(intersect_triangle(pre, p2, 0.f, kInf, &t2, &u, &v));
+  ASSERT_TRUE(intersect_box(pre, p1.bounds().lo, p1.bounds().hi, 0.f, kInf, &e1));
+  ASSERT_TRUE(intersect_box(pre, p2.bounds().lo, p2.bounds().hi, 0.f, kInf, &e2));
+  ASSERT_EQ(t1, 0x1.313ee8p+0f);
+  ASSERT_EQ(t2, 0x1.313eeap+0f);
+  ASSERT_EQ(e1, t2);
+  ASSERT_LT(e2, e1);
+  // One triangle per leaf, so the root's two children are the two leaves.
+  const Bvh bvh = build_bvh({p1, p2}, {.max_leaf_size = 1});
+  ASSERT_EQ(bvh.nodes.size(), 3u);
+  Bvh nodes_only = bvh;  // the node layout's walk (pairs cleared) must agree
+  nodes_only.pairs.clear();
+  nodes_only.pair_of.clear();
+  for (const Bvh* b : std::array<const Bvh*, 2>{&bvh, &nodes_only}) {
+    Counters c;
+    const Hit h = closest_hit(*b, ray, &c);
+    ASSERT_TRUE(h.hit());
+    EXPECT_EQ(h.prim, 0u) << "the walk culled P1's box against P2's hit";
+    EXPECT_EQ(h.t, t1);
+    EXPECT_EQ(c.leaf_visits, 2u);
+    // The predictor's bounded walk (closest_hit_pair) with the bound at P2's t.
+    Hit base, bounded;
+    Counters cb, cv;
+    closest_hit_pair(*b, ray, t2, &base, &cb, &bounded, &cv);
+    EXPECT_EQ(base.prim, 0u);
+    EXPECT_EQ(bounded.prim, 0u);
+  }
+  // Embree (robust mode, its own rounding) reports P2 here, at P1's t within the float tolerance:
+  // for the referee the two are a tie, which is why the Embree cross-check cannot see this case.
+  const EmbreeScene emb({p1, p2}, kEmbreeReferenceConfig, true);
+  expect_hit_near(emb.intersect(ray), t1, "Embree");
+}
+
+// T19 generalised: rays from random origins below the face plane z = 1, and for each ray whose
+// float t on P1 falls below P1's box entry, a tilted P2 through the ray between the two whose
+// float t lands in that gap. Every such pair is a case where an unwidened cull misses P1; the
+// walk must return brute force's hit on every one.
+TEST(HardCases, T19_FacePlaneCasesFromRandomRays) {
+  const Triangle p1{{-4, -4, 1}, {4, -4, 1}, {0, 4, 1}};
+  int cases = 0;
+  for (uint64_t i = 0; i < 20000 && cases < 200; ++i) {
+    auto u = [&](uint64_t k) { return 2 * uniform01(19, i, k) - 1; };
+    const Ray ray = make_ray({0.5f * u(0), 0.5f * u(1), -1.f + 0.9f * u(2)},
+                             glm::normalize(Vec3(0.3f * u(3), 0.3f * u(4), 1.f)));
+    const RayPre pre(ray);
+    float t1, e1, t2, bu, bv;
+    if (!intersect_triangle(pre, p1, 0.f, kInf, &t1, &bu, &bv)) continue;
+    intersect_box(pre, p1.bounds().lo, p1.bounds().hi, 0.f, kInf, &e1);
+    if (!(t1 < e1)) continue;
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 q = ray.org + (t1 + (e1 - t1) * float(k % 10) / 9.f) * ray.dir;
+      const float s = 0.01f * float(1 + k / 10);
+      const Triangle p2{q + Vec3(-2, -2, -s), q + Vec3(2, -2, -s), q + Vec3(0, 2, s)};
+      if (!intersect_triangle(pre, p2, 0.f, kInf, &t2, &bu, &bv) || !(t1 < t2 && t2 <= e1))
+        continue;
+      const Bvh bvh = build_bvh({p1, p2}, {.max_leaf_size = 1});
+      Counters c;
+      const Hit h = closest_hit(bvh, ray, &c);
+      const Hit bf = brute_force_closest(bvh, ray);
+      ASSERT_EQ(bf.prim, 0u);
+      EXPECT_EQ(h.prim, bf.prim) << "ray " << i;
+      EXPECT_EQ(h.t, bf.t) << "ray " << i;
+      ++cases;
+      break;
+    }
+  }
+  EXPECT_EQ(cases, 200) << "too few constructed cases for the test to mean anything";
 }
 
 // ---- The valid range (docs/bvh.md, "Valid range") ------------------------------------------

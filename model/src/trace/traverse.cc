@@ -9,9 +9,10 @@
 
 namespace hrpp {
 
-bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
+bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float limit,
                    float* entry) {
   constexpr float kWiden = 1 + 2 * gamma(3);
+  float tmax = limit * kCullWiden;
   for (int a = 0; a < 3; ++a) {
     float t0 = (lo[a] - r.org[a]) * r.inv[a];
     float t1 = (hi[a] - r.org[a]) * r.inv[a];
@@ -26,6 +27,13 @@ bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, 
 }
 
 namespace {
+// The bound a box's entry distance is culled against: the current limit (the closest hit's t, or
+// the next float above tfar) widened by kCullWiden (docs/bvh.md, "Culling against the current
+// hit"), so that rounding in the box's entry distance and in a triangle's t cannot cull a box
+// holding a triangle that the triangle test accepts below the limit. +inf stays +inf.
+// intersect_box(..., limit, ...) is BoxRay::hit(..., cull_bound(limit), ...).
+[[gnu::always_inline]] inline float cull_bound(float limit) { return limit * kCullWiden; }
+
 // The body of intersect_triangle, inlined into the traversal loop.
 [[gnu::always_inline]] inline bool triangle_test(const RayPre& r, const Triangle& tri, float tmin,
                                                  float tlimit, float* t, float* u, float* v) {
@@ -70,7 +78,8 @@ constexpr int kStackSize = 1024;
 template <bool kAnyHit>
 [[gnu::always_inline]] inline bool test_leaf(const Bvh& bvh, const RayPre& r, float tnear,
                                              uint32_t node, uint32_t first, uint32_t count,
-                                             float& limit, Hit& hit, Counters* c) {
+                                             float& limit, float& cull, Hit& hit,
+                                             Counters* c) {
   c->leaf_visits++;
   for (uint32_t i = first, e = first + count; i < e; ++i) {
     c->tri_tests++;
@@ -78,6 +87,7 @@ template <bool kAnyHit>
     float t, u, v;
     if (triangle_test(r, bvh.tris[i], tnear, limit, &t, &u, &v)) {
       hit.t = limit = t;
+      cull = cull_bound(limit);
       hit.u = u;
       hit.v = v;
       hit.prim = bvh.prim_ids[i];
@@ -142,6 +152,7 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
   const Triangle* tris = bvh.tris.data();
   Hit hit;
   float limit = next_float_up(ray.tfar);  // accept t <= tfar
+  float cull = cull_bound(limit);         // cull a box whose entry is beyond it
   struct Entry {
     uint32_t node;
     float t;
@@ -151,12 +162,13 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
   uint32_t node = req.start_node;
   float entry;
   c->box_tests++;
-  if (!br.hit(nodes[node], ray.tnear, limit, &entry)) return hit;
+  if (!br.hit(nodes[node], ray.tnear, cull, &entry)) return hit;
   while (true) {
     const BvhNode& n = nodes[node];
     if constexpr (kPath) req.path->push_back(node);
     if (n.is_leaf()) {
-      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, n.right_or_first, n.count, limit, hit, c))
+      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, n.right_or_first, n.count, limit, cull, hit,
+                             c))
         return hit;
     } else {
       c->interior_tests++;
@@ -171,8 +183,8 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
                                       : static_cast<const void*>(&nodes[nl.right_or_first]));
       __builtin_prefetch(nr.is_leaf() ? static_cast<const void*>(&tris[nr.right_or_first])
                                       : static_cast<const void*>(&nodes[nr.right_or_first]));
-      const bool hl = br.hit(nl, ray.tnear, limit, &tl);
-      const bool hr = br.hit(nr, ray.tnear, limit, &tr);
+      const bool hl = br.hit(nl, ray.tnear, cull, &tl);
+      const bool hr = br.hit(nr, ray.tnear, cull, &tr);
       if (hl && hr) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (tr < tl) {
@@ -189,10 +201,10 @@ Hit traverse(const Bvh& bvh, const Ray& ray, Counters* counters, const TraceRequ
         continue;
       }
     }
-    // Pop the next node whose box entry is not beyond the closest hit so far.
+    // Pop the next node whose box entry is not beyond the cull bound (the box test's rule).
     while (sp > 0) {
       const Entry e = stack[--sp];
-      if (e.t < limit) {
+      if (e.t <= cull) {
         node = e.node;
         goto next;
       }
@@ -254,13 +266,14 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   const Triangle* tris = bvh.tris.data();
   Hit hit;
   float limit = next_float_up(ray.tfar);  // accept t <= tfar
+  float cull = cull_bound(limit);         // cull a box whose entry is beyond it
   // The current node: its id, and its pair (interior, count 0) or first triangle and count (leaf).
   uint32_t node = req.start_node, data, count;
   {
     const BvhNode& s = bvh.nodes[node];
     c->box_tests++;
     float entry;
-    if (!BoxRay(r).hit(s, ray.tnear, limit, &entry)) return hit;
+    if (!BoxRay(r).hit(s, ray.tnear, cull, &entry)) return hit;
     data = s.is_leaf() ? s.right_or_first : bvh.pair_of[node];
     count = s.count;
   }
@@ -275,7 +288,8 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   while (true) {
     if constexpr (kPath) req.path->push_back(node);
     if (count) {
-      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, data, count, limit, hit, c)) return hit;
+      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, data, count, limit, cull, hit, c))
+        return hit;
     } else {
       c->interior_tests++;
       c->box_tests += 2;
@@ -286,7 +300,7 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
       __builtin_prefetch(cl ? static_cast<const void*>(&tris[p.data[0]]) : &pairs[p.data[0]]);
       __builtin_prefetch(cr ? static_cast<const void*>(&tris[p.data[1]]) : &pairs[p.data[1]]);
       alignas(16) float t[4];
-      const int m = pr.hit(p, tnear, _mm_set1_ps(limit), t);
+      const int m = pr.hit(p, tnear, _mm_set1_ps(cull), t);
       if (m == 3) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (t[1] < t[0]) {
@@ -307,10 +321,10 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
         continue;
       }
     }
-    // Pop the next node whose box entry is not beyond the closest hit so far.
+    // Pop the next node whose box entry is not beyond the cull bound (the box test's rule).
     while (sp > 0) {
       const Entry& e = stack[--sp];
-      if (e.t < limit) {
+      if (e.t <= cull) {
         node = e.node, data = e.data, count = e.count;
         goto next;
       }
@@ -330,6 +344,7 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
   const BvhPair* pairs = bvh.pairs.data();
   const Triangle* tris = bvh.tris.data();
   float lb = next_float_up(ray.tfar), lv = next_float_up(bounded_tfar);
+  float cb_cull = cull_bound(lb), cv_cull = cull_bound(lv);  // each walk's cull bound
   uint32_t node = 0, data, count;
   bool v;  // the bounded walk visits the current node
   {
@@ -337,8 +352,9 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
     cb.box_tests++;
     cv.box_tests++;
     float entry;
-    if (!BoxRay(r).hit(s, ray.tnear, lb, &entry)) return true;  // then not with lv <= lb either
-    v = BoxRay(r).hit(s, ray.tnear, lv, &entry);
+    // Not hit with cb_cull: then not with cv_cull <= cb_cull either.
+    if (!BoxRay(r).hit(s, ray.tnear, cb_cull, &entry)) return true;
+    v = BoxRay(r).hit(s, ray.tnear, cv_cull, &entry);
     data = s.is_leaf() ? s.right_or_first : bvh.pair_of[node];
     count = s.count;
   }
@@ -364,12 +380,14 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
         // triangle_test depends on its limit only through `t < limit`, and lv <= lb.
         if (triangle_test(r, tris[i], ray.tnear, lb, &t, &u, &w)) {
           hb.t = lb = t;
+          cb_cull = cull_bound(lb);
           hb.u = u;
           hb.v = w;
           hb.prim = bvh.prim_ids[i];
           hb.leaf = node;
           if (v && t < lv) {
             hv.t = lv = t;
+            cv_cull = cull_bound(lv);
             hv.u = u;
             hv.v = w;
             hv.prim = bvh.prim_ids[i];
@@ -388,11 +406,12 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
       __builtin_prefetch(cl ? static_cast<const void*>(&tris[p.data[0]]) : &pairs[p.data[0]]);
       __builtin_prefetch(cr ? static_cast<const void*>(&tris[p.data[1]]) : &pairs[p.data[1]]);
       alignas(16) float t[4];
-      const int m = pr.hit(p, tnear, _mm_set1_ps(lb), t);
-      // The entry distances t[] do not depend on the limit, and pr.hit's test is entry <= min(exit,
-      // limit): with lv <= lb a child passes the bounded walk's test exactly when it passes the
-      // full walk's and its entry is within lv.
-      const int mv = v ? m & (int(t[0] <= lv) | int(t[1] <= lv) << 1) : 0;
+      const int m = pr.hit(p, tnear, _mm_set1_ps(cb_cull), t);
+      // The entry distances t[] do not depend on the bound, and pr.hit's test is entry <=
+      // min(exit, bound): with cv_cull <= cb_cull (cull_bound is monotonic and lv <= lb) a child
+      // passes the bounded walk's test exactly when it passes the full walk's and its entry is
+      // within cv_cull.
+      const int mv = v ? m & (int(t[0] <= cv_cull) | int(t[1] <= cv_cull) << 1) : 0;
       if (m == 3) {
         if (sp >= kStackSize) throw std::runtime_error("traversal stack overflow");
         if (t[1] < t[0]) {
@@ -415,8 +434,8 @@ bool traverse_pairs_two(const Bvh& bvh, const Ray& ray, float bounded_tfar, Hit&
     }
     while (sp > 0) {
       const Entry& e = stack[--sp];
-      if (e.t < lb) {
-        node = e.node, data = e.data, count = e.count, v = e.v && e.t < lv;
+      if (e.t <= cb_cull) {
+        node = e.node, data = e.data, count = e.count, v = e.v && e.t <= cv_cull;
         goto next;
       }
     }

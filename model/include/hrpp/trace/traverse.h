@@ -65,8 +65,19 @@ struct RayPre {
   }
 };
 
-/// Conservative slab test of the interval [tmin, tmax]; on a hit *entry is the entry distance.
-bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float tmax,
+/// The factor by which a walk widens its limit (the closest hit's t so far, or the next float
+/// above tfar) before it culls a box against it: 1 + 2^-20 = 1 + 16 u (u = 2^-24, the unit
+/// roundoff). A box whose entry distance is not above limit * kCullWiden is walked. With it no
+/// box is culled that holds a triangle the triangle test accepts below the limit, when the box
+/// is entered through a face across the ray's dominant axis (a triangle in that face plane
+/// included); the proof, and what remains for the other faces, in docs/bvh.md ("Culling against
+/// the current hit").
+inline constexpr float kCullWiden = 1 + 0x1p-20f;
+
+/// Conservative slab test of the interval [tmin, limit * kCullWiden] (the walks' box test: limit
+/// is the closest hit so far, or the next float above tfar); on a hit *entry is the entry
+/// distance.
+bool intersect_box(const RayPre& r, const Vec3& lo, const Vec3& hi, float tmin, float limit,
                    float* entry);
 
 /// Watertight ray/triangle test. Accepts t with tmin <= t < tlimit (strict upper bound, so a
