@@ -16,11 +16,7 @@ module top_formal
 #(
   parameter int unsigned PredFifoDepth = 16,
   parameter int unsigned IdWidth = 2,
-  parameter int unsigned NodeIdWidth = 2,
-  // MITER: which output's assertion is checked (0: all five; 1..5: ray_ready_o, pw_ready_o,
-  // outcome_ready_o, pred_valid_o, skip_valid_o alone; the logic outside that output's cone of
-  // influence is then removed, which makes the deep runs affordable)
-  parameter int unsigned CombOut = 0
+  parameter int unsigned NodeIdWidth = 2
 ) (
   input logic                   clk_i,
   input logic [1:0]             mode_i,
@@ -163,11 +159,11 @@ module top_formal
 
   always_comb begin
     if (rst_ni && !diverged_q) begin
-      if (CombOut inside {0, 1}) RayReadyComb_A: assert (ray_ready_o == b_ray_ready_o);
-      if (CombOut inside {0, 2}) PwReadyComb_A: assert (pw_ready_o == b_pw_ready_o);
-      if (CombOut inside {0, 3}) OutcomeReadyComb_A: assert (outcome_ready_o == b_outcome_ready_o);
-      if (CombOut inside {0, 4}) PredValidComb_A: assert (pred_valid_o == b_pred_valid_o);
-      if (CombOut inside {0, 5}) SkipValidComb_A: assert (skip_valid_o == b_skip_valid_o);
+      RayReadyComb_A: assert (ray_ready_o == b_ray_ready_o);
+      PwReadyComb_A: assert (pw_ready_o == b_pw_ready_o);
+      OutcomeReadyComb_A: assert (outcome_ready_o == b_outcome_ready_o);
+      PredValidComb_A: assert (pred_valid_o == b_pred_valid_o);
+      SkipValidComb_A: assert (skip_valid_o == b_skip_valid_o);
     end
   end
 `endif
