@@ -209,6 +209,12 @@ PLANTED = [
             "(PredCountWidth + 1)'(pred_valid_o && pred_ready_i)) <",
             ("RayReadyComb_A",), "the credit of a prediction taken in this cycle is reused at "
             "once: ray_ready_o depends on pred_ready_i", "quick_comb"),
+    Planted("top_comb_all", "top", "rtl/hrpp_lane.sv",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count)) <",
+            "assign ray_ready_o = init_done && (in_flight + (PredCountWidth + 1)'(pred_count) - "
+            "(PredCountWidth + 1)'(pred_valid_o && pred_ready_i)) <",
+            ("OutputsComb_A0",), "top_comb's bug, in the check of every state (one step)",
+            "prove_comb"),
 ]
 
 
@@ -266,10 +272,14 @@ def run_sby(sby: Path, task: str, workdir: Path) -> dict:
     status = m.group(1) if m else "ERROR"
     mode = sby_option(sby, task, "mode")
     failed = []
-    for fm in re.finditer(r"failed assertion (\S+) at (\S+) step (\d+)", log):
+    # "at <source> step <n>"; a generated assertion (top.sby's miter of every state) has no
+    # source and its one step no number
+    for fm in re.finditer(r"failed assertion (\S+) at ?(\S*)(?: step (\d+))?", log):
         failed.append({"assertion": fm.group(1).split(".")[-1], "where": fm.group(2),
-                       "step": int(fm.group(3))})
-    trace = re.search(r"counterexample trace(?: \[induction\])?: (\S+\.vcd)", log)
+                       "step": int(fm.group(3) or 0)})
+    # a trace from reset (bmc, or prove's base case) before k-induction's
+    trace = (re.search(r"counterexample trace(?: \[basecase\])?: (\S+\.vcd)", log) or
+             re.search(r"counterexample trace \[induction\]: (\S+\.vcd)", log))
     result = {
         "sby": str(sby), "task": task, "mode": mode,
         "depth": int(sby_option(sby, task, "depth") or 20),
