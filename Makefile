@@ -281,7 +281,7 @@ FUZZ_SECONDS ?= 60
 
 test-sanitize: setup
 	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DHRPP_SHARED_DIR=$(abspath $(SHARED)) -DHRPP_TB=OFF -DHRPP_FUZZ=OFF \
+	  -DHRPP_SHARED_DIR=$(abspath $(SHARED)) -DHRPP_TB=OFF -DHRPP_FUZZ=OFF -DHRPP_FORMAL=OFF \
 	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	cd $(SAN_BUILD) && HRPP_H8_STRIDE=257 ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1 \
