@@ -8,6 +8,11 @@ test suite.
 
   figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR] [--jobs N]
   figures.py compare DIR_A DIR_B      exit 1 when any figure differs or is missing
+  figures.py compare DIR_A DIR_B --moved
+                                      also say by how much: per differing predict report its
+                                      work counters (baseline and HRPP interior-node tests, leaf
+                                      visits, triangle tests) and skipped fraction, A -> B; per
+                                      differing tb_hrpp output its changed lines
 
 Capture with the binaries before a change (copy them first) and after it, then compare."""
 import argparse
@@ -91,6 +96,35 @@ def tb_tests(build):
             res.append((t['name'], cmd))
     return res
 
+WORK = ('interior_tests', 'leaf_visits', 'tri_tests')
+
+
+def moved(kind, ta, tb):
+    """How one figure moved from A to B: a predict report's work counters and skipped fraction
+    (relative changes), or a testbench output's changed lines."""
+    if kind == 'tb':
+        la, lb = ta.splitlines(), tb.splitlines()
+        return '\n'.join(f'    - {x}\n    + {y}' for x, y in zip(la, lb) if x != y) + (
+            f'\n    ({len(la)} / {len(lb)} lines)' if len(la) != len(lb) else '')
+    da, db = json.loads(ta), json.loads(tb)
+    out = []
+    for side in ('baseline', 'hrpp'):
+        parts = []
+        for k in WORK:
+            x, y = da.get(side, {}).get(k), db.get(side, {}).get(k)
+            if x != y and x is not None and y is not None:
+                parts.append(f'{k} {x} -> {y} ({100 * (y - x) / max(1, x):+.3f}%)')
+        if parts:
+            out.append(f'    {side}: ' + ', '.join(parts))
+    x, y = da.get('skipped_interior_fraction'), db.get('skipped_interior_fraction')
+    if x != y and x is not None and y is not None:
+        out.append(f'    skipped interior fraction {100 * x:.3f}% -> {100 * y:.3f}%')
+    for k in ('wrong_results', 'true_positive', 'false_positive', 'exact_mismatches'):
+        if da.get(k) != db.get(k):
+            out.append(f'    {k} {da.get(k)} -> {db.get(k)}')
+    return '\n'.join(out) or '    (only other fields)'
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     sub = ap.add_subparsers(dest='cmd', required=True)
@@ -106,6 +140,8 @@ def main():
     m = sub.add_parser('compare', help='compare two captures (exit 1 when any figure differs)')
     m.add_argument('a')
     m.add_argument('b')
+    m.add_argument('--moved', action='store_true',
+                   help='print how each differing figure moved (work counters first)')
     a = ap.parse_args()
     if a.cmd == 'capture':
         need = [] if a.only == 'tb' else ['hrpp']
@@ -143,9 +179,12 @@ def main():
                     bad += 1
                     continue
                 with open(os.path.join(a.a, sub_, f)) as x, open(os.path.join(a.b, sub_, f)) as y:
-                    if x.read() != y.read():
+                    tx, ty = x.read(), y.read()
+                    if tx != ty:
                         print('DIFFERS:', sub_, f)
                         bad += 1
+                        if a.moved:
+                            print(moved(sub_, tx, ty))
         print(f'{n} compared, {bad} differ')
         sys.exit(1 if bad else 0)
 
