@@ -165,7 +165,11 @@ int cmd_exactness(const ExactnessArgs& a) {
       std::fprintf(stderr, "hrpp exactness: --misses %s: cannot write it\n", a.misses_path.c_str());
       return 2;
     }
-    std::fprintf(misses, "# hrpp exactness %s: walk misses (WalkMiss::line; --replay reads it)\n",
+    std::fprintf(misses,
+                 "# hrpp exactness %s: walk misses, one per line (--replay reads them): KIND QUERY "
+                 "org X Y Z dir X Y Z tnear T tfar T ours PRIM T closer PRIM T referee T_OURS "
+                 "T_CLOSER confirmed|unconfirmed (the ray's floats and the hits' t in hex; "
+                 "referee: the double-precision t of our triangle and of the closer one)\n",
                  s.path.c_str());
     std::fflush(misses);
   }
