@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "hrpp/trace/traverse.h"
+#include "hrpp/util/rng.h"
+#include "hrpp/workload/workload.h"
 #include "test_util.h"
 
 namespace hrpp {
@@ -129,6 +131,60 @@ TEST(Exactness, WalkMissLinesRoundTrip) {
   EXPECT_FALSE(WalkMiss::parse("primary closest org 1 2", &back));
   EXPECT_FALSE(WalkMiss::parse(
       "primary sideways org 0 0 0 dir 0 0 1 tnear 0 tfar inf ours -1 inf closer -1 inf", &back));
+}
+
+// The brute force behind a bounding-box pre-test gives brute_force_closest's hit bit for bit: on
+// random soups near and far from the origin, with rays aimed at vertices, edge midpoints and
+// random points, axis-aligned ones, bounded ones ending at a vertex, and secondary rays leaving
+// surfaces.
+TEST(Exactness, FastBruteForceIsBruteForce) {
+  uint64_t rays = 0, hits = 0;
+  auto same = [&](const Bvh& bvh, const BruteForce& bf, const Ray& ray) {
+    if (validate_ray(ray) != RayError::kNone) return;
+    const Hit a = brute_force_closest(bvh, ray), b = bf.closest(ray);
+    rays++;
+    hits += a.hit();
+    ASSERT_EQ(a.prim, b.prim);
+    if (a.hit()) {
+      ASSERT_EQ(a.t, b.t);
+    }
+  };
+  for (const float offset : {0.f, 3e3f, -1e6f}) {
+    std::vector<Triangle> tris = test::random_soup(1000, 0.2f, 7);
+    for (Triangle& t : tris)
+      for (Vec3* v : {&t.v0, &t.v1, &t.v2}) *v += Vec3(offset);
+    const Bvh bvh = build_bvh(tris);
+    const BruteForce bf(bvh);
+    for (uint64_t i = 0; i < 1500; ++i) {
+      auto u = [&](int k) { return 2.f * uniform01(11, i, k) - 1.f; };
+      const Vec3 org = Vec3(offset) + 1.5f * Vec3(u(0), u(1), u(2));
+      const Triangle& t = tris[i % tris.size()];
+      const Vec3 targets[] = {t.v0, t.v1, 0.5f * (t.v1 + t.v2),
+                              Vec3(offset) + Vec3(u(3), u(4), u(5))};
+      for (const Vec3& target : targets) {
+        Ray r{org, target - org};
+        same(bvh, bf, r);
+        r.tfar = 1.f;  // ends at the target
+        same(bvh, bf, r);
+        r.tnear = 0.5f;
+        same(bvh, bf, r);
+      }
+      Ray axis{org, Vec3(0.f)};
+      axis.dir[i % 3] = (i & 4) ? -1.f : 1.f;
+      same(bvh, bf, axis);
+    }
+  }
+  for (const char* name : {"spd_balls.glb", "cornell_box.glb"}) {
+    const Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/" + name);
+    const Bvh bvh = build_bvh(s.triangles);
+    const BruteForce bf(bvh);
+    WorkloadOptions wo;
+    wo.width = wo.height = name[0] == 's' ? 12 : 32;
+    wo.diffuse = wo.reflection = true;
+    generate_rays(s, bvh, wo, [&](const RayRecord& r, const Hit*) { same(bvh, bf, r.ray); });
+  }
+  EXPECT_GT(rays, 30000u);
+  EXPECT_GT(hits, rays / 10);
 }
 
 // A deliberately broken walk (the first hit found instead of the closest) on an own scene: the

@@ -35,18 +35,30 @@ bool near_or_inside(const Scene& scene, const Ray& ray, uint32_t prim) {
   return r.min_bary >= 0 || std::fabs(r.edge_dist) * r.cos_theta <= referee_delta(ray, tri, r.t);
 }
 
-const Hit& brute_hit(const Bvh& bvh, const Ray& ray, std::optional<Hit>* brute) {
-  if (!brute->has_value()) *brute = brute_force_closest(bvh, ray);
+const Hit& brute_hit(const Bvh& bvh, const Ray& ray, std::optional<Hit>* brute,
+                     const BruteForce* fast) {
+  if (!brute->has_value()) *brute = fast ? fast->closest(ray) : brute_force_closest(bvh, ray);
   return **brute;
+}
+
+bool nearer(const Hit& b, const Hit& ours) { return b.hit() && (!ours.hit() || b.t < ours.t); }
+bool same_hit(const Hit& a, const Hit& b) {
+  return a.prim == b.prim && (a.prim == kNoPrim || a.t == b.t);
 }
 
 /// Fills the walk-miss fields of v when brute force finds a hit nearer than `ours` (or any hit
 /// when ours is none).
 void check_walk(const Scene& scene, const Bvh& bvh, const Ray& ray, const Hit& ours,
-                std::optional<Hit>* brute, Verdict* v) {
+                std::optional<Hit>* brute, const BruteForce* fast, Verdict* v) {
   v->brute_forced = true;
-  const Hit& b = brute_hit(bvh, ray, brute);
-  if (!b.hit() || (ours.hit() && !(b.t < ours.t))) return;
+  if (!nearer(brute_hit(bvh, ray, brute, fast), ours)) return;
+  if (fast) {  // decided by brute_force_closest itself
+    const Hit exact = brute_force_closest(bvh, ray);
+    v->search_mismatch = !same_hit(exact, **brute);
+    *brute = exact;
+    if (!nearer(exact, ours)) return;
+  }
+  const Hit& b = **brute;
   v->walk_miss = true;
   v->closer = b;
   const RefereeHit rb = referee_intersect(ray, scene.triangles[b.prim]);
@@ -94,10 +106,62 @@ bool parse_study_kind(std::string_view name, StudyKind* out) {
 
 std::string_view query_name(Query q) { return q == Query::kClosest ? "closest" : "any"; }
 
+// ---- brute force --------------------------------------------------------------------------------
+
+namespace {
+constexpr float kWide = 0x1p-12f;  // the pre-test's margin, relative (float rounding: 2^-24)
+}
+
+BruteForce::BruteForce(const Bvh& bvh) : bvh_(bvh) {
+  for (int a = 0; a < 3; ++a) {
+    lo_[a].resize(bvh.tris.size());
+    hi_[a].resize(bvh.tris.size());
+  }
+  for (size_t i = 0; i < bvh.tris.size(); ++i) {
+    const Aabb b = bvh.tris[i].bounds();
+    const float m = kWide * std::max(max_abs(b.lo), max_abs(b.hi));
+    for (int a = 0; a < 3; ++a) {
+      lo_[a][i] = b.lo[a] - m;
+      hi_[a][i] = b.hi[a] + m;
+    }
+  }
+}
+
+Hit BruteForce::closest(const Ray& ray) const {
+  const RayPre r(ray);
+  Hit hit;
+  float limit = next_float_up(ray.tfar);
+  const float e = kWide * max_abs(ray.org);  // the hit point's rounding grows with the origin's
+  const float tlo = ray.tnear * (1 - kWide);
+  const size_t n = bvh_.tris.size();
+  for (size_t i = 0; i < n; ++i) {
+    // The slab test of intersect_box on the widened box (a NaN slab distance is ignored).
+    float tmin = tlo, tmax = limit * (1 + kWide);
+    for (int a = 0; a < 3; ++a) {
+      float t0 = (lo_[a][i] - e - r.org[a]) * r.inv[a];
+      float t1 = (hi_[a][i] + e - r.org[a]) * r.inv[a];
+      if (r.inv[a] < 0) std::swap(t0, t1);
+      tmin = t0 > tmin ? t0 : tmin;
+      tmax = t1 < tmax ? t1 : tmax;
+    }
+    if (!(tmin <= tmax)) continue;
+    // brute_force_closest's body.
+    if (bvh_.tri_degenerate[i]) continue;
+    float t, u, v;
+    if (intersect_triangle(r, bvh_.tris[i], ray.tnear, limit, &t, &u, &v)) {
+      hit.t = limit = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = bvh_.prim_ids[i];
+    }
+  }
+  return hit;
+}
+
 // ---- judging ----------------------------------------------------------------------------------
 
 Verdict judge_closest(const Scene& scene, const Bvh& bvh, const Ray& ray, const Traces& tr,
-                      std::optional<Hit>* brute) {
+                      std::optional<Hit>* brute, const BruteForce* fast) {
   Verdict v;
   const Hit &o = tr.ours_closest, &e = tr.embree_closest;
   bool need_brute = tr.ours_any.hit() && !o.hit();  // our own walks disagree
@@ -132,12 +196,12 @@ Verdict judge_closest(const Scene& scene, const Bvh& bvh, const Ray& ray, const 
       need_brute = true;
     }
   }
-  if (need_brute) check_walk(scene, bvh, ray, o, brute, &v);
+  if (need_brute) check_walk(scene, bvh, ray, o, brute, fast, &v);
   return v;
 }
 
 Verdict judge_any(const Scene& scene, const Bvh& bvh, const Ray& ray, const Traces& tr,
-                  std::optional<Hit>* brute) {
+                  std::optional<Hit>* brute, const BruteForce* fast) {
   Verdict v;
   const bool ours = tr.ours_any.hit();
   bool need_brute = ours != tr.ours_closest.hit();  // our own walks disagree
@@ -151,11 +215,11 @@ Verdict judge_any(const Scene& scene, const Bvh& bvh, const Ray& ray, const Trac
       prim = tr.ours_any.prim;
     else if (tr.embree_closest.hit())
       prim = tr.embree_closest.prim;
-    else if (brute_hit(bvh, ray, brute).hit())
+    else if (brute_hit(bvh, ray, brute, fast).hit())
       prim = (*brute)->prim;
     v.side = prim == kNoPrim ? Verdict::Side::kOurs : hit_miss_side(scene, ray, prim, ours);
   }
-  if (need_brute && !ours) check_walk(scene, bvh, ray, tr.ours_any, brute, &v);
+  if (need_brute && !ours) check_walk(scene, bvh, ray, tr.ours_any, brute, fast, &v);
   if (need_brute) v.brute_forced = true;
   return v;
 }
@@ -335,6 +399,9 @@ std::string ExactnessResult::failure() const {
       add(std::to_string(t.query[q].grazes) + " " + std::string(query_name(Query(q))) +
           "-hit grazes, more than 1e-5 of the " + std::to_string(t.query[q].compared) +
           " compared");
+  if (search_mismatches)
+    add(std::to_string(search_mismatches) + " of " + std::to_string(search_checks) +
+        " brute-force searches gave another hit than brute_force_closest");
   if (c.compared == 0)
     add("no ray compared (" + std::to_string(t.rays) + " rays: " + std::to_string(t.invalid_rays) +
         " invalid, " + std::to_string(t.outside_embree) + " outside Embree's range)");
@@ -388,6 +455,8 @@ nlohmann::json ExactnessResult::to_json() const {
   j["by_kind"] = bk;
   j["total"] = kind_json(total());
   j["replayed"] = replayed;
+  j["search_checks"] = search_checks;
+  j["search_mismatches"] = search_mismatches;
   nlohmann::json wm = nlohmann::json::array();
   for (const WalkMiss& m : walk_misses) wm.push_back(m.to_json());
   j["walk_misses"] = wm;
@@ -405,7 +474,7 @@ class Checker {
  public:
   Checker(const Scene& s, const Bvh& b, const EmbreeScene& e, const ExactnessOptions& o,
           ExactnessResult& r)
-      : scene_(s), bvh_(b), emb_(e), opt_(o), res_(r) {}
+      : scene_(s), bvh_(b), emb_(e), opt_(o), res_(r), fast_(b) {}
 
   /// Checks one ray of kind k; walk_hit: our closest-hit walk's result when already known.
   void check(const Ray& ray, StudyKind k, const Hit* walk_hit) {
@@ -429,9 +498,21 @@ class Checker {
     tr.embree_closest = emb_.intersect(ray);
     tr.embree_occluded = emb_.occluded(ray);
     std::optional<Hit> brute;
-    record(k, Query::kClosest, ray, tr, tr.ours_closest,
-           judge_closest(scene_, bvh_, ray, tr, &brute));
-    record(k, Query::kAny, ray, tr, tr.ours_any, judge_any(scene_, bvh_, ray, tr, &brute));
+    const Verdict vc = judge_closest(scene_, bvh_, ray, tr, &brute, &fast_);
+    const Verdict va = judge_any(scene_, bvh_, ray, tr, &brute, &fast_);
+    record(k, Query::kClosest, ray, tr, tr.ours_closest, vc);
+    record(k, Query::kAny, ray, tr, tr.ours_any, va);
+    // BruteForce against brute_force_closest: on every walk miss (judge_*), and on every 64th ray
+    // it ran on.
+    for (const Verdict* v : {&vc, &va})
+      if (v->walk_miss || v->search_mismatch) {
+        res_.search_checks++;
+        res_.search_mismatches += v->search_mismatch;
+      }
+    if (brute && !vc.walk_miss && !va.walk_miss && (searches_++ & 63) == 0) {
+      res_.search_checks++;
+      res_.search_mismatches += !same_hit(*brute, brute_force_closest(bvh_, ray));
+    }
   }
 
  private:
@@ -475,6 +556,8 @@ class Checker {
   const EmbreeScene& emb_;
   const ExactnessOptions& opt_;
   ExactnessResult& res_;
+  const BruteForce fast_;
+  uint64_t searches_ = 0;
 };
 
 std::string effects_string(const WorkloadOptions& wo) {

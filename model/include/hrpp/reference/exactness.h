@@ -59,8 +59,25 @@ struct Verdict {
   bool walk_miss = false;
   /// The referee agrees: `closer`'s triangle is hit in double precision, nearer than ours.
   bool confirmed = false;
+  bool search_mismatch = false;             // BruteForce's hit differed from brute_force_closest's
   Hit closer;                               // brute force's hit, when walk_miss
   double ref_t_ours = 0, ref_t_closer = 0;  // the referee's t of our triangle and of `closer`'s
+};
+
+/// brute_force_closest with a bounding-box pre-test: each triangle's box, widened by 2^-12 of its
+/// largest coordinate magnitude and of the ray origin's, is tested against [tnear, limit] widened
+/// by 2^-12 before the triangle test, so that only triangles far from the ray are skipped; the
+/// triangles are tested in brute_force_closest's order with its limit, so the hit is the same, bit
+/// for bit (Exactness.FastBruteForceIsBruteForce; the check also compares the two on a sample of
+/// its rays and on every walk miss). About ten times faster.
+class BruteForce {
+ public:
+  explicit BruteForce(const Bvh& bvh);
+  Hit closest(const Ray& ray) const;
+
+ private:
+  const Bvh& bvh_;
+  std::array<std::vector<float>, 3> lo_, hi_;  // per triangle of bvh.tris, widened
 };
 
 /// What one ray's four traces gave: our closest-hit and any-hit walks, Embree's rtcIntersect1 and
@@ -72,13 +89,15 @@ struct Traces {
 
 /// Judges the closest-hit query of a valid ray. Brute force (our triangle test on every
 /// triangle) runs when the hit or the primitive disagrees, when t disagrees beyond the referee's
-/// tolerance, and when our any-hit walk hit but our closest-hit walk did not.
+/// tolerance, and when our any-hit walk hit but our closest-hit walk did not. *brute caches its
+/// hit for the ray: fast's when given, else brute_force_closest's; a walk miss is always decided
+/// by brute_force_closest (Verdict::search_mismatch: fast's hit was another).
 Verdict judge_closest(const Scene& scene, const Bvh& bvh, const Ray& ray, const Traces& tr,
-                      std::optional<Hit>* brute);
+                      std::optional<Hit>* brute, const BruteForce* fast = nullptr);
 /// Judges the any-hit query. Brute force runs when our any-hit walk and Embree disagree, or our
 /// any-hit and closest-hit walks disagree on hit against miss.
 Verdict judge_any(const Scene& scene, const Bvh& bvh, const Ray& ray, const Traces& tr,
-                  std::optional<Hit>* brute);
+                  std::optional<Hit>* brute, const BruteForce* fast = nullptr);
 
 struct QueryCounts {
   uint64_t compared = 0, hits = 0;  // hits: our walk's
@@ -154,6 +173,9 @@ struct ExactnessResult {
   std::vector<WalkMiss> walk_misses;  // every one (the goal is none)
   std::vector<std::string> examples;  // the first other disagreements that fail the check
   uint64_t replayed = 0;              // rays of check_rays
+  /// BruteForce compared with brute_force_closest: on every 64th ray it ran on and on every walk
+  /// miss; mismatches fail the check.
+  uint64_t search_checks = 0, search_mismatches = 0;
   double seconds = 0;
 
   KindCounts total() const;
