@@ -129,8 +129,9 @@ format: setup-venv
 # MICRO 2021 and short, reflection, refraction, diffuse where the scene has them), each traced as
 # a closest-hit and an any-hit query by our walk and by Embree. Fails on any walk miss (our walk
 # farther than our own triangle test allows) and on check-embree's failures. Reports, walk misses
-# (hex) and summary.md in $(OUT)/exactness, the block `exactness` of docs/results.md. About 20
-# minutes on 2 cores at the default 10,000,000 rays per kind.
+# (hex) and summary.md in $(OUT)/exactness, the block `exactness` of docs/results.md. About 8
+# minutes on 2 cores at the default 10,000,000 rays per kind (two scenes at a time; dream_apartment
+# and sponza the longest at about 2 minutes each).
 EXACTNESS_RAYS ?= 10000000
 exactness: build
 	python3 model/tools/exactness.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \

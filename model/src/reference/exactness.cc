@@ -537,16 +537,25 @@ class Checker {
     if ((v.side == Verdict::Side::kOurs || v.side == Verdict::Side::kEmbree) &&
         res_.examples.size() < opt_.max_examples) {
       static const char* what[] = {"agree", "hit", "primitive", "t"};
-      char b[512];
+      // The referee on both sides' triangles: t and |cos theta|.
+      auto ref = [&](const Hit& h) -> std::string {
+        if (!h.hit()) return "";
+        const RefereeHit r = referee_intersect(ray, scene_.triangles[h.prim]);
+        char s[96];
+        std::snprintf(s, sizeof s, " (referee t %.9g, cos %.3g%s)", r.t, r.cos_theta,
+                      r.hit ? "" : ", outside");
+        return s;
+      };
+      char b[768];
       std::snprintf(b, sizeof b,
                     "%s disagreement (%s right): %s %s ray org %s dir %s tnear %a tfar %a; ours "
-                    "prim %d t %a; embree prim %d t %a occluded %d",
+                    "prim %d t %a%s; embree prim %d t %a%s occluded %d",
                     what[int(v.what)], v.side == Verdict::Side::kOurs ? "ours" : "Embree",
                     std::string(study_kind_name(k)).c_str(), std::string(query_name(q)).c_str(),
                     hex3(ray.org).c_str(), hex3(ray.dir).c_str(), ray.tnear, ray.tfar,
-                    ours.hit() ? int(ours.prim) : -1, ours.t,
+                    ours.hit() ? int(ours.prim) : -1, ours.t, ref(ours).c_str(),
                     tr.embree_closest.hit() ? int(tr.embree_closest.prim) : -1, tr.embree_closest.t,
-                    int(tr.embree_occluded));
+                    ref(tr.embree_closest).c_str(), int(tr.embree_occluded));
       res_.examples.push_back(b);
     }
   }
