@@ -3,7 +3,7 @@
 #   hrpp_model      the core: scenes, BVH, traversal, workloads, ray streams, hash, predictor,
 #                   cycle model, cost model and the RTL's update delay. Links neither Embree nor
 #                   an image writer.
-#   hrpp_reference  the cross-check against Embree (links Embree).
+#   hrpp_reference  the cross-check and the exactness check against Embree (links Embree).
 #   hrpp_report     pictures (PNG writing with stb) and the speculative-image error, which
 #                   writes pictures.
 set(HRPP_MODEL_SOURCES
@@ -36,6 +36,7 @@ set(HRPP_MODEL_SOURCES
 set(HRPP_REFERENCE_SOURCES
   model/src/reference/crosscheck.cc
   model/src/reference/embree_ref.cc
+  model/src/reference/exactness.cc
 )
 set(HRPP_REPORT_SOURCES
   model/src/report/render.cc

@@ -27,8 +27,8 @@ int main(int argc, char** argv) {
   add_version_flag(app, "hrpp");
   // In this order in `hrpp --help`.
   const std::vector<Subcommand> subcommands = {
-      add_info(app),  add_check_embree(app), add_predict(app),  add_sweep(app),
-      add_trace(app), add_render(app),       add_simulate(app), add_dir_codes(app),
+      add_info(app),  add_check_embree(app), add_exactness(app), add_predict(app),   add_sweep(app),
+      add_trace(app), add_render(app),       add_simulate(app),  add_dir_codes(app),
   };
 
   try {

@@ -1,6 +1,6 @@
-// hrpp CLI: the subcommands, one file each (info.cc, check_embree.cc, predict.cc, trace.cc,
-// render.cc, sweep.cc, simulate.cc, dir_codes.cc). Each add_X registers its subcommand and options
-// on the app; main.cc runs the one the command line chose after parsing.
+// hrpp CLI: the subcommands, one file each (info.cc, check_embree.cc, exactness.cc, predict.cc,
+// trace.cc, render.cc, sweep.cc, simulate.cc, dir_codes.cc). Each add_X registers its subcommand
+// and options on the app; main.cc runs the one the command line chose after parsing.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -15,6 +15,7 @@ struct Subcommand {
 
 Subcommand add_info(CLI::App& app);
 Subcommand add_check_embree(CLI::App& app);
+Subcommand add_exactness(CLI::App& app);
 Subcommand add_predict(CLI::App& app);
 Subcommand add_sweep(CLI::App& app);
 Subcommand add_trace(CLI::App& app);
