@@ -394,11 +394,10 @@ std::string ExactnessResult::failure() const {
     add(std::to_string(wrong) + " disagreements beyond ties and grazes (" +
         std::to_string(c.ours_right + a.ours_right) + " ours right, " +
         std::to_string(c.embree_right + a.embree_right) + " Embree right)");
-  for (int q = 0; q < 2; ++q)
-    if (double(t.query[q].grazes) > 1e-5 * double(t.query[q].compared))
-      add(std::to_string(t.query[q].grazes) + " " + std::string(query_name(Query(q))) +
-          "-hit grazes, more than 1e-5 of the " + std::to_string(t.query[q].compared) +
-          " compared");
+  // Grazes are resolved (the referee shows the hit changes within its perturbation), and a
+  // traversal that loses hits is caught as walk misses by brute force: unlike the cross-check,
+  // the check sets no limit on their rate (shadow rays aimed at a tessellated light graze it
+  // by construction; docs/bvh.md, "Exactness check").
   if (search_mismatches)
     add(std::to_string(search_mismatches) + " of " + std::to_string(search_checks) +
         " brute-force searches gave another hit than brute_force_closest");
@@ -429,7 +428,7 @@ nlohmann::json ExactnessResult::to_json() const {
       "[tnear, tfar] (brute_force_closest, run on rays that disagree on hit/miss, primitive or t "
       "beyond the tolerance, or whose closest-hit and any-hit walks disagree), confirmed when the "
       "referee also puts that triangle nearer. Passes with no walk miss, no disagreement but "
-      "ties, grazes and t rounding, grazes at most 1e-5 of the compared queries";
+      "ties, grazes and t rounding";
   nlohmann::json fr = nlohmann::json::array();
   for (const FrameInfo& f : frames)
     fr.push_back({{"seed", f.seed},
