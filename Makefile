@@ -286,8 +286,9 @@ bench: build
 # Reliability (docs/results.md, "Reliability"). test-sanitize: the C++ test suite built with
 # AddressSanitizer and UndefinedBehaviorSanitizer (gcc; any report fails the test) in
 # $(SAN_BUILD). Left out: the Verilator testbenches (HRPP_TB=OFF: instrumenting the verilated
-# models would take most of the time budget) and the fuzz smoke runs (their build is already
-# instrumented); the exhaustive H8 hash sweeps check every 257th of the 2^32 patterns.
+# models would take most of the time budget), the fuzz smoke runs (their build is already
+# instrumented) and the formal tests (HRPP_FORMAL=OFF: no C++ runs in them, and `make test`
+# already runs them); the exhaustive H8 hash sweeps check every 257th of the 2^32 patterns.
 # fuzz: each libFuzzer target (fuzz/README.md) for FUZZ_SECONDS; corpora, crashes and
 # summary.json in $(OUT)/fuzz.
 # ---------------------------------------------------------------------------------------------
