@@ -187,6 +187,20 @@ TEST(Exactness, FastBruteForceIsBruteForce) {
   EXPECT_GT(hits, rays / 10);
 }
 
+// The check fails on a walk miss the referee confirms, and reports one it does not (the referee
+// puts our triangle at least as near) without failing.
+TEST(Exactness, OnlyConfirmedWalkMissesFail) {
+  ExactnessResult r;
+  r.by_kind[0].rays = 100;
+  r.by_kind[0].query[0].compared = r.by_kind[0].query[1].compared = 100;
+  EXPECT_TRUE(r.passed()) << r.failure();
+  r.by_kind[0].query[0].walk_misses = 1;
+  EXPECT_TRUE(r.passed()) << r.failure();
+  r.by_kind[0].query[0].walk_misses_confirmed = 1;
+  EXPECT_FALSE(r.passed());
+  EXPECT_NE(r.failure().find("1 walk misses confirmed"), std::string::npos) << r.failure();
+}
+
 // A deliberately broken walk (the first hit found instead of the closest) on an own scene: the
 // check counts walk misses, every one confirmed by brute force, and fails; replaying the misses
 // finds them again, and the real walk on the same rays finds none.

@@ -179,8 +179,8 @@ struct ExactnessResult {
   double seconds = 0;
 
   KindCounts total() const;
-  /// "" when passed: no walk miss, no disagreement but ties and grazes, grazes at most 1e-5 of
-  /// the compared queries, at least kMinComparedFraction of the rays compared.
+  /// "" when passed: no walk miss that the referee confirms, no disagreement but ties, grazes
+  /// and t rounding, at least kMinComparedFraction of the rays compared.
   std::string failure() const;
   bool passed() const { return failure().empty(); }
   nlohmann::json to_json() const;
