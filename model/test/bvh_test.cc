@@ -292,9 +292,24 @@ TEST(Traversal, CullBoundRegression) {
     uint32_t unwidened_prim, closest_prim;
   };
   const Case cases[] = {
-      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f}, {-0x1.a17caep-2f, -0x1.b092ecp-1f, 0x1.62aeccp-2f}, 0.f, kInf}, 44382, 44383},
-      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f}, {-0x1.67476cp-2f, -0x1.be3958p-1f, 0x1.5ec20ap-2f}, 0.f, kInf}, 44161, 44301},
-      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f}, {-0x1.70a434p-2f, -0x1.be1414p-1f, 0x1.55aa7p-2f}, 0.f, kInf}, 40002, 173898},
+      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f},
+        {-0x1.a17caep-2f, -0x1.b092ecp-1f, 0x1.62aeccp-2f},
+        0.f,
+        kInf},
+       44382,
+       44383},
+      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f},
+        {-0x1.67476cp-2f, -0x1.be3958p-1f, 0x1.5ec20ap-2f},
+        0.f,
+        kInf},
+       44161,
+       44301},
+      {{{0x1.d50cb2p+3f, 0x1.9629c8p+3f, -0x1.9c3c9ep+3f},
+        {-0x1.70a434p-2f, -0x1.be1414p-1f, 0x1.55aa7p-2f},
+        0.f,
+        kInf},
+       40002,
+       173898},
   };
   for (const Case& c : cases) {
     const Hit bf = brute_force_closest(bvh, c.ray);

@@ -1,5 +1,6 @@
-// The traversal hard cases T1-T18 of ../shared/HARD_CASES.md (and the project's own T19), each checked on our BVH and, where
-// the ray is valid, on Embree (robust mode, the pinned reference configuration).
+// The traversal hard cases T1-T18 of ../shared/HARD_CASES.md (and the project's own T19), each
+// checked on our BVH and, where the ray is valid, on Embree (robust mode, the pinned reference
+// configuration).
 #include <gtest/gtest.h>
 
 #include <array>

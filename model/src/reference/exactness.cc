@@ -430,8 +430,8 @@ nlohmann::json ExactnessResult::to_json() const {
       "a farther hit or none although our own float triangle test accepts a nearer triangle in "
       "[tnear, tfar] (brute_force_closest, run on rays that disagree on hit/miss, primitive or t "
       "beyond the tolerance, or whose closest-hit and any-hit walks disagree), confirmed when the "
-      "referee also puts that triangle nearer. Passes with no confirmed walk miss, no disagreement but "
-      "ties, grazes and t rounding";
+      "referee also puts that triangle nearer. Passes with no confirmed walk miss, no disagreement "
+      "but ties, grazes and t rounding";
   nlohmann::json fr = nlohmann::json::array();
   for (const FrameInfo& f : frames)
     fr.push_back({{"seed", f.seed},

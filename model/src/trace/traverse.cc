@@ -78,8 +78,7 @@ constexpr int kStackSize = 1024;
 template <bool kAnyHit>
 [[gnu::always_inline]] inline bool test_leaf(const Bvh& bvh, const RayPre& r, float tnear,
                                              uint32_t node, uint32_t first, uint32_t count,
-                                             float& limit, float& cull, Hit& hit,
-                                             Counters* c) {
+                                             float& limit, float& cull, Hit& hit, Counters* c) {
   c->leaf_visits++;
   for (uint32_t i = first, e = first + count; i < e; ++i) {
     c->tri_tests++;
@@ -288,8 +287,7 @@ Hit traverse_pairs(const Bvh& bvh, const Ray& ray, Counters* counters, const Tra
   while (true) {
     if constexpr (kPath) req.path->push_back(node);
     if (count) {
-      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, data, count, limit, cull, hit, c))
-        return hit;
+      if (test_leaf<kAnyHit>(bvh, r, ray.tnear, node, data, count, limit, cull, hit, c)) return hit;
     } else {
       c->interior_tests++;
       c->box_tests += 2;
