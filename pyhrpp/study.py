@@ -20,8 +20,10 @@ worker needs Python and Dask, not the repository.
 A task's files: `{NAME}` in its command names a file the tool writes. The worker runs the tool in
 a temporary folder of its own, reads the files back and returns them with the tool's output; the
 driver writes each to its destination (Task.files[NAME], through NAME.tmp and a rename: never half
-written). The file `json` is the task's report (Result.report); a task with report="stdout" has
-it on the tool's standard output instead (`--json -`).
+written). Where the tool's output names a file's temporary path (hrpp's reports record their own
+command line), the destination is put in its place, so the outputs are those of a tool run that
+wrote its files in place. The file `json` is the task's report (Result.report); a task with
+report="stdout" has it on the tool's standard output instead (`--json -`).
 
 Results come back in task order whatever the number of workers or the order the runs finish, so a
 study's outputs are byte for byte the same on one worker, two, a cluster or --no-dask.
@@ -83,7 +85,8 @@ class Task:
     record: str = ""
 
     def plain(self) -> dict:
-        return {"cmd": [str(c) for c in self.cmd], "files": list(self.files),
+        return {"cmd": [str(c) for c in self.cmd],
+                "files": {n: str(d) if d else "{" + n + "}" for n, d in self.files.items()},
                 "unsupported": self.unsupported}
 
     def record_text(self):
@@ -135,6 +138,13 @@ def execute(task: dict) -> dict:
             if os.path.exists(p):
                 with open(p) as f:
                     data["files"][name] = f.read()
+
+        def named(text):  # the tool's own record of its command names the destinations
+            for name, p in paths.items():
+                text = text.replace(p, task["files"][name])
+            return text
+        data["files"] = {n: named(t) for n, t in data["files"].items()}
+        data["stdout"], data["stderr"] = named(data["stdout"]), named(data["stderr"])
         return data
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

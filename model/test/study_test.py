@@ -26,7 +26,8 @@ DASK = str(pathlib.Path(PY).parent / "dask")
 
 def tool(argv):
     """The stand-in tool: tool N --json PATH|- [--log FILE] [--rc RC] [--sleep S]: writes the
-    report {"n": N, "square": N*N} and appends N to FILE (to count runs)."""
+    report {"n": N, "square": N*N, "json": PATH} (PATH: the tool's own record of where it wrote,
+    as hrpp's reports record their command line) and appends N to FILE (to count runs)."""
     n = int(argv[0])
     opts = dict(zip(argv[1::2], argv[2::2]))
     time.sleep(float(opts.get("--sleep", 0)))
@@ -38,7 +39,7 @@ def tool(argv):
         print(f"tool: bad input {n}" + (": node ids name at most 6 bits" if rc == 2 else ""),
               file=sys.stderr)
         return rc
-    text = json.dumps({"n": n, "square": n * n}) + "\n"
+    text = json.dumps({"n": n, "square": n * n, "json": opts["--json"]}) + "\n"
     if opts["--json"] == "-":
         sys.stdout.write(text)
     else:
@@ -94,9 +95,9 @@ def run_drive(out, *args, env_add=None):
 
 
 def outputs(out):
-    """The study's outputs (not its journal or log), name -> text."""
-    return {p.name: p.read_text() for p in sorted(pathlib.Path(out).iterdir())
-            if p.suffix == ".json"}
+    """The study's outputs (not its journal or log), name -> text, the folder OUT named OUT."""
+    return {p.name: p.read_text().replace(str(out), "OUT")
+            for p in sorted(pathlib.Path(out).iterdir()) if p.suffix == ".json"}
 
 
 def runs_logged(out):
@@ -122,7 +123,9 @@ class Order(unittest.TestCase):
             self.assertEqual(got["no-dask"], got["w2"])
             summary = json.loads(got["w2"]["summary.json"])
             self.assertEqual([s["n"] for s in summary], list(range(6)))
-            self.assertEqual(json.loads(got["w2"]["3.json"]), {"n": 3, "square": 9})
+            # The report names where it was written, not the worker's temporary file.
+            self.assertEqual(json.loads(got["w2"]["3.json"]),
+                             {"n": 3, "square": 9, "json": "OUT/3.json"})
             # Progress: done of all, rate, time left; the header says where the runs go.
             self.assertIn("6 runs on 2 local Dask workers", r.stderr)
             self.assertRegex(r.stderr, r"\[6/6\] task \d square \d+ \([0-9.]+ s; [0-9.]+ "
@@ -132,8 +135,8 @@ class Order(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             r = run_drive(d, 3, "--no-dask", "--stdout")
             self.assertEqual(r.returncode, 0, r.stderr)
-            self.assertEqual([s["square"] for s in json.loads(
-                pathlib.Path(d, "summary.json").read_text())], [0, 1, 4])
+            self.assertEqual([(s["square"], s["json"]) for s in json.loads(
+                pathlib.Path(d, "summary.json").read_text())], [(0, "-"), (1, "-"), (4, "-")])
 
 
 class Journal(unittest.TestCase):
