@@ -17,8 +17,9 @@ scene paths: a shared file system or the same checkout), or one after another in
 (--no-dask, which needs no Dask). This module is shipped to the workers by value, so a remote
 worker needs Python and Dask, not the repository.
 
-A task's files: `{NAME}` in its command names a file the tool writes. The worker runs the tool in
-a temporary folder of its own, reads the files back and returns them with the tool's output; the
+A task's files: `{NAME}` in its command names a file the tool writes. The worker gives the tool a
+path in a temporary folder of its own for each (the tool runs in the worker's working folder),
+reads the files back and returns them with the tool's output; the
 driver writes each to its destination (Task.files[NAME], through NAME.tmp and a rename: never half
 written). Where the tool's output names a file's temporary path (hrpp's reports record their own
 command line), the destination is put in its place, so the outputs are those of a tool run that
@@ -41,6 +42,9 @@ time left). SIGINT or SIGTERM stops the study with one line (exit 130 or 143): t
 are shut down and the journal keeps the finished runs. A run that fails (exit code not in
 Task.ok) stops the study: its command, exit code and standard error are printed, and the exit
 code is 2 when the tool said bad input (exit 2), 1 otherwise.
+
+A script that runs a study on Dask keeps its work behind `if __name__ == "__main__":`: the local
+cluster's worker processes import the script's main module.
 
 Standard library only, except Dask when it is used.
 """
@@ -71,7 +75,7 @@ class Task:
     writes (see files). files: NAME -> where the driver writes that file (None: kept in the result
     only). report: "json" (the file `json` is the report), "stdout" (the standard output is) or
     None. stdout: where to write the tool's standard output (None: not written). ok: the exit
-    codes that are a finished run. unsupported: a run exiting 2 with this text in its standard
+    codes that are a finished run (None: any). unsupported: a run exiting 2 with this text in its standard
     error is a finished run whose Result.unsupported is the error's last line (a limit of the
     configuration, not a failure). record: more text that identifies the run for --resume besides
     its command (e.g. the contents of a file the command names)."""
@@ -380,7 +384,7 @@ class Study:
         try:
             for i, data in runs:
                 t = tasks[i]
-                if data["rc"] not in t.ok and "unsupported" not in data:
+                if t.ok is not None and data["rc"] not in t.ok and "unsupported" not in data:
                     raise _Failed(t, data)
                 self._write_outputs(t, data)
                 self.done[tuple(t.key)] = (t.record_text(), data)
