@@ -16,6 +16,8 @@ SCENE      ?= scenes/cornell_box.glb
 SHARED     ?= ../shared
 BUILD_TYPE ?= Release
 VENV       ?= .venv
+# Extra options of every study target (pyhrpp/study.py: --resume, --scheduler ADDRESS, --no-dask)
+STUDY_OPTS ?=
 
 # Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
@@ -147,9 +149,11 @@ check-embree: build
 	done
 
 # The predictor tables of docs/results.md: the study's Table 1 configuration and the finite
-# tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores).
+# tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores;
+# model/tools/results.py: reports and journal in out/results/, STUDY_OPTS=--resume continues an
+# interrupted run).
 results: build
-	python3 model/tools/results.py --shared $(SHARED) --jobs $(JOBS)
+	$(VENV)/bin/python model/tools/results.py --shared $(SHARED) --workers $(JOBS) $(STUDY_OPTS)
 
 # Time on RT units (model/tools/sim_results.py; docs/results.md, "Time on RT units"): hrpp simulate
 # on every shared and own scene x ray kind x preset on the mobile and desktop GPUs (about 30
