@@ -134,11 +134,13 @@ format: setup-venv
 # precision) and on check-embree's failures. Reports, walk misses (hex) and summary.md in
 # $(OUT)/exactness, the block `exactness` of docs/results.md. About 4 minutes on 2 idle cores at
 # the default 10,000,000 rays per kind (two scenes at a time; dream_apartment the longest at
-# about 80 s; 8 minutes on a busy machine).
+# about 80 s; 8 minutes on a busy machine). Each scene a task of pyhrpp/study.py: journal in
+# $(OUT)/exactness, STUDY_OPTS=--resume continues an interrupted check.
 EXACTNESS_RAYS ?= 10000000
 exactness: build
-	python3 model/tools/exactness.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --min-rays $(EXACTNESS_RAYS) --out $(OUT)/exactness --doc docs/results.md
+	$(VENV)/bin/python model/tools/exactness.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --min-rays $(EXACTNESS_RAYS) --out $(OUT)/exactness --doc docs/results.md \
+	  $(STUDY_OPTS)
 
 # Cross-check every shared scene at a larger ray count than the test suite uses.
 check-embree: build
