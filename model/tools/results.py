@@ -162,7 +162,7 @@ def main():
     stems = [pathlib.Path(s).stem for s in scenes]
     out = pathlib.Path(args.out)
     cmd = "make results" if (args.res, args.spp) == ("1024x1024", 8) else \
-        f"python3 model/tools/results.py --res {args.res} --spp {args.spp}"
+        f".venv/bin/python model/tools/results.py --res {args.res} --spp {args.spp}"
     doc = pathlib.Path(args.doc)
 
     def write(r):
