@@ -16,6 +16,8 @@ SCENE      ?= scenes/cornell_box.glb
 SHARED     ?= ../shared
 BUILD_TYPE ?= Release
 VENV       ?= .venv
+# Extra options of every study target (pyhrpp/study.py: --resume, --scheduler ADDRESS, --no-dask)
+STUDY_OPTS ?=
 
 # Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
@@ -132,11 +134,13 @@ format: setup-venv
 # precision) and on check-embree's failures. Reports, walk misses (hex) and summary.md in
 # $(OUT)/exactness, the block `exactness` of docs/results.md. About 4 minutes on 2 idle cores at
 # the default 10,000,000 rays per kind (two scenes at a time; dream_apartment the longest at
-# about 80 s; 8 minutes on a busy machine).
+# about 80 s; 8 minutes on a busy machine). Each scene a task of pyhrpp/study.py: journal in
+# $(OUT)/exactness, STUDY_OPTS=--resume continues an interrupted check.
 EXACTNESS_RAYS ?= 10000000
 exactness: build
-	python3 model/tools/exactness.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --min-rays $(EXACTNESS_RAYS) --out $(OUT)/exactness --doc docs/results.md
+	$(VENV)/bin/python model/tools/exactness.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --min-rays $(EXACTNESS_RAYS) --out $(OUT)/exactness --doc docs/results.md \
+	  $(STUDY_OPTS)
 
 # Cross-check every shared scene at a larger ray count than the test suite uses.
 check-embree: build
@@ -147,9 +151,11 @@ check-embree: build
 	done
 
 # The predictor tables of docs/results.md: the study's Table 1 configuration and the finite
-# tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores).
+# tables on every shared scene (1024x1024, 8 spp; about 10 minutes on 2 cores;
+# model/tools/results.py: reports and journal in out/results/, STUDY_OPTS=--resume continues an
+# interrupted run).
 results: build
-	python3 model/tools/results.py --shared $(SHARED) --jobs $(JOBS)
+	$(VENV)/bin/python model/tools/results.py --shared $(SHARED) --workers $(JOBS) $(STUDY_OPTS)
 
 # Time on RT units (model/tools/sim_results.py; docs/results.md, "Time on RT units"): hrpp simulate
 # on every shared and own scene x ray kind x preset on the mobile and desktop GPUs (about 30

@@ -4,29 +4,31 @@ docs/results.md, "Reliability: exactness of the BVH walk"): `hrpp exactness` per
 reports and walk misses in OUT, and a summary table (OUT/summary.md, OUT/summary.json, and the
 block `exactness` of --doc).
 
-  make exactness [EXACTNESS_RAYS=10000000] [JOBS=2]
+  make exactness [EXACTNESS_RAYS=10000000] [JOBS=2] [STUDY_OPTS=--resume]
   model/tools/exactness.py --hrpp build/hrpp --shared ../shared [--scenes bunny,sponza] [--no-own]
-      [--min-rays N] [--jobs 2] [--out out/exactness] [--doc docs/results.md]
+      [--min-rays N] [--workers 2 | --scheduler ADDRESS | --no-dask] [--resume]
+      [--out out/exactness] [--doc docs/results.md] [--from-out]
 
 Per scene: `hrpp exactness SCENE --min-rays N --json OUT/SCENE.json --misses
 OUT/SCENE-walk-misses.txt`, plus `--replay model/test/exactness/SCENE.txt` when that file exists
-(walk misses found before, kept as regression rays). Exit 0 when every scene passes, 1 when one
-fails (walk misses, or disagreements beyond ties and grazes), 2 on a tool error; 77 (ctest's
-skip code) with --require-shared when the shared scenes are absent.
+(walk misses found before, kept as regression rays); its text report in OUT/SCENE.txt. Each scene
+is a task of the study driver (pyhrpp/study.py: --workers N scenes at a time on a local Dask
+cluster, --jobs the same option; --scheduler, --no-dask); its journal OUT/journal.jsonl lets
+--resume continue an interrupted check. Exit 0 when every scene passes, 1 when one fails (walk
+misses, or disagreements beyond ties and grazes), 2 on a tool error (the check stops there); 77
+(ctest's skip code) with --require-shared when the shared scenes are absent.
 """
 import argparse
 import json
-import os
 import pathlib
-import subprocess
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
+from pyhrpp.tools import restore_paths  # noqa: E402
 
 KINDS = ["primary", "shadow", "ao", "ao-short", "reflection", "refraction", "diffuse"]
 REPLAY_DIR = ROOT / "model" / "test" / "exactness"
@@ -47,26 +49,26 @@ def scenes_of(args):
     return out
 
 
-def run_one(args, where, path, out):
-    """Runs hrpp exactness on one scene; returns (report or None, exit code, seconds)."""
-    name = path.stem if where == "shared" else f"own-{path.stem}"
-    js = out / f"{name}.json"
-    cmd = [args.hrpp, "exactness", str(path), "--min-rays", str(args.min_rays), "--json", str(js),
-           "--misses", str(out / f"{name}-walk-misses.txt")]
+def names(where, path):
+    """(file name, table label) of a scene."""
+    return ((path.stem, path.stem) if where == "shared"
+            else (f"own-{path.stem}", f"{path.stem} (own)"))
+
+
+def task(args, where, path, out):
+    """hrpp exactness on one scene: its report OUT/NAME.json, walk misses
+    OUT/NAME-walk-misses.txt, text report OUT/NAME.txt; exit 1 (the check failed) is a finished
+    run. record: the replayed walk misses, which --resume must see unchanged."""
+    name, _ = names(where, path)
+    cmd = [args.hrpp, "exactness", path, "--min-rays", args.min_rays, "--json", "{json}",
+           "--misses", "{misses}"]
     replay = REPLAY_DIR / f"{path.stem}.txt"
     if replay.exists():
-        cmd += ["--replay", str(replay)]
-    t0 = time.time()
-    with open(out / f"{name}.txt", "w") as log:
-        # Progress and walk misses as found go to our stderr; the report to OUT/NAME.txt.
-        rc = subprocess.run(cmd, stdout=log).returncode
-    secs = time.time() - t0
-    if rc not in (0, 1) or not js.exists():
-        print(f"exactness: {' '.join(cmd)} exited {rc} (see {out / (name + '.txt')})",
-              file=sys.stderr)
-        return None, 2, secs
-    rep = json.loads(js.read_text())
-    return rep, rc, secs
+        cmd += ["--replay", replay]
+    return study.Task(key=(name,), cmd=cmd, ok=(0, 1), stdout=out / f"{name}.txt",
+                      files={"json": out / f"{name}.json",
+                             "misses": out / f"{name}-walk-misses.txt"},
+                      record=replay.read_text() if replay.exists() else "")
 
 
 def seconds(t):
@@ -128,12 +130,12 @@ def main():
     ap.add_argument("--require-shared", action="store_true",
                     help=f"exit {SKIP} (skipped) when the shared scenes asked for are absent")
     ap.add_argument("--min-rays", type=int, default=10_000_000)
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out", default=str(ROOT / "out" / "exactness"))
     ap.add_argument("--doc", default="",
                     help="a Markdown file whose block `exactness` is rewritten ('': none)")
     ap.add_argument("--from-out", action="store_true",
                     help="run nothing: the summary and the block from the reports in --out")
+    study.add_arguments(ap, "scenes")
     args = ap.parse_args()
     if not pathlib.Path(args.hrpp).exists():
         raise SystemExit(f"exactness: {args.hrpp} not found (make build)")
@@ -146,30 +148,55 @@ def main():
         raise SystemExit("exactness: no scene")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    def one(scene):
-        where, path = scene
-        rep, rc, secs = run_one(args, where, path, out)
-        label = path.stem if where == "shared" else f"{path.stem} (own)"
-        if rep is not None:
-            status = "PASS" if rc == 0 else "FAIL: " + rep.get("failure", "")
-            print(f"exactness {label}: {rep['total']['closest']['compared']:,} rays, "
-                  f"{secs:.1f} s: {status}", flush=True)
-        return label, rep, rc
-
     if args.from_out:
         runs = []
         for where, path in scenes:
-            js = out / f"{path.stem if where == 'shared' else 'own-' + path.stem}.json"
+            name, label = names(where, path)
+            js = out / f"{name}.json"
             if js.exists():
                 rep = json.loads(js.read_text())
-                runs.append((path.stem if where == "shared" else f"{path.stem} (own)", rep,
-                             0 if rep["passed"] else 1))
+                runs.append((label, rep, 0 if rep["passed"] else 1))
         if not runs:
             raise SystemExit(f"exactness: no report in {out}")
-    else:
-        with ThreadPoolExecutor(max(1, args.jobs)) as pool:
-            runs = list(pool.map(one, scenes))  # in the scenes' order
-    results = [(label, rep) for label, rep, _ in runs if rep is not None]
+        return summarize(args, out, runs)
+
+    def check():
+        tasks = [task(args, where, path, out) for where, path in scenes]
+        identity = {"hrpp": study.tool_version(args.hrpp), "min_rays": args.min_rays}
+        with study.Study("exactness", out / "journal.jsonl", identity, args) as st:
+            try:
+                res = st.run(tasks, summary=lambda t, r: status(r))
+            except SystemExit as e:
+                # A run that exits neither 0 nor 1 is a tool error: exit 2 (the study says 1
+                # unless the tool said bad input), not the 1 of a failed check.
+                raise SystemExit(2 if e.code == 1 else e.code)
+            runs = []
+            for t, r, (where, path) in zip(tasks, res, scenes):
+                restore_paths(t, r)
+                if r.report is None:
+                    print(f"exactness: {' '.join(map(str, t.cmd))} wrote no report (see "
+                          f"{t.stdout})", file=sys.stderr)
+                    return 2
+                runs.append((names(where, path)[1], r.report, r.rc))
+            worst = summarize(args, out, runs)
+            st.complete()
+        return worst
+    return study.main_errors("exactness", check)
+
+
+def status(r):
+    """A finished run in a few words: its rays and PASS or FAIL."""
+    rep = r.report
+    if rep is None:
+        return "no report"
+    return (f"{rep['total']['closest']['compared']:,} rays: "
+            + ("PASS" if r.rc == 0 else "FAIL: " + rep.get("failure", "")))
+
+
+def summarize(args, out, runs):
+    """Writes the summary (OUT/summary.md, OUT/summary.json, the block of --doc) of RUNS [(label,
+    report, exit code)] and prints it; the worst exit code."""
+    results = [(label, rep) for label, rep, _ in runs]
     worst = max(rc for _, _, rc in runs)
     body, notes = table(results)
     min_rays = results[0][1]["min_rays"] if results else args.min_rays

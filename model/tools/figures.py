@@ -6,7 +6,8 @@ three modes, for the RTL `primary` configuration's table and for an unbounded fa
 go-up 1; and everything `tb_hrpp` prints (but its timing line) for every tb.* command of the
 test suite.
 
-  figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR] [--jobs N]
+  figures.py capture --hrpp BIN --tb BIN --build BUILDDIR --out DIR [--shared DIR]
+      [--only predict|tb] [--workers N | --scheduler ADDRESS | --no-dask] [--resume]
   figures.py compare DIR_A DIR_B      exit 1 when any figure differs or is missing
   figures.py compare DIR_A DIR_B --moved
                                       also say by how much: per differing predict report its
@@ -14,9 +15,13 @@ test suite.
                                       visits, triangle tests) and skipped fraction, A -> B; per
                                       differing tb_hrpp output its changed lines
 
-Capture with the binaries before a change (copy them first) and after it, then compare."""
+Capture with the binaries before a change (copy them first) and after it, then compare.
+
+Each run of the capture is a task of the study driver (pyhrpp/study.py): --workers N runs at a time
+on a local Dask cluster (--jobs is the same option), --scheduler ADDRESS on a running one,
+--no-dask one after another; the journal OUT/journal.jsonl lets --resume continue an interrupted
+capture. A predict run that fails stops it; a tb_hrpp run's exit code is one of its figures."""
 import argparse
-import concurrent.futures as cf
 import glob
 import json
 import os
@@ -28,6 +33,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 sys.path.insert(0, ROOT)  # the pyhrpp package
 from pyhrpp import rtl_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+from pyhrpp import study  # noqa: E402
+from pyhrpp.files import write_atomic  # noqa: E402
 
 # 'rtl': the RTL `primary` table as explicit options (what --preset rtl-primary selects), so that
 # binaries from before the presets run it too; 'unb': the study's unbounded table at go-up 1.
@@ -61,30 +68,34 @@ def strip(d):
         return [strip(v) for v in d]
     return d
 
-def predict_job(hrpp, scene, cname, mode, out):
+def predict_task(hrpp, scene, cname, mode):
+    """`hrpp predict` on SCENE in configuration CNAME and MODE; its report stays in the result
+    (write_predict stores its figures)."""
     own = os.path.dirname(os.path.abspath(scene)) == os.path.join(ROOT, 'scenes')
     name = f"{'own-' if own else ''}{os.path.basename(scene)[:-4]}.{cname}.{mode}"
-    j = os.path.join(out, 'predict', name + '.json')
     cmd = [hrpp, 'predict', scene, *CONFIGS[cname].split(), '--mode', mode, '--res', '200x150',
-           '--json', j] + untimed_args(hrpp)
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode:
-        return name, f"FAILED rc {r.returncode}: {r.stderr[-300:]}"
-    d = strip(json.load(open(j)))
-    json.dump(d, open(j, 'w'), indent=1, sort_keys=True)
-    return name, 'ok'
+           '--json', '{json}'] + untimed_args(hrpp)
+    return study.Task(key=('predict', name), cmd=cmd, files={'json': None})
+
+def write_predict(out, task, result):
+    write_atomic(os.path.join(out, 'predict', task.key[1] + '.json'),
+                 json.dumps(strip(json.loads(result.files['json'])), indent=1, sort_keys=True))
 
 TB_DROP = re.compile(r'^(timing:|tb_hrpp: wrote|trace)')
+ANY_EXIT = tuple(range(-64, 256))  # exit codes and signals (-N): every tb_hrpp run is finished
 
-def tb_job(tb, test, out):
+def tb_task(tb, test):
+    """TEST (name, ctest command) with the tb_hrpp binary TB; its exit code and output are its
+    figures (write_tb)."""
     name, cmd = test
     cmd = [tb if os.path.basename(c) in ('tb_hrpp',) else c for c in cmd]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    lines = [l for l in (r.stdout + r.stderr).splitlines() if not TB_DROP.match(l)]
+    return study.Task(key=('tb', name), cmd=cmd, report=None, ok=ANY_EXIT)
+
+def write_tb(out, task, result):
+    lines = [l for l in (result.stdout + result.stderr).splitlines() if not TB_DROP.match(l)]
     lines = [re.sub(r'\d+\.\d+ s \(CPU [^)]*\)', 'T', l) for l in lines]
-    with open(os.path.join(out, 'tb', name + '.txt'), 'w') as f:
-        f.write(f"rc {r.returncode}\n" + '\n'.join(lines) + '\n')
-    return name, 'ok'
+    write_atomic(os.path.join(out, 'tb', task.key[1] + '.txt'),
+                 f"rc {result.rc}\n" + '\n'.join(lines) + '\n')
 
 def tb_tests(build):
     r = subprocess.run(['ctest', '--show-only=json-v1'], cwd=build, capture_output=True, text=True)
@@ -125,6 +136,30 @@ def moved(kind, ta, tb):
     return '\n'.join(out) or '    (only other fields)'
 
 
+def capture(a):
+    """The capture: every predict and tb_hrpp run a study task, their figures in A.out."""
+    identity = {'hrpp': None if a.only == 'tb' else study.tool_version(a.hrpp),
+                'tb_hrpp': None if a.only == 'predict' else study.tool_version(a.tb)}
+    os.makedirs(os.path.join(a.out, 'predict'), exist_ok=True)
+    os.makedirs(os.path.join(a.out, 'tb'), exist_ok=True)
+    scenes = (sorted(glob.glob(os.path.join(a.shared, 'scenes', '*.glb'))) +
+              sorted(glob.glob(os.path.join(ROOT, 'scenes', '*.glb'))))
+    if not glob.glob(os.path.join(a.shared, 'scenes', '*.glb')):
+        print(f'figures: no shared scenes in {a.shared}/scenes: own scenes only')
+    tasks = []
+    if a.only != 'tb':
+        tasks += [predict_task(a.hrpp, s, cn, md) for s in scenes for cn in CONFIGS for md in MODES]
+    if a.only != 'predict':
+        tasks += [tb_task(a.tb, t) for t in tb_tests(a.build)]
+    with study.Study('figures', os.path.join(a.out, 'journal.jsonl'), identity, a) as st:
+        results = st.run(tasks, summary=lambda t, r: '' if t.key[0] == 'predict' else f'rc {r.rc}')
+        for t, r in zip(tasks, results):
+            (write_predict if t.key[0] == 'predict' else write_tb)(a.out, t, r)
+        st.complete()
+    print('captured', len(tasks))
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     sub = ap.add_subparsers(dest='cmd', required=True)
@@ -135,8 +170,8 @@ def main():
     c.add_argument('--out', required=True, help='folder for the figures')
     c.add_argument('--shared', default=os.path.join(ROOT, '..', 'shared'),
                    help='the shared folder (its scenes/*.glb)')
-    c.add_argument('--jobs', type=int, default=2, help='runs at a time')
     c.add_argument('--only', choices=['predict', 'tb'], help='capture only these figures')
+    study.add_arguments(c)
     m = sub.add_parser('compare', help='compare two captures (exit 1 when any figure differs)')
     m.add_argument('a')
     m.add_argument('b')
@@ -150,23 +185,7 @@ def main():
             if not getattr(a, n):
                 ap.error(f'capture needs --{n}' + ('' if a.only else ' (or --only)'))
     if a.cmd == 'capture':
-        os.makedirs(os.path.join(a.out, 'predict'), exist_ok=True)
-        os.makedirs(os.path.join(a.out, 'tb'), exist_ok=True)
-        scenes = (sorted(glob.glob(os.path.join(a.shared, 'scenes', '*.glb'))) +
-                  sorted(glob.glob(os.path.join(ROOT, 'scenes', '*.glb'))))
-        if not glob.glob(os.path.join(a.shared, 'scenes', '*.glb')):
-            print(f'figures: no shared scenes in {a.shared}/scenes: own scenes only')
-        jobs = []
-        with cf.ThreadPoolExecutor(a.jobs) as ex:
-            if a.only != 'tb':
-                jobs += [ex.submit(predict_job, a.hrpp, s, cn, md, a.out)
-                         for s in scenes for cn in CONFIGS for md in MODES]
-            if a.only != 'predict':
-                jobs += [ex.submit(tb_job, a.tb, t, a.out) for t in tb_tests(a.build)]
-            for f in cf.as_completed(jobs):
-                n, st = f.result()
-                if st != 'ok': print(n, st)
-        print('captured', len(jobs))
+        sys.exit(study.main_errors('figures', lambda: capture(a)))
     else:
         bad = 0; n = 0
         for sub_ in ('predict', 'tb'):
@@ -188,4 +207,5 @@ def main():
         print(f'{n} compared, {bad} differ')
         sys.exit(1 if bad else 0)
 
-main()
+if __name__ == '__main__':  # not in the Dask workers, which import this module
+    main()

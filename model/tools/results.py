@@ -5,20 +5,24 @@ For every shared scene it runs `build/hrpp predict` in the original study's Tabl
 configuration (1024x1024, 8 spp, faithful hash with precision 6, unbounded table) and in the
 finite-table configurations, writes every JSON report to out/results/, and replaces the text
 between the `<!-- BEGIN name -->` / `<!-- END name -->` markers of docs/results.md.
+
+Each run is a task of the study driver (pyhrpp/study.py): --workers N runs at a time on a local
+Dask cluster (--jobs is the same option), --scheduler ADDRESS on a running one, --no-dask one
+after another; the journal (--out)/journal.jsonl lets --resume continue an interrupted run.
+A run that fails stops it (exit code 1; 2 when hrpp said bad input): an exact mode that answered
+differently from the baseline walk (exact_mismatches, hrpp's exit code 1) fails `make results`.
 """
 import argparse
-import concurrent.futures as cf
 import json
-import os
 import pathlib
 import sys
-import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
-from pyhrpp.tools import run_json  # noqa: E402
+from pyhrpp.tools import restore_paths  # noqa: E402
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.
@@ -48,33 +52,15 @@ RUNS = {
 }
 
 
-def run_all(scenes, res, spp, jobs, out):
-    out.mkdir(parents=True, exist_ok=True)
-    tasks = [(s, name) for s in scenes for name in RUNS]
-    results = {}
-    t0 = time.time()
-
-    def one(task):
-        scene, name = task
-        stem = pathlib.Path(scene).stem
-        path = out / f"{stem}-{name}.json"
-        cmd = [str(ROOT / "build" / "hrpp"), "predict", scene, "--res", res, "--spp", str(spp),
-               "--timing", "cost-model", "--json", str(path)] + RUNS[name]
-        start = time.time()
-        # A failed run (exit 1: an exact mode answered differently from the baseline walk,
-        # exact_mismatches; or any other error) fails the whole target.
-        data = run_json(cmd, path)
-        return task, data, time.time() - start
-
-    with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
-        futures = [ex.submit(one, t) for t in tasks]
-        for i, f in enumerate(cf.as_completed(futures), 1):
-            (scene, name), data, secs = f.result()
-            results[(pathlib.Path(scene).stem, name)] = data
-            print(f"[{i}/{len(tasks)}] {pathlib.Path(scene).stem:13s} {name:24s} "
-                  f"{100 * data['skipped_interior_fraction']:6.2f}% skipped  {secs:5.1f} s  "
-                  f"(total {time.time() - t0:.0f} s)", flush=True)
-    return results
+def tasks(scenes, res, spp, out):
+    """One `hrpp predict` run per scene and configuration of RUNS, its report OUT/SCENE-NAME.json
+    (an exact mode answering differently from the baseline walk exits 1: a failed run)."""
+    hrpp = ROOT / "build" / "hrpp"
+    return [study.Task(key=(pathlib.Path(scene).stem, name),
+                       cmd=[hrpp, "predict", scene, "--res", res, "--spp", spp,
+                            "--timing", "cost-model", "--json", "{json}"] + RUNS[name],
+                       files={"json": out / f"{pathlib.Path(scene).stem}-{name}.json"})
+            for scene in scenes for name in RUNS]
 
 
 def pct(x):
@@ -159,32 +145,49 @@ def finite(stems, r, cmd):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--shared", default=str(ROOT.parent / "shared"))
     ap.add_argument("--res", default="1024x1024")
     ap.add_argument("--spp", type=int, default=8)
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out", default=str(ROOT / "out" / "results"))
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"))
     ap.add_argument("--tables-only", action="store_true",
                     help="rewrite the tables from the reports already in --out; run nothing")
+    study.add_arguments(ap)
     args = ap.parse_args()
     scenes = sorted(str(p) for p in (pathlib.Path(args.shared) / "scenes").glob("*.glb"))
     if not scenes:
         sys.exit(f"results: no scenes in {args.shared}/scenes (the shared folder is needed)")
-    if args.tables_only:  # the reports of an earlier run in --out
-        r = {(pathlib.Path(s).stem, name): json.loads(
-            (pathlib.Path(args.out) / f"{pathlib.Path(s).stem}-{name}.json").read_text())
-            for s in scenes for name in RUNS}
-    else:
-        r = run_all(scenes, args.res, args.spp, args.jobs, pathlib.Path(args.out))
     stems = [pathlib.Path(s).stem for s in scenes]
+    out = pathlib.Path(args.out)
     cmd = "make results" if (args.res, args.spp) == ("1024x1024", 8) else \
-        f"python3 model/tools/results.py --res {args.res} --spp {args.spp}"
+        f".venv/bin/python model/tools/results.py --res {args.res} --spp {args.spp}"
     doc = pathlib.Path(args.doc)
-    update_blocks(doc, {"table1": table1(stems, r, cmd), "finite": finite(stems, r, cmd)})
-    print(f"results: updated {doc}")
+
+    def write(r):
+        update_blocks(doc, {"table1": table1(stems, r, cmd), "finite": finite(stems, r, cmd)})
+        print(f"results: updated {doc}")
+
+    if args.tables_only:  # the reports of an earlier run in --out
+        write({(stem, name): json.loads((out / f"{stem}-{name}.json").read_text())
+               for stem in stems for name in RUNS})
+        return 0
+
+    def run():
+        ts = tasks(scenes, args.res, args.spp, out)
+        identity = {"hrpp": study.tool_version(ROOT / "build" / "hrpp"), "res": args.res,
+                    "spp": args.spp}
+        with study.Study("results", out / "journal.jsonl", identity, args) as st:
+            res = st.run(ts, summary=lambda t, r:
+                         f"{100 * r.report['skipped_interior_fraction']:.2f}% skipped")
+            for t, r in zip(ts, res):
+                restore_paths(t, r)
+            write({t.key: r.report for t, r in zip(ts, res)})
+            st.complete()
+        return 0
+    return study.main_errors("results", run)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
