@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """The shared Python helpers (pyhrpp/): atomic writing, the docs-block rewriting, the RTL
-configurations' loader, running a tool for its JSON report and a study run's files made to name
-their destinations.
+configurations' loader and running a tool for its JSON report.
 
   pyhrpp_test.py        (ctest: pyhrpp.unit)
 """
@@ -17,8 +16,7 @@ sys.path.insert(0, str(ROOT))
 from pyhrpp import rtl_config  # noqa: E402
 from pyhrpp.docs import replace_block, update_blocks  # noqa: E402
 from pyhrpp.files import commit_tmp, tmp_path, write_atomic, write_json_atomic  # noqa: E402
-from pyhrpp import study  # noqa: E402
-from pyhrpp.tools import ToolFailed, restore_paths, run_json  # noqa: E402
+from pyhrpp.tools import ToolFailed, run_json  # noqa: E402
 
 
 class Files(unittest.TestCase):
@@ -251,26 +249,6 @@ class Tools(unittest.TestCase):
                 run_json([sys.executable, "-c", fail], pathlib.Path(d) / "none.json")
             self.assertEqual(e.exception.returncode, 2)
             self.assertTrue(str(e.exception).endswith(" exited 2:\nbad input"), str(e.exception))
-
-    def test_restore_paths_names_the_destinations_in_a_study_runs_files(self):
-        """A report that records its command line names the worker's temporary files: rewritten
-        to name the destinations; a file that does not name them is left alone."""
-        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
-            dest = pathlib.Path(d) / "r.json"
-            task = study.Task(key=("a",), cmd=["tool", "--json={json}", "--misses", "{misses}"],
-                              files={"json": dest, "misses": pathlib.Path(d) / "m.txt"})
-            tmp = "/tmp/hrpp-study-x1/"
-            report = json.dumps({"command_line": f"tool --json={tmp}json.out --misses "
-                                                 f"{tmp}misses.out"})
-            result = study.Result({"rc": 0, "seconds": 0.0, "stdout": "", "stderr": "",
-                                   "files": {"json": report, "misses": "none\n"},
-                                   "cmd": ["tool", f"--json={tmp}json.out", "--misses",
-                                           f"{tmp}misses.out"]}, "json")
-            restore_paths(task, result)
-            want = f"tool --json={dest} --misses {pathlib.Path(d) / 'm.txt'}"
-            self.assertEqual(json.loads(dest.read_text())["command_line"], want)
-            self.assertEqual(result.report["command_line"], want)
-            self.assertFalse((pathlib.Path(d) / "m.txt").exists())  # unchanged: not rewritten
 
 
 class ResumeRecords(unittest.TestCase):

@@ -28,7 +28,6 @@ sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
-from pyhrpp.tools import restore_paths  # noqa: E402
 
 KINDS = ["primary", "shadow", "ao", "ao-short", "reflection", "refraction", "diffuse"]
 REPLAY_DIR = ROOT / "model" / "test" / "exactness"
@@ -172,7 +171,6 @@ def main():
                 raise SystemExit(2 if e.code == 1 else e.code)
             runs = []
             for t, r, (where, path) in zip(tasks, res, scenes):
-                restore_paths(t, r)
                 if r.report is None:
                     print(f"exactness: {' '.join(map(str, t.cmd))} wrote no report (see "
                           f"{t.stdout})", file=sys.stderr)

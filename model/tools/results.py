@@ -22,7 +22,6 @@ sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp import rtl_config as hrpp_config  # noqa: E402  (rtl/config/hrpp_configs.json)
 from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
-from pyhrpp.tools import restore_paths  # noqa: E402
 
 # The original study (Demoullin, Gubran, Aamodt 2019, Table 1): hit-any / closest-hit savings
 # and the unbounded table sizes it reported.
@@ -181,8 +180,6 @@ def main():
         with study.Study("results", out / "journal.jsonl", identity, args) as st:
             res = st.run(ts, summary=lambda t, r:
                          f"{100 * r.report['skipped_interior_fraction']:.2f}% skipped")
-            for t, r in zip(ts, res):
-                restore_paths(t, r)
             write({t.key: r.report for t, r in zip(ts, res)})
             st.complete()
         return 0
