@@ -17,8 +17,9 @@ import tempfile
 import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "model" / "tools"))
+sys.path[:0] = [str(ROOT), str(ROOT / "model" / "tools")]
 import sweep  # noqa: E402
+from pyhrpp import study  # noqa: E402
 
 HRPP = os.environ.get("HRPP_TOOL", str(ROOT / "build" / "hrpp"))
 TETRA = str(ROOT / "scenes" / "spd_tetra.glb")
@@ -81,9 +82,9 @@ class Tiny(unittest.TestCase):
             p = run_sweep(*args, "--csv", a, "--plots", os.path.join(d, "plots"),
                           "--report", os.path.join(d, "report.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertIn("sweep: [8/8]", p.stderr)  # progress
+            self.assertIn("\n[8/8] ", p.stderr)  # progress
             # Each progress line names the configuration's swept parameters.
-            self.assertRegex(p.stderr, r"config +\d+ \(precision=[46] table=(16x2|unbounded) "
+            self.assertRegex(p.stderr, r"config \d+ \(precision=[46] table=(16x2|unbounded) "
                                        r"mode=closest-(exact|spec)\)")
             p = run_sweep(*args, "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
@@ -231,32 +232,39 @@ class Tiny(unittest.TestCase):
 
 
 class Resume(unittest.TestCase):
-    """Each finished run is kept in CSV.partial.jsonl as it finishes: SIGINT / SIGTERM leave one
-    line and the journal, --resume runs only the missing runs of the same sweep, and the CSV is
-    byte for byte an uninterrupted run's."""
+    """Each finished run is kept in the study driver's journal, CSV.journal.jsonl, as it finishes
+    (pyhrpp/study.py): SIGINT / SIGTERM leave one line and the journal, --resume runs only the
+    missing runs of the same sweep, and the CSV is byte for byte an uninterrupted run's."""
 
     ARGS = [TETRA, CORNELL, "--param", "precision=4,6", "--param", "mode=anyhit,closest-spec",
             "--res", "16x16", "--no-timing"]
 
     @staticmethod
     def journal_runs(path):
-        lines = pathlib.Path(path).read_text().splitlines()
-        return len(lines) - 1  # the first line names the sweep
+        """The finished runs a journal holds (a line each after the header naming the sweep)."""
+        return sum('"key"' in line for line in pathlib.Path(path).read_text().splitlines())
 
-    def others(self, stderr):
-        """stderr without the progress lines."""
-        return [l for l in stderr.splitlines() if not l.startswith("sweep: [")]
+    @staticmethod
+    def others(stderr):
+        """stderr without the progress lines and the driver's first line (how many runs where),
+        or its line waiting for a signal."""
+        return [line for line in stderr.splitlines() if not line.startswith("[")
+                and not re.match(r"hrpp sweep: (\d+ runs |waiting for a signal)", line)]
+
+    @staticmethod
+    def progress(stderr):
+        return re.findall(r"^\[\d+/\d+\] ", stderr, re.M)
 
     def test_interrupt_resume_equals_uninterrupted(self):
         with tempfile.TemporaryDirectory() as d:
             ref, a = os.path.join(d, "ref.csv"), os.path.join(d, "a.csv")
-            journal = a + ".partial.jsonl"
+            journal = a + ".journal.jsonl"
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", ref)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertFalse(os.path.exists(ref + ".partial.jsonl"))  # removed when complete
+            self.assertEqual(self.journal_runs(ref + ".journal.jsonl"), 8)  # kept, complete
             # SIGINT after 3 runs (the driver signals itself: the real handler path).
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", a,
-                          env_add={"HRPP_SWEEP_STOP_AFTER": "3"})
+                          env_add={study.STOP_ENV: "3"})
             self.assertEqual(p.returncode, 130, p.stderr)
             self.assertEqual(self.others(p.stderr), [
                 f"hrpp sweep: interrupted; 3 of 8 runs kept in {journal}; --resume continues"])
@@ -266,8 +274,8 @@ class Resume(unittest.TestCase):
             # Without --resume the journal is not overwritten.
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
             self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("holds 3 of 8 runs of an interrupted sweep; --resume continues it",
-                          p.stderr)
+            self.assertIn("holds 3 finished runs of an interrupted hrpp sweep; --resume continues "
+                          "it", p.stderr)
             # Another sweep's journal is refused, naming the difference.
             res = self.ARGS.index("--res") + 1
             other = os.path.join(d, "hrpp-other")  # hrpp of another version
@@ -277,63 +285,73 @@ class Resume(unittest.TestCase):
             os.chmod(other, 0o755)
             timed = [x for x in self.ARGS if x != "--no-timing"]
             for args, why in ((self.ARGS[:res] + ["24x24"] + self.ARGS[res + 1:],
-                               "res: 16x16 then, 24x24 now"),
+                               "res: '16x16' then, '24x24' now"),
                               (self.ARGS + ["--param", "table=16x2"],
-                               "--param table: not swept then, 16x2 now"),
-                              (self.ARGS + ["--param", "go_up=1"], "--param go_up: not swept then"),
-                              (timed, "CPU times: --no-timing then, measured now"),
-                              (self.ARGS[1:], "scenes:"),
-                              (self.ARGS + ["--hrpp", other], "hrpp: hrpp ")):
+                               "--param table: 'not swept' then, '16x2' now"),
+                              (self.ARGS + ["--param", "go_up=1"],
+                               "--param go_up: 'not swept' then"),
+                              (timed, "CPU times: 'not measured' then, 'measured' now"),
+                              (self.ARGS[1:], "scenes: "),
+                              (self.ARGS + ["--hrpp", other], "'hrpp 9.9' now")):
                 p = run_sweep(*args, "--resume", "--no-dask", "--csv", a)
                 self.assertEqual(p.returncode, 2, p.stderr)
-                self.assertIn("is of another sweep", p.stderr)
+                self.assertIn(f"--resume: {journal} is of another hrpp sweep: ", p.stderr)
                 self.assertIn(why, p.stderr)
+                self.assertEqual(self.progress(p.stderr), [])
             self.assertEqual(self.journal_runs(journal), 3)
             # --resume on a Dask cluster, SIGTERM after 2 more runs.
             p = run_sweep(*self.ARGS, "--resume", "--workers", "2", "--csv", a,
-                          env_add={"HRPP_SWEEP_STOP_AFTER": "2:TERM"})
+                          env_add={study.STOP_ENV: "2:TERM"})
             self.assertEqual(p.returncode, 143, p.stderr)
-            self.assertIn("sweep: resuming: 3 of 8 runs kept in", p.stderr)
-            self.assertEqual(self.others(p.stderr)[-1],
-                             f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; "
-                             "--resume continues")
+            self.assertIn(f"hrpp sweep: 5 runs on 2 local Dask workers; 3 of 8 kept from "
+                          f"{journal}", p.stderr)
+            self.assertEqual(self.others(p.stderr), [
+                f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; --resume continues"])
             self.assertEqual(self.journal_runs(journal), 5)
-            # A last line cut short by a kill is dropped.
+            # A last line cut short by a kill is dropped; the kept runs do not run again.
             with open(journal, "a") as f:
-                f.write('{"scene": "cut sh')
+                f.write('{"key": ["cut sh')
             p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertEqual(len(re.findall(r"^sweep: \[", p.stderr, re.M)), 3)  # only 3 ran
-            self.assertIn("sweep: [6/8]", p.stderr)
+            self.assertEqual(len(self.progress(p.stderr)), 3)  # only 3 ran
+            self.assertIn("\n[6/8] ", p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
-            # No journal, no .tmp file.
-            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])
+            # The journals are kept; no .tmp file.
+            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "a.csv.journal.jsonl", "hrpp-other",
+                                                     "ref.csv", "ref.csv.journal.jsonl"])
+            # --resume of a complete sweep runs nothing and writes the same CSV; without
+            # --resume a complete sweep starts afresh.
+            pathlib.Path(a).unlink()
             p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
-            self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("--resume: no interrupted sweep to continue", p.stderr)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(self.progress(p.stderr), [])
+            self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(len(self.progress(p.stderr)), 8)
+            self.assertEqual(self.journal_runs(journal), 8)
 
     def test_ctrl_c_to_the_process_group(self):
         """A Ctrl-C reaches the driver, the Dask workers and the hrpp runs: one line, exit 130,
         the workers shut down without tracebacks."""
         with tempfile.TemporaryDirectory() as d:
             a = os.path.join(d, "a.csv")
-            env = dict(os.environ, HRPP_SWEEP_STOP_AFTER="2:WAIT")
+            env = dict(os.environ, **{study.STOP_ENV: "2:WAIT"})
             proc = subprocess.Popen(SWEEP + self.ARGS + ["--workers", "2", "--csv", a],
                                     stderr=subprocess.PIPE, text=True, env=env,
                                     start_new_session=True)
             err = ""
             for line in proc.stderr:
                 err += line
-                if line.startswith("sweep: waiting for a signal"):
+                if line.startswith("hrpp sweep: waiting for a signal"):
                     os.killpg(proc.pid, signal.SIGINT)
                     break
             err += proc.stderr.read()
             proc.stderr.close()
             self.assertEqual(proc.wait(timeout=60), 130, err)
-            lines = [l for l in err.splitlines() if not l.startswith("sweep: ")]
-            self.assertEqual(lines, [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
-                                     f"{a}.partial.jsonl; --resume continues"], err)
-            self.assertEqual(os.listdir(d), ["a.csv.partial.jsonl"])
+            self.assertEqual(self.others(err), [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
+                                                f"{a}.journal.jsonl; --resume continues"], err)
+            self.assertEqual(os.listdir(d), ["a.csv.journal.jsonl"])
 
 
 class Presets(unittest.TestCase):
@@ -605,7 +623,7 @@ class Simulate(unittest.TestCase):
             # Through the Dask driver (a local cluster of two workers): the same bytes.
             p = run_sweep(*args, "--workers", "2", "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertIn("on 2 Dask workers", p.stderr)
+            self.assertIn("on 2 local Dask workers", p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())
             # Never merged with cost-model rows (nor with another GPU's).
             c = os.path.join(d, "cost.csv")
@@ -680,7 +698,7 @@ class Dask(unittest.TestCase):
                               dashboard_address=None) as cluster:
                 p = run_sweep(*args, "--scheduler", cluster.scheduler_address, "--csv", a)
                 self.assertEqual(p.returncode, 0, p.stderr)
-                self.assertIn("on 2 Dask workers", p.stderr)
+                self.assertIn(f"on the Dask cluster at {cluster.scheduler_address}", p.stderr)
             p = run_sweep(*args, "--no-dask", "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())

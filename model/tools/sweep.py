@@ -3,28 +3,29 @@
 
     hrpp sweep SCENE... --param NAME=V1,V2,... [--param ...] [--res WxH] [--spp N] --csv FILE
                [--timing cost-model | --timing simulate [--gpu mobile|desktop|FILE] [--oracle]]
-               [--plots DIR] [--report FILE] [--scheduler ADDRESS | --workers N | --no-dask]
+               [--plots DIR] [--report FILE] [--workers N | --scheduler ADDRESS | --no-dask]
                [--resume]
     hrpp sweep --from-csv FILE... [--plots DIR] [--report FILE] [--doc PAGE]   (one at least)
 
 Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
-`hrpp predict` run, an independent task of a Dask distributed cluster: a LocalCluster with
---workers processes by default, the cluster at --scheduler ADDRESS when given (its workers must
-see the same paths: the hrpp binary and the scenes). --no-dask runs the tasks one after another in
-this process (the reference the Dask test compares with). The CSV has one row per scene x
-configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a run is
-reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
+`hrpp predict` run, a task of the project's study driver (pyhrpp/study.py): on a local Dask cluster
+of --workers processes by default, on the cluster at --scheduler ADDRESS when given (its workers
+must see the same paths: the hrpp binary and the scenes), or one after another in this process
+with --no-dask. The rows are made here from the runs' reports, in task order. The CSV has one row
+per scene x configuration x ray kind (and kind "all"), sorted by scene, grid order and kind, so a
+run is reproducible byte for byte except the measured CPU times (--no-timing leaves them out).
 
 Presets: --param preset=rtl-primary,micro21,study2019 (the names `hrpp predict --help` lists, or
 FILE.json) runs each task with --preset NAME; the other swept parameters override the preset's
 values (the parameters not swept are the preset's). The CSV's preset column names it (empty for
 none) and the parameter columns hold the values that ran; labels name configurations by preset.
 
-Interruption: each finished run is appended to CSV.partial.jsonl as it finishes. SIGINT or
-SIGTERM stops the sweep with one line (exit 130 / 143), shuts the Dask cluster down and keeps the
-journal; --resume runs only the missing runs of the same sweep (same scenes, parameters,
-resolution, timing, GPU and hrpp version; refused naming the difference otherwise) and the CSV
-is then byte for byte an uninterrupted run's. The journal is removed when the CSV is written.
+Interruption: the driver's journal, CSV.journal.jsonl, keeps each finished run as it finishes.
+SIGINT or SIGTERM stops the sweep with one line (exit 130 / 143) and shuts the Dask cluster down;
+--resume runs only the runs the journal lacks, for the same sweep (same scenes, parameters,
+resolution, timing, GPU, oracle, CPU times, images folder and hrpp version; refused naming the
+difference otherwise), and the CSV is then byte for byte an uninterrupted run's. The journal is
+kept, marked complete, when the CSV is written (--resume then runs nothing).
 
 The report and the plots lead with time (time_saved.png, the report's first table: cycles saved
 per configuration and scene; a configuration that takes longer than the baseline "costs" time).
@@ -53,14 +54,13 @@ import math
 import os
 import pathlib
 import re
-import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import markers, update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
 
@@ -266,32 +266,87 @@ def simulate_args(cfg, swept=()):
     return args
 
 
-def run_one(task):
-    """One configuration on one scene (runs on a Dask worker). Returns (index, rows, seconds).
-    Standard library only, not pyhrpp.tools.run_json: it is shipped to workers by value, and a
-    remote worker need not have the repository on its path. The report comes on hrpp's standard
-    output (--json -): no temporary file to leave behind when the sweep is interrupted."""
-    index, hrpp, scene, cfg, res = (task[k] for k in ("index", "hrpp", "scene", "cfg", "res"))
-    sim = task.get("sim")
-    t0 = time.time()
-    if sim:
-        cmd = ([hrpp, "simulate", scene, "--res", res, "--gpu", sim["gpu"], "--json", "-"]
-               + simulate_args(cfg, task["swept"]) + ([] if sim["oracle"] else ["--no-oracle"]))
-    else:
-        cmd = [hrpp, "predict", scene, "--res", res, "--timing", "cost-model", "--json",
-               "-"] + predict_args(cfg, task["swept"])
-        if task["timing"]:
-            cmd.append("--measure-time")
-        if task["images"]:
-            cmd += ["--spec-images", task["images"]]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        return index, {"error": f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr}",
-                       "rc": proc.returncode}, 0
-    data = json.loads(proc.stdout)
-    rows = (simulated_rows_of(scene, cfg, res, data) if sim
-            else rows_of(scene, cfg, res, data, task["timing"]))
-    return index, rows, time.time() - t0
+def run_command(hrpp, scene, cfg, res, swept, timing="cost-model", gpu=None, oracle=False,
+                cpu_times=False, images=None):
+    """The command of one configuration on one scene: `hrpp predict` (the cost model) or `hrpp
+    simulate` (--timing simulate on GPU, with the oracle when ORACLE). The report comes on hrpp's
+    standard output (--json -): no temporary file to leave behind when the sweep is
+    interrupted."""
+    if timing == "simulate":
+        return ([hrpp, "simulate", scene, "--res", res, "--gpu", gpu, "--json", "-"]
+                + simulate_args(cfg, swept) + ([] if oracle else ["--no-oracle"]))
+    cmd = [hrpp, "predict", scene, "--res", res, "--timing", "cost-model", "--json",
+           "-"] + predict_args(cfg, swept)
+    if cpu_times:
+        cmd.append("--measure-time")
+    if images:
+        cmd += ["--spec-images", images]
+    return cmd
+
+
+class Sweep:
+    """One sweep's runs: every configuration of CONFIGS (from GRID) on every scene of SCENES
+    (absolute paths), each one `hrpp predict` or `hrpp simulate` run (run_command), a task of the
+    study driver (pyhrpp/study.py). IMAGES: the folder of the closest-spec runs' pictures."""
+
+    def __init__(self, hrpp, scenes, grid, configs, res, timing="cost-model", gpu=None,
+                 oracle=False, cpu_times=False, images=None):
+        self.hrpp, self.scenes, self.grid, self.configs = hrpp, scenes, grid, configs
+        self.res, self.timing, self.gpu, self.oracle = res, timing, gpu, oracle
+        self.cpu_times, self.images = cpu_times, images
+        self.swept = [n for n in grid if n != "preset"]
+        # The swept parameters, named in each progress line.
+        self.varied = [k for k in PARAMS if k in grid and len({c[k] for c in configs}) > 1]
+        # task key -> (scene, configuration index), in task order (scene, then grid order).
+        self.runs = {(pathlib.Path(s).stem, f"config {ci}"): (s, ci)
+                     for s in scenes for ci in range(len(configs))}
+
+    def identity(self, version):
+        """What a journal's runs must share with this sweep (the study's identity; VERSION is
+        hrpp's): --resume of another sweep is refused, naming the difference."""
+        ident = {"scenes": " ".join(self.scenes), "res": self.res, "timing": self.timing,
+                 "CPU times": "measured" if self.cpu_times else "not measured",
+                 "gpu": self.gpu, "oracle": self.oracle, "images": self.images, "hrpp": version}
+        ident.update({f"--param {n}": ",".join(self.grid[n]) if n in self.grid else "not swept"
+                      for n in PARAMS})
+        return ident
+
+    def tasks(self):
+        """The study's tasks, in the CSV's order. A run's record (what --resume compares besides
+        its command) holds the preset and GPU files it reads."""
+        out = []
+        for key, (s, ci) in self.runs.items():
+            cfg = self.configs[ci]
+            images = None
+            if self.images and cfg["mode"] == "closest-spec":
+                images = os.path.join(self.images, f"{key[0]}-{ci:04d}")
+            cmd = run_command(self.hrpp, s, cfg, self.res, self.swept, self.timing, self.gpu,
+                              self.oracle, self.cpu_times, images)
+            files = ([cfg["preset"]] if is_preset_file(cfg["preset"]) else []) + (
+                [self.gpu] if self.gpu not in (None, "mobile", "desktop") else [])
+            out.append(study.Task(key=key, cmd=cmd, files={}, report="stdout",
+                                  record="".join(f"{f}:\n{pathlib.Path(f).read_text()}"
+                                                 for f in files)))
+        return out
+
+    def rows_of(self, key, report):
+        """The rows of one run's REPORT (hrpp's JSON)."""
+        s, ci = self.runs[tuple(key)]
+        if self.timing == "simulate":
+            return simulated_rows_of(s, self.configs[ci], self.res, report)
+        return rows_of(s, self.configs[ci], self.res, report, self.cpu_times)
+
+    def rows(self, tasks, results):
+        """Every row, in task order (scene, grid order, kind)."""
+        return [r for t, res in zip(tasks, results) for r in self.rows_of(t.key, res.report)]
+
+    def summary(self, task, result):
+        """A run's progress words: its swept parameters, saved cycles and skipped nodes."""
+        a = self.rows_of(task.key, result.report)[-1]
+        cfg = self.configs[self.runs[task.key][1]]
+        params = " ".join(f"{k}={cfg[k]}" for k in self.varied)
+        return (f"({params}) saved {100 * a['saved_cycles']:.2f}% cycles, skipped "
+                f"{100 * a['skipped_interior']:.2f}% nodes")
 
 
 def simulated_rows_of(scene, cfg, res, data):
@@ -480,246 +535,6 @@ def pareto_front(points, minimize=(), maximize=()):
         if not dominated:
             front.append(i)
     return sorted(front, key=lambda i: keys[i])
-
-
-# ---- the sweep -----------------------------------------------------------------------------------
-
-class Interrupted(Exception):
-    """SIGINT or SIGTERM during the runs (signum); the finished runs are in the journal."""
-
-    def __init__(self, signum):
-        super().__init__(signum)
-        self.signum = signum
-        self.message = ""
-
-
-def journal_path(csv_path):
-    """Where a sweep writing CSV_PATH keeps its finished runs until it completes."""
-    return pathlib.Path(str(csv_path) + ".partial.jsonl")
-
-
-def hrpp_version(hrpp):
-    proc = subprocess.run([hrpp, "--version"], capture_output=True, text=True)
-    return proc.stdout.strip() or f"unknown ({hrpp} --version exited {proc.returncode})"
-
-
-def sweep_identity(args, grid, scenes):
-    """What a journal's runs must share with the sweep that resumes them."""
-    simulated = args.timing == "simulate"
-    return {"scenes": scenes, "grid": grid, "res": args.res, "timing": args.timing,
-            "cpu_times": not args.no_timing and not simulated,
-            "gpu": args.gpu if simulated else None, "oracle": bool(args.oracle),
-            "images": os.path.abspath(args.images) if args.images else None,
-            "hrpp": hrpp_version(args.hrpp)}
-
-
-def identity_differences(then, now):
-    """How a journal's sweep (THEN) differs from this one (NOW), in words; [] when the same."""
-    out = []
-    for key in now:
-        a, b = then.get(key), now[key]
-        if a == b:
-            continue
-        if key == "grid":
-            for n in list(dict.fromkeys(list(a or {}) + list(b))):
-                va, vb = (a or {}).get(n), b.get(n)
-                if va != vb:
-                    out.append(f"--param {n}: " + (",".join(va) if va else "not swept")
-                               + " then, " + (",".join(vb) if vb else "not swept") + " now")
-            if list(a or {}) != list(b) and not out:
-                out.append(f"the --param order: {', '.join(a)} then, {', '.join(b)} now")
-        elif key == "scenes":
-            out.append(f"scenes: {' '.join(a or [])} then, {' '.join(b)} now")
-        elif key == "cpu_times":
-            out.append("CPU times: " + ("measured then, --no-timing now" if a
-                                        else "--no-timing then, measured now"))
-        else:
-            out.append(f"{key}: {a} then, {b} now")
-    return out
-
-
-def read_journal(path):
-    """(header, {(scene, config index): rows}) of a journal; a last line cut short by a kill is
-    left out."""
-    lines = path.read_text().split("\n")
-    try:
-        header = json.loads(lines[0])["sweep"]
-    except (ValueError, KeyError, TypeError):
-        raise BadInput(f"{path}: not a sweep journal (delete it to start again)")
-    done = {}
-    for line in lines[1:]:
-        try:
-            e = json.loads(line)
-            done[(e["scene"], e["config"])] = e["rows"]
-        except (ValueError, KeyError, TypeError):
-            break
-    return header, done
-
-
-def open_journal(args, identity, n):
-    """The journal of this sweep, opened for appending, and the runs it already holds. Without
-    --resume an existing journal is an error (its runs would be lost); with --resume it must be
-    of the same sweep, and is rewritten without a cut-short last line."""
-    path = journal_path(args.csv)
-    done = {}
-    if path.exists():
-        header, done = read_journal(path)
-        if not args.resume:
-            raise BadInput(f"--csv {args.csv}: {path} holds {len(done)} of {n} runs of an "
-                           "interrupted sweep; --resume continues it (or delete it to start "
-                           "again)")
-        diff = identity_differences(header, identity)
-        if diff:
-            raise BadInput(f"--resume: {path} is of another sweep: " + "; ".join(diff))
-    elif args.resume:
-        raise BadInput(f"--resume: no interrupted sweep to continue ({path} does not exist)")
-    text = json.dumps({"sweep": identity}) + "\n" + "".join(
-        json.dumps({"scene": s, "config": ci, "rows": rows}) + "\n"
-        for (s, ci), rows in done.items())
-    path.parent.mkdir(parents=True, exist_ok=True)
-    write_atomic(path, text)
-    return path, open(path, "a"), done
-
-
-def run_sweep(args, configs, scenes, grid):
-    tasks = []
-    swept = [n for n in grid if n != "preset"]
-    for s in scenes:
-        for ci, cfg in enumerate(configs):
-            images = None
-            if args.images and cfg["mode"] == "closest-spec":
-                images = os.path.join(os.path.abspath(args.images),
-                                      f"{pathlib.Path(s).stem}-{ci:04d}")
-            task = {"index": (s, ci), "hrpp": args.hrpp, "scene": s, "cfg": cfg,
-                    "swept": swept, "res": args.res, "timing": not args.no_timing,
-                    "images": images}
-            if args.timing == "simulate":
-                task["sim"] = {"gpu": args.gpu, "oracle": args.oracle}
-            tasks.append(task)
-    n = len(tasks)
-    path, journal, done = open_journal(args, sweep_identity(args, grid, scenes), n)
-    results = {(s, ci): rows for (s, ci), rows in done.items()}
-    todo = [t for t in tasks if t["index"] not in results]
-    if results:
-        print(f"sweep: resuming: {len(results)} of {n} runs kept in {path}", file=sys.stderr)
-    t0 = time.time()
-    # The swept parameters, named in each progress line.
-    varied = [k for k in PARAMS if k in grid and len({c[k] for c in configs}) > 1]
-    # A test hook: after this many runs, send this process SIGINT (N), SIGTERM (N:TERM) or wait
-    # for a signal from outside (N:WAIT).
-    stop = os.environ.get("HRPP_SWEEP_STOP_AFTER", "")
-    stop_after, _, stop_sig = stop.partition(":")
-    state = {"new": 0}
-
-    def progress(index, rows, secs):
-        if "error" in rows:  # bad input (hrpp's exit code 2) stays exit code 2
-            print(f"hrpp sweep: {rows['error']}", file=sys.stderr)
-            raise SystemExit(2 if rows["rc"] == 2 else 1)
-        journal.write(json.dumps({"scene": index[0], "config": index[1], "rows": rows}) + "\n")
-        journal.flush()
-        os.fsync(journal.fileno())
-        results[index] = rows
-        state["new"] += 1
-        a = rows[-1]
-        params = " ".join(f"{k}={configs[index[1]][k]}" for k in varied)
-        print(f"sweep: [{len(results)}/{n}] {a['scene']:13s} config {index[1]:3d} ({params}) "
-              f"saved {100 * a['saved_cycles']:6.2f}% cycles, skipped "
-              f"{100 * a['skipped_interior']:6.2f}% nodes ({secs:.1f} s; total "
-              f"{time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
-        if stop_after and state["new"] == int(stop_after):
-            if stop_sig == "WAIT":  # for a signal from outside
-                print("sweep: waiting for a signal", file=sys.stderr, flush=True)
-                while True:
-                    signal.pause()
-            os.kill(os.getpid(), signal.SIGTERM if stop_sig == "TERM" else signal.SIGINT)
-
-    def on_signal(signum, frame):
-        # Once: the cleanup below must not be interrupted by a second Ctrl-C.
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise Interrupted(signum)
-
-    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        try:
-            run_tasks(args, todo, progress)
-        finally:
-            journal.close()
-    except Interrupted as e:
-        kept = len(results)
-        if kept:
-            e.message = (f"interrupted; {kept} of {n} runs kept in {path}; --resume "
-                         "continues")
-        else:
-            path.unlink(missing_ok=True)
-            e.message = "interrupted before any run finished; nothing kept"
-        raise
-    except SystemExit:
-        if not results:
-            path.unlink(missing_ok=True)
-        else:
-            print(f"hrpp sweep: {len(results)} of {n} runs kept in {path}; --resume "
-                  "continues", file=sys.stderr)
-        raise
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-    rows = []
-    for s in scenes:
-        for ci in range(len(configs)):
-            rows += results[(s, ci)]
-    return rows, path
-
-
-def run_tasks(args, tasks, progress):
-    """Runs TASKS (here, or on a Dask cluster), calling PROGRESS(index, rows, seconds) as each
-    finishes. The cluster is shut down however this ends."""
-    if args.no_dask:
-        for t in tasks:
-            progress(*run_one(t))
-        return
-    if not tasks:
-        return
-    import logging
-    # The local workers' warnings about tasks cancelled by an interruption are no news (errors
-    # still show); set before the import, which reads it, and inherited by the worker processes.
-    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
-    from dask.distributed import Client, LocalCluster, as_completed
-    client = cluster = futures = None
-    try:
-        if args.scheduler:
-            client = Client(args.scheduler)
-        else:
-            # The worker processes inherit SIGINT ignored: a Ctrl-C reaches the whole process
-            # group, and only this driver handles it (shutting the workers down), not each worker
-            # with its own traceback. (The hrpp runs set their own handlers.)
-            handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
-            # The scheduler's HTTP server (even without a dashboard) moves to a free port when
-            # another cluster holds 8787, and says so on stderr: no news for a sweep.
-            import warnings
-            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
-            try:
-                cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                                       processes=True, dashboard_address=None)
-            finally:
-                signal.signal(signal.SIGINT, handler)
-            client = Client(cluster)
-        print(f"sweep: {len(tasks)} runs on {len(client.scheduler_info()['workers'])} Dask "
-              f"workers ({args.scheduler or 'local cluster'})", file=sys.stderr, flush=True)
-        futures = client.map(run_one, tasks, pure=False)
-        for fut in as_completed(futures):
-            progress(*fut.result())
-    except BaseException:
-        # Interrupted or failed: the workers' warnings about cancelled tasks are no news.
-        logging.getLogger("distributed").setLevel(logging.CRITICAL)
-        if futures is not None:
-            client.cancel(futures)
-        raise
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 # ---- plots and report ----------------------------------------------------------------------------
@@ -1679,19 +1494,12 @@ def main():
     ap.add_argument("--oracle", action="store_true",
                     help="--timing simulate: also simulate the oracle (columns oracle_speedup, "
                          "fraction_of_oracle; a third simulation of every configuration)")
-    ap.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://HOST:PORT)")
-    ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                    help="local Dask cluster: worker processes (default: all cores)")
-    ap.add_argument("--no-dask", action="store_true", help="run the tasks one by one, here")
-    ap.add_argument("--resume", action="store_true",
-                    help="continue the interrupted sweep whose finished runs are in "
-                         "CSV.partial.jsonl: the same scenes, parameters, resolution, timing "
-                         "and hrpp version (refused, naming the difference, otherwise); only "
-                         "the missing runs are run")
     ap.add_argument("--no-timing", action="store_true",
                     help="do not measure CPU times (the CSV is then reproducible byte for byte)")
     ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"), help="the hrpp binary")
     ap.add_argument("--command", help=argparse.SUPPRESS)  # shown in the report
+    study.add_arguments(ap)  # --workers, --scheduler, --no-dask, --resume: the journal is
+    # CSV.journal.jsonl
     args = ap.parse_args()
     command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
     try:
@@ -1733,25 +1541,31 @@ def main():
             w, _, h = args.res.partition("x")
             if not (w.isdigit() and h.isdigit() and int(w) > 0 and int(h) > 0):
                 raise BadInput(f"--res must be WIDTHxHEIGHT, got {args.res!r}")
-            if args.workers < 1:
-                raise BadInput("--workers must be at least 1")
             if not os.access(args.hrpp, os.X_OK):
                 raise BadInput(f"{args.hrpp}: not an executable (build it: make build)")
+            stems = [pathlib.Path(s).stem for s in args.scenes]
+            twice = sorted({s for s in stems if stems.count(s) > 1})
+            if twice:
+                raise BadInput(f"two scenes named {twice[0]} (the CSV names scenes by file name)")
             grid = parse_params(params, args.timing)
             scenes = [os.path.abspath(s) for s in args.scenes]
             configs = expand(grid, check_presets(grid, args.hrpp, scenes[0]))
-            rows, journal = run_sweep(args, configs, scenes, grid)
-            write_csv(args.csv, rows, simulated=args.timing == "simulate")
-            journal.unlink()
+            simulated = args.timing == "simulate"
+            sw = Sweep(args.hrpp, scenes, grid, configs, args.res, args.timing, args.gpu,
+                       args.oracle, cpu_times=not args.no_timing and not simulated,
+                       images=os.path.abspath(args.images) if args.images else None)
+            tasks = sw.tasks()
+            with study.Study("hrpp sweep", args.csv + ".journal.jsonl",
+                             sw.identity(study.tool_version(args.hrpp)), args) as st:
+                rows = sw.rows(tasks, st.run(tasks, summary=sw.summary))
+                write_csv(args.csv, rows, simulated=simulated)
+                st.complete()
             print(f"sweep: wrote {args.csv} ({len(rows)} rows, {len(configs)} configurations x "
                   f"{len(scenes)} scenes)", file=sys.stderr)
             rows = read_csv([args.csv])
-    except BadInput as e:
+    except (BadInput, study.StudyError) as e:
         print(f"hrpp sweep: {e}", file=sys.stderr)
         return 2
-    except Interrupted as e:
-        print(f"hrpp sweep: {e.message}", file=sys.stderr)
-        return 128 + e.signum
     plots = plot_all(rows, args.plots) if args.plots else []
     for p in plots:
         print(f"sweep: wrote {p}", file=sys.stderr)
