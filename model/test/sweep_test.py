@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Tests of model/tools/sweep.py (ctest: sweep.pareto, sweep.tiny, sweep.errors, sweep.dask,
-sweep.simulate).
+"""Tests of the sweep, model/tools/sweep.py and its modules model/tools/sweeplib/ (ctest sweep.*:
+Pareto, Tiny, Errors, Dask, Simulate, Resume, Presets, Plots).
 
 Run one class:  .venv/bin/python model/test/sweep_test.py Pareto
 The tool is $HRPP_TOOL (default build/hrpp); scenes are the project's own (scenes/).
@@ -18,8 +18,10 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(ROOT), str(ROOT / "model" / "tools")]
-import sweep  # noqa: E402
 from pyhrpp import study  # noqa: E402
+from pyhrpp.docs import markers  # noqa: E402
+from sweeplib import pareto, plots, tasks  # noqa: E402
+from sweeplib.doc import DOC_BLOCKS  # noqa: E402
 
 HRPP = os.environ.get("HRPP_TOOL", str(ROOT / "build" / "hrpp"))
 TETRA = str(ROOT / "scenes" / "spd_tetra.glb")
@@ -47,27 +49,27 @@ class Pareto(unittest.TestCase):
                {"c": 60, "a": 0.80},   # 4 dominated by 3 (same time, less accurate)
                {"c": 120, "a": 1.0},   # 5 dominated by 0 (same accuracy, slower)
                {"c": 70, "a": 0.95}]   # 6 front
-        self.assertEqual(sweep.pareto_front(pts, ["c"], ["a"]), [3, 6, 1, 0])
+        self.assertEqual(pareto.pareto_front(pts, ["c"], ["a"]), [3, 6, 1, 0])
 
     def test_duplicates_and_single_objective(self):
         pts = [{"c": 5}, {"c": 3}, {"c": 3}, {"c": 9}]
-        self.assertEqual(sweep.pareto_front(pts, ["c"]), [1, 2])  # equal points both stay
-        self.assertEqual(sweep.pareto_front([], ["c"]), [])
+        self.assertEqual(pareto.pareto_front(pts, ["c"]), [1, 2])  # equal points both stay
+        self.assertEqual(pareto.pareto_front([], ["c"]), [])
 
     def test_baseline_point_joins_the_front(self):
         pts = [{"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 120.0,
                 "baseline_cycles_per_ray": 100.0, "accuracy": 1.0},   # exact but slower
                {"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 80.0,
                 "baseline_cycles_per_ray": 100.0, "accuracy": 0.9}]   # speculative, faster
-        allp = sweep.with_baselines(pts)
-        front = sweep.pareto_front(allp, ["hrpp_cycles_per_ray"], ["accuracy"])
+        allp = pareto.with_baselines(pts)
+        front = pareto.pareto_front(allp, ["hrpp_cycles_per_ray"], ["accuracy"])
         self.assertEqual(front, [1, 2])  # the speculative point and the baseline, not point 0
         self.assertTrue(allp[2]["baseline"])
 
     def test_three_objectives(self):
         pts = [(1, 5, 0.5), (2, 1, 0.5), (1, 5, 0.4), (3, 3, 0.9)]
         # minimise 0 and 1, maximise 2; (1,5,0.4) is dominated by (1,5,0.5).
-        self.assertEqual(sweep.pareto_front(pts, [0, 1], [2]), [0, 1, 3])
+        self.assertEqual(pareto.pareto_front(pts, [0, 1], [2]), [0, 1, 3])
 
 
 class Tiny(unittest.TestCase):
@@ -94,8 +96,8 @@ class Tiny(unittest.TestCase):
             self.assertEqual(len(rows), 8 * 4)
             # dir_code is written only when a row has another direction code than the grid.
             self.assertEqual(list(rows[0]), ["scene", "kind", "res"]
-                             + [n for n in sweep.PARAMS if n != "dir_code"]
-                             + sweep.RESULT_COLUMNS)
+                             + [n for n in tasks.PARAMS if n != "dir_code"]
+                             + tasks.RESULT_COLUMNS)
             self.assertEqual([r["kind"] for r in rows[:4]], ["primary", "shadow", "ao", "all"])
             self.assertEqual({(r["precision"], r["table"], r["mode"]) for r in rows},
                              {(p, t, m) for p in ("4", "6") for t in ("16x2", "unbounded")
@@ -116,7 +118,8 @@ class Tiny(unittest.TestCase):
                 self.assertAlmostEqual(base / int(total["rays"]),
                                        float(total["baseline_cycles_per_ray"]), places=4)
             # A finite table's bytes follow from its fields: the same in every mode.
-            small = {r["table_bytes"] for r in rows if r["table"] == "16x2" and r["precision"] == "6"}
+            small = {r["table_bytes"] for r in rows
+                     if r["table"] == "16x2" and r["precision"] == "6"}
             self.assertEqual(len(small), 1)
             for f in ("time_saved.png", "accuracy_vs_time.png", "skipped_vs_bytes.png",
                       "spec_error_vs_saved.png"):
@@ -151,7 +154,7 @@ class Tiny(unittest.TestCase):
             for k in ("true_positive", "table_entries", "skipped_interior"):
                 self.assertEqual(by[("faithful", "grid", "all")][k],
                                  by[("faithful", "oct", "all")][k])
-            self.assertEqual({r["dir_code"] for r in sweep.read_csv([a])}, {"grid", "oct"})
+            self.assertEqual({r["dir_code"] for r in tasks.read_csv([a])}, {"grid", "oct"})
 
     def test_latency_rows(self):
         with tempfile.TemporaryDirectory() as d:
@@ -195,8 +198,8 @@ class Tiny(unittest.TestCase):
 
             def split(text):  # (text outside the blocks, {name: body})
                 bodies = {}
-                for name in sweep.DOC_BLOCKS:
-                    begin, end = sweep.markers(name)
+                for name in DOC_BLOCKS:
+                    begin, end = markers(name)
                     head, rest = text.split(begin, 1)
                     bodies[name], tail = rest.split(end, 1)
                     text = head + begin + end + tail
@@ -205,7 +208,7 @@ class Tiny(unittest.TestCase):
             old_out, old_blocks = split(old)
             new_out, new_blocks = split(new)
             self.assertEqual(old_out, new_out)  # the hand-written text is left alone
-            for name in sweep.DOC_BLOCKS:
+            for name in DOC_BLOCKS:
                 self.assertTrue(old_blocks[name] != new_blocks[name], f"{name} not rewritten")
                 self.assertIn("| cornell_box |", new_blocks[name], name)
             self.assertIn("| cornell_box | all | closest-hit |", new_blocks["sweep-pareto"])
@@ -447,50 +450,50 @@ class Plots(unittest.TestCase):
                           "closest-spec", "--param", "latency=none,0", "--res", "16x16",
                           "--no-dask", "--no-timing", "--csv", a)
             self.assertEqual(p.returncode, 0, p.stderr)
-            rows = sweep.read_csv([a])
+            rows = tasks.read_csv([a])
             # Pages of at most 16 configurations and 8 lines (40 and 12 in use).
-            limits = sweep.PAGE_CONFIGS, sweep.PAGE_LINES
-            sweep.PAGE_CONFIGS, sweep.PAGE_LINES = 16, 8
+            limits = plots.PAGE_CONFIGS, plots.PAGE_LINES
+            plots.PAGE_CONFIGS, plots.PAGE_LINES = 16, 8
             try:
-                files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
+                files = [f.name for f in plots.plot_all(rows, os.path.join(d, "plots"))]
             finally:
-                sweep.PAGE_CONFIGS, sweep.PAGE_LINES = limits
+                plots.PAGE_CONFIGS, plots.PAGE_LINES = limits
             self.assertEqual(files, ["time_saved.png", "time_saved-2.png", "accuracy_vs_time.png",
                                      "skipped_vs_bytes.png", "hit_rate_vs_latency.png",
                                      "hit_rate_vs_latency-2.png", "spec_error_vs_saved.png"])
             for f in files:
-                self.assertEqual(sweep.LAYOUT_PROBLEMS[f], [], f)
-                t = sweep.PLOT_TEXT[f]
+                self.assertEqual(plots.LAYOUT_PROBLEMS[f], [], f)
+                t = plots.PLOT_TEXT[f]
                 self.assertIn("cornell_box", t["title"], f)
                 self.assertIn("fixed: hash=faithful exp_bits=3", t["title"].replace("\n", " "), f)
                 self.assertIn("16x16 pixels", t["title"], f)
                 self.assertTrue(all(t["xlabels"]) and all(t["ylabels"]), f)
                 units = r"%|fraction|cycles per ray|bytes|, rays|scene|configuration"
                 self.assertTrue(all(re.search(units, l) for l in t["xlabels"] + t["ylabels"]), f)
-            t = sweep.PLOT_TEXT["time_saved.png"]
+            t = plots.PLOT_TEXT["time_saved.png"]
             self.assertIn("cost model", t["title"])
             self.assertIn("(page 1 of 2)", t["title"])
             self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 16)
-            self.assertEqual(len([x for x in sweep.PLOT_TEXT["time_saved-2.png"]["ticks"]
+            self.assertEqual(len([x for x in plots.PLOT_TEXT["time_saved-2.png"]["ticks"]
                                   if "precision=" in x]), 8)
             self.assertTrue(any(x.startswith("costs ") for x in t["texts"]))
             # One legend each for what colour and marker encode.
-            t = sweep.PLOT_TEXT["accuracy_vs_time.png"]
+            t = plots.PLOT_TEXT["accuracy_vs_time.png"]
             title, entries = t["legends"][0]
             self.assertIn("colour: mode; marker: table (SETSxWAYS)", title)
             self.assertIn("not told apart: precision, latency", title)
             self.assertTrue({"anyhit", "closest-exact", "closest-spec", "16x2",
                              "unbounded"} <= set(entries))
-            t = sweep.PLOT_TEXT["skipped_vs_bytes.png"]
+            t = plots.PLOT_TEXT["skipped_vs_bytes.png"]
             self.assertEqual(t["legends"][0][0], "colour: precision; marker: mode; panels: "
                                                  "latency")
             self.assertIn("unbounded\n(no fixed size)", t["ticks"])
             self.assertEqual(len(t["xlabels"]), 4)  # 2 scenes x 2 latencies
             # 12 configurations at two delays: two pages of at most 8 lines.
-            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
-            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
+            self.assertEqual(len(plots.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
+            self.assertEqual(len(plots.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
                              4)
-            self.assertIn("(page 2 of 2)", sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
+            self.assertIn("(page 2 of 2)", plots.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
             # The report leads with time; an unbounded table is not a size.
             r = os.path.join(d, "r.md")
             p = run_sweep("--from-csv", a, "--report", r)
@@ -581,7 +584,7 @@ class Simulate(unittest.TestCase):
             p = run_sweep(*args, "--no-dask", "--csv", a, "--report", os.path.join(d, "r.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
             rows = read(a)
-            self.assertEqual(list(rows[0]), self.COST_HEADER.split(",") + sweep.SIM_COLUMNS)
+            self.assertEqual(list(rows[0]), self.COST_HEADER.split(",") + tasks.SIM_COLUMNS)
             self.assertEqual(len(rows), 2 * 4)
             by = {}
             for r in rows:
