@@ -39,6 +39,17 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+def split_blocks(text):
+    """(TEXT outside the page's sweep-* blocks, {name: body})."""
+    bodies = {}
+    for name in DOC_BLOCKS:
+        begin, end = markers(name)
+        head, rest = text.split(begin, 1)
+        bodies[name], tail = rest.split(end, 1)
+        text = head + begin + end + tail
+    return text, bodies
+
+
 class Pareto(unittest.TestCase):
     def test_hand_made_points(self):
         # (cycles, accuracy): minimise cycles, maximise accuracy.
@@ -195,18 +206,8 @@ class Tiny(unittest.TestCase):
             self.assertIn("sweep: wrote sweep-pareto, sweep-latency, sweep-delay, sweep-spec, "
                           "sweep-recommend blocks of", p.stderr)
             old, new = page.read_text(), doc.read_text()
-
-            def split(text):  # (text outside the blocks, {name: body})
-                bodies = {}
-                for name in DOC_BLOCKS:
-                    begin, end = markers(name)
-                    head, rest = text.split(begin, 1)
-                    bodies[name], tail = rest.split(end, 1)
-                    text = head + begin + end + tail
-                return text, bodies
-
-            old_out, old_blocks = split(old)
-            new_out, new_blocks = split(new)
+            old_out, old_blocks = split_blocks(old)
+            new_out, new_blocks = split_blocks(new)
             self.assertEqual(old_out, new_out)  # the hand-written text is left alone
             for name in DOC_BLOCKS:
                 self.assertTrue(old_blocks[name] != new_blocks[name], f"{name} not rewritten")
@@ -639,9 +640,67 @@ class Simulate(unittest.TestCase):
             self.assertIn("of the cost model", p.stderr)
             self.assertIn("of the simulated, mobile", p.stderr)
             self.assertFalse(os.path.exists(os.path.join(d, "mixed.md")))
-            p = run_sweep("--from-csv", a, "--doc", os.path.join(d, "r.md"))
-            self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("cost-model cycles", p.stderr)
+
+    def test_fronts_on_the_page(self):
+        """make report's flow, small: a simulated grid fills the page's fronts and recommendation
+        (--doc-blocks), cost-model latency and delay sweeps the latency, delay and speculative
+        image blocks; the fronts' header names the GPU, their cycles have two decimals; the
+        report of a simulated closest-spec sweep has no pictures to show."""
+        page = ROOT / "docs" / "results.md"
+        with tempfile.TemporaryDirectory() as d:
+            grid, lat, delay = (os.path.join(d, f"{n}.csv") for n in ("grid", "lat", "delay"))
+            common = [CORNELL, "--res", "16x16", "--no-dask", "--no-timing"]
+            for csv_, params in ((grid, ["precision=4,5", "table=16x2,unbounded",
+                                         "mode=anyhit,closest-spec"]),
+                                 (lat, ["table=16x2", "mode=anyhit,closest-spec",
+                                        "latency=none,0"]),
+                                 (delay, ["table=16x2", "mode=anyhit,closest-spec",
+                                          "update_delay=0,16"])):
+                p = run_sweep(*common, *[a for v in params for a in ("--param", v)],
+                              *(["--timing", "simulate"] if csv_ == grid else []), "--csv", csv_)
+                self.assertEqual(p.returncode, 0, p.stderr)
+            doc = pathlib.Path(d, "results.md")
+            doc.write_text(page.read_text())
+            fronts, pipeline = pathlib.Path(d, "fronts.md"), pathlib.Path(d, "pipeline.md")
+            p = run_sweep("--from-csv", grid, "--report", str(fronts), "--doc", str(doc),
+                          "--doc-blocks", "sweep-pareto,sweep-recommend")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("sweep: wrote sweep-pareto, sweep-recommend blocks of", p.stderr)
+            text = fronts.read_text()
+            self.assertIn("Time is simulated cycles per ray on the `mobile` GPU", text)
+            self.assertNotIn("## Speculative closest hits", text)  # hrpp simulate: no pictures
+            self.assertRegex(text, r"\| no predictor \(the baseline walk, spp=1\) \| \d+\.\d\d \|")
+            p = run_sweep("--from-csv", lat, delay, "--report", str(pipeline), "--doc", str(doc),
+                          "--doc-blocks", "sweep-latency,sweep-delay,sweep-spec")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("sweep: wrote sweep-latency, sweep-delay, sweep-spec blocks of",
+                          p.stderr)
+            self.assertIn("Both are the cost model's", pipeline.read_text())
+            new = doc.read_text()
+            old_out, old_blocks = split_blocks(page.read_text())
+            new_out, new_blocks = split_blocks(new)
+            self.assertEqual(old_out, new_out)
+            for name in DOC_BLOCKS:
+                self.assertIn("| cornell_box |", new_blocks[name], name)
+            self.assertIn("| scene | kind | query | baseline cycles/ray (simulated, mobile GPU) |",
+                          new_blocks["sweep-pareto"])
+            self.assertRegex(new_blocks["sweep-pareto"],
+                             r"\| cornell_box \| all \| any-hit \| \d+\.\d\d \| .*"
+                             r"no predictor \(\d+\.\d\d, 100\.00%\) \|")
+            self.assertIn("| scene | mode | P = 4 | P = 5 |", new_blocks["sweep-recommend"])
+            self.assertIn("| scene | mode | precision: untimed / 16 rays |",
+                          new_blocks["sweep-latency"])
+            self.assertNotIn("(simulated", new_blocks["sweep-latency"])
+            # Each block from rows that fill it; unknown names; the page left as it was.
+            for rows, blocks, err in (
+                    ([grid], "sweep-latency", "--doc-blocks: these rows fill no sweep-latency "
+                                              "block"),
+                    ([grid], "sweep-spec", "these rows fill no sweep-spec block"),
+                    ([lat], "sweep-fronts", "--doc-blocks: unknown block 'sweep-fronts'")):
+                p = run_sweep("--from-csv", *rows, "--doc", str(doc), "--doc-blocks", blocks)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(err, p.stderr)
+                self.assertEqual(doc.read_text(), new)
 
     def test_errors(self):
         with tempfile.TemporaryDirectory() as d:

@@ -5,7 +5,8 @@
                [--timing cost-model | --timing simulate [--gpu mobile|desktop|FILE] [--oracle]]
                [--plots DIR] [--report FILE] [--workers N | --scheduler ADDRESS | --no-dask]
                [--resume]
-    hrpp sweep --from-csv FILE... [--plots DIR] [--report FILE] [--doc PAGE]   (one at least)
+    hrpp sweep --from-csv FILE... [--plots DIR] [--report FILE] [--doc PAGE [--doc-blocks NAME,...]]
+               (one output at least)
 
 Every configuration of the grid (the cartesian product of the --param lists) on every scene is one
 `hrpp predict` run, a task of the project's study driver (pyhrpp/study.py): on a local Dask cluster
@@ -33,7 +34,8 @@ Every plot names its scenes, the fixed configuration and its axes' units; large 
 further pages (NAME-2.png, ...). Unbounded tables have no size: plots put them apart, the report
 says "unbounded".
 
-Pareto fronts use the cost model's deterministic cycles, never the noisy CPU times.
+Pareto fronts use the deterministic cycles of the sweep's time axis (the cost model's, or
+simulated), never the noisy CPU times.
 
 --timing simulate takes the time axis from the cycle-level model instead (docs/timing_model.md,
 "Sweeps in simulated time"): each task runs `hrpp simulate` with the same predictor and workload
@@ -42,7 +44,9 @@ per ray and saved cycles are simulated cycles: per ray kind from that kind's ray
 "all" row from the mixed run. update_delay and latency do not apply (the simulated table's
 staleness follows from the simulated occupancy). The CSV then has the extra columns timing, gpu,
 speedup, l1_hit_rate, stall_cycles, oracle_speedup and fraction_of_oracle; a cost-model CSV
-keeps its columns. CSVs of different timings (or GPUs) are never merged into one report.
+keeps its columns. CSVs of different timings (or GPUs) are never merged into one report: `make
+report` reports the grid's fronts (simulated by default) apart from the latency and update-delay
+sweeps (cost model), and --doc-blocks names the blocks of the page each report fills.
 """
 import argparse
 import os
@@ -52,7 +56,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 from pyhrpp import study  # noqa: E402
-from sweeplib.doc import write_doc  # noqa: E402
+from sweeplib.doc import DOC_BLOCKS, write_doc  # noqa: E402
 from sweeplib.plots import plot_all  # noqa: E402
 from sweeplib.report import report  # noqa: E402
 from sweeplib.tasks import (PARAMS, BadInput, Sweep, check_presets, expand,  # noqa: E402
@@ -109,6 +113,9 @@ def main():
     ap.add_argument("--report", help="markdown report to write (plots need --plots)")
     ap.add_argument("--doc", help="rewrite the sweep-* blocks of this page (docs/results.md) "
                                   "with summaries of the report's tables")
+    ap.add_argument("--doc-blocks", metavar="NAME,...",
+                    help="--doc: only these blocks (" + ", ".join(DOC_BLOCKS) + "), each of "
+                         "which the rows must fill (default: every block they fill)")
     ap.add_argument("--images", help="directory for each closest-spec run's exact | speculative | "
                                      "difference picture")
     ap.add_argument("--from-csv", nargs="+", help="plot and report these CSVs; run nothing")
@@ -132,6 +139,15 @@ def main():
     command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
     try:
         check_outputs(args)
+        blocks = None
+        if args.doc_blocks is not None:
+            if not args.doc:
+                raise BadInput("--doc-blocks needs --doc PAGE")
+            blocks = [n.strip() for n in args.doc_blocks.split(",")]
+            unknown = [n for n in blocks if n not in DOC_BLOCKS]
+            if unknown:
+                raise BadInput(f"--doc-blocks: unknown block '{unknown[0]}' (known: "
+                               f"{', '.join(DOC_BLOCKS)})")
         if args.from_csv:
             if args.scenes or args.param or args.csv or args.resume:
                 raise BadInput("--from-csv runs nothing: no scenes, --param, --csv or --resume")
@@ -202,7 +218,7 @@ def main():
         print(f"sweep: wrote {args.report}", file=sys.stderr)
     if args.doc:
         try:
-            names = write_doc(args.doc, rows)
+            names = write_doc(args.doc, rows, blocks)
         except BadInput as e:
             print(f"hrpp sweep: {e}", file=sys.stderr)
             return 2

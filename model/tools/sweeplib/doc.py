@@ -5,7 +5,7 @@ import pathlib
 
 from pyhrpp.docs import markers, update_blocks
 
-from .labels import pct, preset_name, simulated_on, varied_params
+from .labels import pct, preset_name, simulated_on, time_axis, varied_params
 from .pareto import groups, pareto_front, with_baselines
 from .report import delta_lines, smallest_tables, spec_best
 from .tasks import KIND_ORDER, PARAMS, BadInput
@@ -38,8 +38,12 @@ def short_label(r):
 def doc_pareto(rows):
     """One row per scene, ray kind and query: the baseline and the Pareto front, equal points
     merged (`+N ties`), fronts of more than six points shortened to the fastest three and the
-    most accurate two."""
-    out = ["| scene | kind | query | baseline cycles/ray | Pareto front: configuration "
+    most accurate two. Simulated rows say so in the header (`baseline cycles/ray (simulated,
+    mobile GPU)`) and show two decimals: a few cycles per ray, the units' throughput (the cost
+    model's hundreds of cycles per ray show none)."""
+    gpu = simulated_on(rows)
+    axis, dp = ("", 0) if gpu is None else (f" ({time_axis(gpu)})", 2)
+    out = [f"| scene | kind | query | baseline cycles/ray{axis} | Pareto front: configuration "
            "(cycles/ray, correct answers) |", "|---|---|---|---|---|"]
     for (s, k, q), pts in sorted(groups(rows, by_query=True).items(),
                                  key=lambda x: (x[0][0], KIND_ORDER.index(x[0][1]), x[0][2])):
@@ -53,10 +57,12 @@ def doc_pareto(rows):
                 continue
             entries.append([p, 0])
         cells = [f"{short_label(p)}{f' +{n} ties' if n else ''} "
-                 f"({p['hrpp_cycles_per_ray']:.0f}, {pct(p['accuracy'])})" for p, n in entries]
+                 f"({p['hrpp_cycles_per_ray']:.{dp}f}, {pct(p['accuracy'])})"
+                 for p, n in entries]
         if len(cells) > 6:
             cells = cells[:3] + [f"... {len(cells) - 5} more ..."] + cells[-2:]
-        base = " / ".join(f"{b:.0f}" for b in sorted({p["baseline_cycles_per_ray"] for p in pts}))
+        base = " / ".join(f"{b:.{dp}f}"
+                          for b in sorted({p["baseline_cycles_per_ray"] for p in pts}))
         out.append(f"| {s} | {k} | {q} | {base} | {'; '.join(cells)} |")
     return out
 
@@ -197,20 +203,24 @@ def doc_blocks(rows):
     return {n: "\n".join(b) for n, b in blocks.items() if b}
 
 
-def write_doc(path, rows):
-    """Rewrites the sweep-* blocks of the page PATH that ROWS fill; every block must be marked in
-    it. Returns the names of the blocks written."""
+def write_doc(path, rows, names=None):
+    """Rewrites the sweep-* blocks of the page PATH that ROWS fill, or only the blocks NAMES
+    (each of which the rows must fill: e.g. the fronts from a simulated grid, the latency blocks
+    from cost-model sweeps); every block it may write must be marked in the page. Returns the
+    names of the blocks written."""
     path = pathlib.Path(path)
-    if simulated_on(rows):
-        raise BadInput("--doc: the page's sweep-* blocks are in cost-model cycles; rows in "
-                       "simulated time go in a --report")
     if not path.is_file():
         raise BadInput(f"--doc {path}: no such file")
     text = path.read_text()
-    missing = [n for n in DOC_BLOCKS if any(m not in text for m in markers(n))]
+    missing = [n for n in names or DOC_BLOCKS if any(m not in text for m in markers(n))]
     if missing:
         raise BadInput(f"--doc {path}: no {', '.join(missing)} block (<!-- BEGIN NAME --> ... "
                        "<!-- END NAME -->)")
     blocks = doc_blocks(rows)
+    if names:
+        empty = [n for n in names if n not in blocks]
+        if empty:
+            raise BadInput(f"--doc-blocks: these rows fill no {', '.join(empty)} block")
+        blocks = {n: b for n, b in blocks.items() if n in names}
     update_blocks(path, blocks)
     return list(blocks)

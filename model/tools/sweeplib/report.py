@@ -38,6 +38,7 @@ def time_section(rows, varied, gpu):
 def report(rows, plots, path, command):
     varied = varied_params(rows)
     gpu = simulated_on(rows)
+    dp = 1 if gpu is None else 2  # decimals of cycles per ray (simulated: a few per ray)
     time_is = ("Time is the cost model's cycles per ray (docs/cost_model.md; deterministic), and "
                "the golden model's measured CPU time per ray (noisy, reported only)."
                if gpu is None else
@@ -72,7 +73,7 @@ def report(rows, plots, path, command):
                   "|---|---|---|---|---|---|---|---|---|"]
         for p in front:
             if p.get("baseline"):
-                lines.append(f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} | - | "
+                lines.append(f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.{dp}f} | - | "
                              "100.00% | - | - | - | 0 | - |")
                 continue
             cpu = (f"{p['baseline_ns_per_ray']:.0f} / {p['hrpp_ns_per_ray']:.0f}"
@@ -80,8 +81,8 @@ def report(rows, plots, path, command):
             if gpu is not None:
                 cpu = f"{p['speedup']:.3f}x"
             lines.append(
-                f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.1f} "
-                f"({p['baseline_cycles_per_ray']:.1f}) | {saved_cell(p['saved_cycles'])} | "
+                f"| {label(p, varied)} | {p['hrpp_cycles_per_ray']:.{dp}f} "
+                f"({p['baseline_cycles_per_ray']:.{dp}f}) | {saved_cell(p['saved_cycles'])} | "
                 f"{pct(p['accuracy'])} | {p['pred_precision']:.3f} | {p['pred_recall']:.3f} | "
                 f"{pct(p['skipped_interior'])} | {table_bytes(p)} | {cpu} |")
         lines.append("")
@@ -111,7 +112,9 @@ def latency_section(rows, varied):
     out = ["## Pipeline latency against the untimed model", "",
            "Update delay: rays looked up between a ray's lookup and its table write (0: the "
            "untimed model; `latency=C`: the RTL's delay for a traversal engine taking C cycles, "
-           "from the cycle model, at most 63 with the default 64 ray ids).", "",
+           "from the cycle model, at most 63 with the default 64 ray ids). Both are the cost "
+           "model's: `hrpp simulate` has neither to set (its table's staleness follows from the "
+           "simulated rays in flight), so these rows are in cost-model cycles.", "",
            "| scene | kind | configuration | latency (cycles) | update delay (rays) | precision "
            "| recall | skipped nodes | saved cycles |", "|---|---|---|---|---|---|---|---|---|"]
     for (s, k, _), pts in sorted(g.items(), key=lambda x: (x[0][0], KIND_ORDER.index(x[0][1]),
@@ -125,8 +128,10 @@ def latency_section(rows, varied):
 
 
 def spec_best(rows):
-    """(scene, its closest-spec row of all rays with the most saved cycles), by scene."""
-    spec = [r for r in rows if r["kind"] == "all" and r["mode"] == "closest-spec"]
+    """(scene, its closest-spec row of all rays with the most saved cycles), by scene, among the
+    rows with an image error (hrpp predict's; hrpp simulate draws no pictures)."""
+    spec = [r for r in rows if r["kind"] == "all" and r["mode"] == "closest-spec"
+            and r["image_mae"] != ""]
     return [(s, max((r for r in spec if r["scene"] == s), key=lambda r: r["saved_cycles"]))
             for s in sorted({r["scene"] for r in spec})]
 
