@@ -133,8 +133,8 @@ def main():
                     help="do not measure CPU times (the CSV is then reproducible byte for byte)")
     ap.add_argument("--hrpp", default=str(ROOT / "build" / "hrpp"), help="the hrpp binary")
     ap.add_argument("--command", help=argparse.SUPPRESS)  # shown in the report
-    study.add_arguments(ap)  # --workers, --scheduler, --no-dask, --resume: the journal is
-    # CSV.journal.jsonl
+    # --workers, --scheduler, --no-dask, --resume; the study's journal is CSV.journal.jsonl.
+    study.add_arguments(ap)
     args = ap.parse_args()
     command = args.command or "hrpp sweep " + " ".join(sys.argv[1:])
     try:
