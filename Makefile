@@ -248,36 +248,57 @@ synth-check: build
 
 # ---------------------------------------------------------------------------------------------
 # What accuracy costs in time (docs/cost_model.md, model/tools/sweep.py): predictor parameters
-# swept over the shared scenes as Dask tasks (a local cluster of JOBS workers; SWEEP_SCHEDULER=
-# tcp://HOST:PORT for a remote one), CSVs in out/sweep/; `make report` adds the plots and
-# out/report.md, and rewrites the sweep-* blocks of docs/results.md. About 15 minutes on 2 cores
-# at the default 256x256, 1 spp.
+# swept over the shared scenes, each run a task of the study driver (pyhrpp/study.py: a local Dask
+# cluster of JOBS workers; STUDY_OPTS adds --scheduler or --resume), CSVs and their journals in
+# out/sweep/. The fronts, the study's grid and the RTL's `primary` configuration, are timed by
+# SWEEP_TIMING: simulate (the default: hrpp simulate on the SWEEP_GPU RT units,
+# docs/timing_model.md) or cost-model (hrpp predict's cost model). The latency and update-delay
+# sweeps are always the cost model's: the update delay and the pipeline latency are its
+# parameters, while the simulator derives the table's staleness from its own rays in flight.
+# `make report` adds the plots and two reports, out/report.md (the fronts) and
+# out/report-pipeline.md (latency, update delay, speculative pictures), and rewrites the sweep-*
+# blocks of docs/results.md. At the default 256x256, 1 spp the 600 simulated runs take 2 to 16 s
+# each (about 40 minutes on 2 cores); the cost model's runs under a second.
 # ---------------------------------------------------------------------------------------------
 SWEEP_SCENES    ?= $(wildcard $(SHARED)/scenes/*.glb)
 SWEEP_RES       ?= 256x256
 SWEEP_SPP       ?= 1
-SWEEP_SCHEDULER ?=
-SWEEP_RUN = $(BUILD)/hrpp sweep $(SWEEP_SCENES) --res $(SWEEP_RES) --spp $(SWEEP_SPP) \
-  $(if $(SWEEP_SCHEDULER),--scheduler $(SWEEP_SCHEDULER),--workers $(JOBS))
+SWEEP_TIMING    ?= simulate
+SWEEP_GPU       ?= mobile
+SWEEP_RUN = $(VENV)/bin/python model/tools/sweep.py --hrpp $(BUILD)/hrpp $(SWEEP_SCENES) \
+  --res $(SWEEP_RES) --spp $(SWEEP_SPP) --workers $(JOBS) $(STUDY_OPTS)
+SWEEP_FRONTS = $(if $(filter cost-model,$(SWEEP_TIMING)),--timing cost-model,\
+  --timing simulate --gpu $(SWEEP_GPU))
 # The `primary` configuration's hash and table (rtl/config/hrpp_configs.json), as sweep
 # parameters; recursively expanded, so the file is read only when a sweep runs.
 SWEEP_RTL_DEFAULT = $(shell python3 rtl/config/hrpp_config.py --sweep-params primary)
+SWEEP_COMMAND = make report SWEEP_TIMING=$(SWEEP_TIMING)$(if $(filter cost-model,\
+  $(SWEEP_TIMING)),, SWEEP_GPU=$(SWEEP_GPU)) SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)
 
 sweep: build
 	@test -n "$(SWEEP_SCENES)" || { echo "sweep: no scenes in $(SHARED)/scenes (set SWEEP_SCENES)"; exit 2; }
-	$(SWEEP_RUN) --param precision=4,5,6,7 --param table=64x4,256x4,256x8,1024x8,4096x8,unbounded \
-	  --param nodes_per_entry=2 --param mode=anyhit,closest-exact,closest-spec \
-	  --csv $(OUT)/sweep/grid.csv --images $(OUT)/sweep/images
+	@case "$(SWEEP_TIMING)" in simulate|cost-model) ;; \
+	  *) echo "sweep: SWEEP_TIMING is simulate or cost-model, not '$(SWEEP_TIMING)'"; exit 2;; esac
+	$(SWEEP_RUN) $(SWEEP_FRONTS) --param precision=4,5,6,7 \
+	  --param table=64x4,256x4,256x8,1024x8,4096x8,unbounded --param nodes_per_entry=2 \
+	  --param mode=anyhit,closest-exact,closest-spec --csv $(OUT)/sweep/grid.csv
+	$(SWEEP_RUN) $(SWEEP_FRONTS) $(SWEEP_RTL_DEFAULT) \
+	  --param mode=anyhit,closest-exact,closest-spec --csv $(OUT)/sweep/rtl.csv
 	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-exact,closest-spec \
 	  --param latency=none,0,300 --csv $(OUT)/sweep/latency.csv --images $(OUT)/sweep/images-rtl
 	$(SWEEP_RUN) $(SWEEP_RTL_DEFAULT) --param mode=anyhit,closest-spec \
 	  --param update_delay=0,16,64,256,1024,4096 --csv $(OUT)/sweep/delay.csv
 
+# Two reports, each of one time axis (their cycles are not comparable): the fronts fill the
+# sweep-pareto and sweep-recommend blocks, the cost model's pipeline sweeps the others.
 report: sweep
-	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/grid.csv \
-	  $(OUT)/sweep/latency.csv $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots \
-	  --report $(OUT)/report.md --doc docs/results.md \
-	  --command "make report SWEEP_RES=$(SWEEP_RES) SWEEP_SPP=$(SWEEP_SPP)"
+	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/grid.csv $(OUT)/sweep/rtl.csv \
+	  --plots $(OUT)/sweep/plots --report $(OUT)/report.md \
+	  --doc docs/results.md --doc-blocks sweep-pareto,sweep-recommend --command "$(SWEEP_COMMAND)"
+	$(VENV)/bin/python model/tools/sweep.py --from-csv $(OUT)/sweep/latency.csv \
+	  $(OUT)/sweep/delay.csv --plots $(OUT)/sweep/plots-pipeline \
+	  --report $(OUT)/report-pipeline.md --doc docs/results.md \
+	  --doc-blocks sweep-latency,sweep-delay,sweep-spec --command "$(SWEEP_COMMAND)"
 
 # Benchmark (model/tools/bench/; not a test): our BVH build, traversal and predictor against
 # Embree on the same rays of every shared scene, the RTL co-simulation's throughput, peak memory,

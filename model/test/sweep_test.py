@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Tests of model/tools/sweep.py (ctest: sweep.pareto, sweep.tiny, sweep.errors, sweep.dask,
-sweep.simulate).
+"""Tests of the sweep, model/tools/sweep.py and its modules model/tools/sweeplib/ (ctest sweep.*:
+Pareto, Tiny, Errors, Dask, Simulate, Resume, Presets, Plots).
 
 Run one class:  .venv/bin/python model/test/sweep_test.py Pareto
 The tool is $HRPP_TOOL (default build/hrpp); scenes are the project's own (scenes/).
@@ -17,8 +17,11 @@ import tempfile
 import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "model" / "tools"))
-import sweep  # noqa: E402
+sys.path[:0] = [str(ROOT), str(ROOT / "model" / "tools")]
+from pyhrpp import study  # noqa: E402
+from pyhrpp.docs import markers  # noqa: E402
+from sweeplib import pareto, plots, tasks  # noqa: E402
+from sweeplib.doc import DOC_BLOCKS  # noqa: E402
 
 HRPP = os.environ.get("HRPP_TOOL", str(ROOT / "build" / "hrpp"))
 TETRA = str(ROOT / "scenes" / "spd_tetra.glb")
@@ -36,6 +39,17 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+def split_blocks(text):
+    """(TEXT outside the page's sweep-* blocks, {name: body})."""
+    bodies = {}
+    for name in DOC_BLOCKS:
+        begin, end = markers(name)
+        head, rest = text.split(begin, 1)
+        bodies[name], tail = rest.split(end, 1)
+        text = head + begin + end + tail
+    return text, bodies
+
+
 class Pareto(unittest.TestCase):
     def test_hand_made_points(self):
         # (cycles, accuracy): minimise cycles, maximise accuracy.
@@ -46,27 +60,27 @@ class Pareto(unittest.TestCase):
                {"c": 60, "a": 0.80},   # 4 dominated by 3 (same time, less accurate)
                {"c": 120, "a": 1.0},   # 5 dominated by 0 (same accuracy, slower)
                {"c": 70, "a": 0.95}]   # 6 front
-        self.assertEqual(sweep.pareto_front(pts, ["c"], ["a"]), [3, 6, 1, 0])
+        self.assertEqual(pareto.pareto_front(pts, ["c"], ["a"]), [3, 6, 1, 0])
 
     def test_duplicates_and_single_objective(self):
         pts = [{"c": 5}, {"c": 3}, {"c": 3}, {"c": 9}]
-        self.assertEqual(sweep.pareto_front(pts, ["c"]), [1, 2])  # equal points both stay
-        self.assertEqual(sweep.pareto_front([], ["c"]), [])
+        self.assertEqual(pareto.pareto_front(pts, ["c"]), [1, 2])  # equal points both stay
+        self.assertEqual(pareto.pareto_front([], ["c"]), [])
 
     def test_baseline_point_joins_the_front(self):
         pts = [{"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 120.0,
                 "baseline_cycles_per_ray": 100.0, "accuracy": 1.0},   # exact but slower
                {"scene": "s", "kind": "all", "spp": "1", "hrpp_cycles_per_ray": 80.0,
                 "baseline_cycles_per_ray": 100.0, "accuracy": 0.9}]   # speculative, faster
-        allp = sweep.with_baselines(pts)
-        front = sweep.pareto_front(allp, ["hrpp_cycles_per_ray"], ["accuracy"])
+        allp = pareto.with_baselines(pts)
+        front = pareto.pareto_front(allp, ["hrpp_cycles_per_ray"], ["accuracy"])
         self.assertEqual(front, [1, 2])  # the speculative point and the baseline, not point 0
         self.assertTrue(allp[2]["baseline"])
 
     def test_three_objectives(self):
         pts = [(1, 5, 0.5), (2, 1, 0.5), (1, 5, 0.4), (3, 3, 0.9)]
         # minimise 0 and 1, maximise 2; (1,5,0.4) is dominated by (1,5,0.5).
-        self.assertEqual(sweep.pareto_front(pts, [0, 1], [2]), [0, 1, 3])
+        self.assertEqual(pareto.pareto_front(pts, [0, 1], [2]), [0, 1, 3])
 
 
 class Tiny(unittest.TestCase):
@@ -81,9 +95,9 @@ class Tiny(unittest.TestCase):
             p = run_sweep(*args, "--csv", a, "--plots", os.path.join(d, "plots"),
                           "--report", os.path.join(d, "report.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertIn("sweep: [8/8]", p.stderr)  # progress
+            self.assertIn("\n[8/8] ", p.stderr)  # progress
             # Each progress line names the configuration's swept parameters.
-            self.assertRegex(p.stderr, r"config +\d+ \(precision=[46] table=(16x2|unbounded) "
+            self.assertRegex(p.stderr, r"config \d+ \(precision=[46] table=(16x2|unbounded) "
                                        r"mode=closest-(exact|spec)\)")
             p = run_sweep(*args, "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
@@ -93,8 +107,8 @@ class Tiny(unittest.TestCase):
             self.assertEqual(len(rows), 8 * 4)
             # dir_code is written only when a row has another direction code than the grid.
             self.assertEqual(list(rows[0]), ["scene", "kind", "res"]
-                             + [n for n in sweep.PARAMS if n != "dir_code"]
-                             + sweep.RESULT_COLUMNS)
+                             + [n for n in tasks.PARAMS if n != "dir_code"]
+                             + tasks.RESULT_COLUMNS)
             self.assertEqual([r["kind"] for r in rows[:4]], ["primary", "shadow", "ao", "all"])
             self.assertEqual({(r["precision"], r["table"], r["mode"]) for r in rows},
                              {(p, t, m) for p in ("4", "6") for t in ("16x2", "unbounded")
@@ -115,7 +129,8 @@ class Tiny(unittest.TestCase):
                 self.assertAlmostEqual(base / int(total["rays"]),
                                        float(total["baseline_cycles_per_ray"]), places=4)
             # A finite table's bytes follow from its fields: the same in every mode.
-            small = {r["table_bytes"] for r in rows if r["table"] == "16x2" and r["precision"] == "6"}
+            small = {r["table_bytes"] for r in rows
+                     if r["table"] == "16x2" and r["precision"] == "6"}
             self.assertEqual(len(small), 1)
             for f in ("time_saved.png", "accuracy_vs_time.png", "skipped_vs_bytes.png",
                       "spec_error_vs_saved.png"):
@@ -150,7 +165,7 @@ class Tiny(unittest.TestCase):
             for k in ("true_positive", "table_entries", "skipped_interior"):
                 self.assertEqual(by[("faithful", "grid", "all")][k],
                                  by[("faithful", "oct", "all")][k])
-            self.assertEqual({r["dir_code"] for r in sweep.read_csv([a])}, {"grid", "oct"})
+            self.assertEqual({r["dir_code"] for r in tasks.read_csv([a])}, {"grid", "oct"})
 
     def test_latency_rows(self):
         with tempfile.TemporaryDirectory() as d:
@@ -191,20 +206,10 @@ class Tiny(unittest.TestCase):
             self.assertIn("sweep: wrote sweep-pareto, sweep-latency, sweep-delay, sweep-spec, "
                           "sweep-recommend blocks of", p.stderr)
             old, new = page.read_text(), doc.read_text()
-
-            def split(text):  # (text outside the blocks, {name: body})
-                bodies = {}
-                for name in sweep.DOC_BLOCKS:
-                    begin, end = sweep.markers(name)
-                    head, rest = text.split(begin, 1)
-                    bodies[name], tail = rest.split(end, 1)
-                    text = head + begin + end + tail
-                return text, bodies
-
-            old_out, old_blocks = split(old)
-            new_out, new_blocks = split(new)
+            old_out, old_blocks = split_blocks(old)
+            new_out, new_blocks = split_blocks(new)
             self.assertEqual(old_out, new_out)  # the hand-written text is left alone
-            for name in sweep.DOC_BLOCKS:
+            for name in DOC_BLOCKS:
                 self.assertTrue(old_blocks[name] != new_blocks[name], f"{name} not rewritten")
                 self.assertIn("| cornell_box |", new_blocks[name], name)
             self.assertIn("| cornell_box | all | closest-hit |", new_blocks["sweep-pareto"])
@@ -231,32 +236,39 @@ class Tiny(unittest.TestCase):
 
 
 class Resume(unittest.TestCase):
-    """Each finished run is kept in CSV.partial.jsonl as it finishes: SIGINT / SIGTERM leave one
-    line and the journal, --resume runs only the missing runs of the same sweep, and the CSV is
-    byte for byte an uninterrupted run's."""
+    """Each finished run is kept in the study driver's journal, CSV.journal.jsonl, as it finishes
+    (pyhrpp/study.py): SIGINT / SIGTERM leave one line and the journal, --resume runs only the
+    missing runs of the same sweep, and the CSV is byte for byte an uninterrupted run's."""
 
     ARGS = [TETRA, CORNELL, "--param", "precision=4,6", "--param", "mode=anyhit,closest-spec",
             "--res", "16x16", "--no-timing"]
 
     @staticmethod
     def journal_runs(path):
-        lines = pathlib.Path(path).read_text().splitlines()
-        return len(lines) - 1  # the first line names the sweep
+        """The finished runs a journal holds (a line each after the header naming the sweep)."""
+        return sum('"key"' in line for line in pathlib.Path(path).read_text().splitlines())
 
-    def others(self, stderr):
-        """stderr without the progress lines."""
-        return [l for l in stderr.splitlines() if not l.startswith("sweep: [")]
+    @staticmethod
+    def others(stderr):
+        """stderr without the progress lines and the driver's first line (how many runs where),
+        or its line waiting for a signal."""
+        return [line for line in stderr.splitlines() if not line.startswith("[")
+                and not re.match(r"hrpp sweep: (\d+ runs |waiting for a signal)", line)]
+
+    @staticmethod
+    def progress(stderr):
+        return re.findall(r"^\[\d+/\d+\] ", stderr, re.M)
 
     def test_interrupt_resume_equals_uninterrupted(self):
         with tempfile.TemporaryDirectory() as d:
             ref, a = os.path.join(d, "ref.csv"), os.path.join(d, "a.csv")
-            journal = a + ".partial.jsonl"
+            journal = a + ".journal.jsonl"
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", ref)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertFalse(os.path.exists(ref + ".partial.jsonl"))  # removed when complete
+            self.assertEqual(self.journal_runs(ref + ".journal.jsonl"), 8)  # kept, complete
             # SIGINT after 3 runs (the driver signals itself: the real handler path).
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", a,
-                          env_add={"HRPP_SWEEP_STOP_AFTER": "3"})
+                          env_add={study.STOP_ENV: "3"})
             self.assertEqual(p.returncode, 130, p.stderr)
             self.assertEqual(self.others(p.stderr), [
                 f"hrpp sweep: interrupted; 3 of 8 runs kept in {journal}; --resume continues"])
@@ -266,8 +278,8 @@ class Resume(unittest.TestCase):
             # Without --resume the journal is not overwritten.
             p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
             self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("holds 3 of 8 runs of an interrupted sweep; --resume continues it",
-                          p.stderr)
+            self.assertIn("holds 3 finished runs of an interrupted hrpp sweep; --resume continues "
+                          "it", p.stderr)
             # Another sweep's journal is refused, naming the difference.
             res = self.ARGS.index("--res") + 1
             other = os.path.join(d, "hrpp-other")  # hrpp of another version
@@ -277,63 +289,73 @@ class Resume(unittest.TestCase):
             os.chmod(other, 0o755)
             timed = [x for x in self.ARGS if x != "--no-timing"]
             for args, why in ((self.ARGS[:res] + ["24x24"] + self.ARGS[res + 1:],
-                               "res: 16x16 then, 24x24 now"),
+                               "res: '16x16' then, '24x24' now"),
                               (self.ARGS + ["--param", "table=16x2"],
-                               "--param table: not swept then, 16x2 now"),
-                              (self.ARGS + ["--param", "go_up=1"], "--param go_up: not swept then"),
-                              (timed, "CPU times: --no-timing then, measured now"),
-                              (self.ARGS[1:], "scenes:"),
-                              (self.ARGS + ["--hrpp", other], "hrpp: hrpp ")):
+                               "--param table: 'not swept' then, '16x2' now"),
+                              (self.ARGS + ["--param", "go_up=1"],
+                               "--param go_up: 'not swept' then"),
+                              (timed, "CPU times: 'not measured' then, 'measured' now"),
+                              (self.ARGS[1:], "scenes: "),
+                              (self.ARGS + ["--hrpp", other], "'hrpp 9.9' now")):
                 p = run_sweep(*args, "--resume", "--no-dask", "--csv", a)
                 self.assertEqual(p.returncode, 2, p.stderr)
-                self.assertIn("is of another sweep", p.stderr)
+                self.assertIn(f"--resume: {journal} is of another hrpp sweep: ", p.stderr)
                 self.assertIn(why, p.stderr)
+                self.assertEqual(self.progress(p.stderr), [])
             self.assertEqual(self.journal_runs(journal), 3)
             # --resume on a Dask cluster, SIGTERM after 2 more runs.
             p = run_sweep(*self.ARGS, "--resume", "--workers", "2", "--csv", a,
-                          env_add={"HRPP_SWEEP_STOP_AFTER": "2:TERM"})
+                          env_add={study.STOP_ENV: "2:TERM"})
             self.assertEqual(p.returncode, 143, p.stderr)
-            self.assertIn("sweep: resuming: 3 of 8 runs kept in", p.stderr)
-            self.assertEqual(self.others(p.stderr)[-1],
-                             f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; "
-                             "--resume continues")
+            self.assertIn(f"hrpp sweep: 5 runs on 2 local Dask workers; 3 of 8 kept from "
+                          f"{journal}", p.stderr)
+            self.assertEqual(self.others(p.stderr), [
+                f"hrpp sweep: interrupted; 5 of 8 runs kept in {journal}; --resume continues"])
             self.assertEqual(self.journal_runs(journal), 5)
-            # A last line cut short by a kill is dropped.
+            # A last line cut short by a kill is dropped; the kept runs do not run again.
             with open(journal, "a") as f:
-                f.write('{"scene": "cut sh')
+                f.write('{"key": ["cut sh')
             p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertEqual(len(re.findall(r"^sweep: \[", p.stderr, re.M)), 3)  # only 3 ran
-            self.assertIn("sweep: [6/8]", p.stderr)
+            self.assertEqual(len(self.progress(p.stderr)), 3)  # only 3 ran
+            self.assertIn("\n[6/8] ", p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
-            # No journal, no .tmp file.
-            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "hrpp-other", "ref.csv"])
+            # The journals are kept; no .tmp file.
+            self.assertEqual(sorted(os.listdir(d)), ["a.csv", "a.csv.journal.jsonl", "hrpp-other",
+                                                     "ref.csv", "ref.csv.journal.jsonl"])
+            # --resume of a complete sweep runs nothing and writes the same CSV; without
+            # --resume a complete sweep starts afresh.
+            pathlib.Path(a).unlink()
             p = run_sweep(*self.ARGS, "--resume", "--no-dask", "--csv", a)
-            self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("--resume: no interrupted sweep to continue", p.stderr)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(self.progress(p.stderr), [])
+            self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(ref).read_text())
+            p = run_sweep(*self.ARGS, "--no-dask", "--csv", a)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(len(self.progress(p.stderr)), 8)
+            self.assertEqual(self.journal_runs(journal), 8)
 
     def test_ctrl_c_to_the_process_group(self):
         """A Ctrl-C reaches the driver, the Dask workers and the hrpp runs: one line, exit 130,
         the workers shut down without tracebacks."""
         with tempfile.TemporaryDirectory() as d:
             a = os.path.join(d, "a.csv")
-            env = dict(os.environ, HRPP_SWEEP_STOP_AFTER="2:WAIT")
+            env = dict(os.environ, **{study.STOP_ENV: "2:WAIT"})
             proc = subprocess.Popen(SWEEP + self.ARGS + ["--workers", "2", "--csv", a],
                                     stderr=subprocess.PIPE, text=True, env=env,
                                     start_new_session=True)
             err = ""
             for line in proc.stderr:
                 err += line
-                if line.startswith("sweep: waiting for a signal"):
+                if line.startswith("hrpp sweep: waiting for a signal"):
                     os.killpg(proc.pid, signal.SIGINT)
                     break
             err += proc.stderr.read()
             proc.stderr.close()
             self.assertEqual(proc.wait(timeout=60), 130, err)
-            lines = [l for l in err.splitlines() if not l.startswith("sweep: ")]
-            self.assertEqual(lines, [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
-                                     f"{a}.partial.jsonl; --resume continues"], err)
-            self.assertEqual(os.listdir(d), ["a.csv.partial.jsonl"])
+            self.assertEqual(self.others(err), [f"hrpp sweep: interrupted; 2 of 8 runs kept in "
+                                                f"{a}.journal.jsonl; --resume continues"], err)
+            self.assertEqual(os.listdir(d), ["a.csv.journal.jsonl"])
 
 
 class Presets(unittest.TestCase):
@@ -429,50 +451,50 @@ class Plots(unittest.TestCase):
                           "closest-spec", "--param", "latency=none,0", "--res", "16x16",
                           "--no-dask", "--no-timing", "--csv", a)
             self.assertEqual(p.returncode, 0, p.stderr)
-            rows = sweep.read_csv([a])
+            rows = tasks.read_csv([a])
             # Pages of at most 16 configurations and 8 lines (40 and 12 in use).
-            limits = sweep.PAGE_CONFIGS, sweep.PAGE_LINES
-            sweep.PAGE_CONFIGS, sweep.PAGE_LINES = 16, 8
+            limits = plots.PAGE_CONFIGS, plots.PAGE_LINES
+            plots.PAGE_CONFIGS, plots.PAGE_LINES = 16, 8
             try:
-                files = [f.name for f in sweep.plot_all(rows, os.path.join(d, "plots"))]
+                files = [f.name for f in plots.plot_all(rows, os.path.join(d, "plots"))]
             finally:
-                sweep.PAGE_CONFIGS, sweep.PAGE_LINES = limits
+                plots.PAGE_CONFIGS, plots.PAGE_LINES = limits
             self.assertEqual(files, ["time_saved.png", "time_saved-2.png", "accuracy_vs_time.png",
                                      "skipped_vs_bytes.png", "hit_rate_vs_latency.png",
                                      "hit_rate_vs_latency-2.png", "spec_error_vs_saved.png"])
             for f in files:
-                self.assertEqual(sweep.LAYOUT_PROBLEMS[f], [], f)
-                t = sweep.PLOT_TEXT[f]
+                self.assertEqual(plots.LAYOUT_PROBLEMS[f], [], f)
+                t = plots.PLOT_TEXT[f]
                 self.assertIn("cornell_box", t["title"], f)
                 self.assertIn("fixed: hash=faithful exp_bits=3", t["title"].replace("\n", " "), f)
                 self.assertIn("16x16 pixels", t["title"], f)
                 self.assertTrue(all(t["xlabels"]) and all(t["ylabels"]), f)
                 units = r"%|fraction|cycles per ray|bytes|, rays|scene|configuration"
                 self.assertTrue(all(re.search(units, l) for l in t["xlabels"] + t["ylabels"]), f)
-            t = sweep.PLOT_TEXT["time_saved.png"]
+            t = plots.PLOT_TEXT["time_saved.png"]
             self.assertIn("cost model", t["title"])
             self.assertIn("(page 1 of 2)", t["title"])
             self.assertEqual(len([x for x in t["ticks"] if "precision=" in x]), 16)
-            self.assertEqual(len([x for x in sweep.PLOT_TEXT["time_saved-2.png"]["ticks"]
+            self.assertEqual(len([x for x in plots.PLOT_TEXT["time_saved-2.png"]["ticks"]
                                   if "precision=" in x]), 8)
             self.assertTrue(any(x.startswith("costs ") for x in t["texts"]))
             # One legend each for what colour and marker encode.
-            t = sweep.PLOT_TEXT["accuracy_vs_time.png"]
+            t = plots.PLOT_TEXT["accuracy_vs_time.png"]
             title, entries = t["legends"][0]
             self.assertIn("colour: mode; marker: table (SETSxWAYS)", title)
             self.assertIn("not told apart: precision, latency", title)
             self.assertTrue({"anyhit", "closest-exact", "closest-spec", "16x2",
                              "unbounded"} <= set(entries))
-            t = sweep.PLOT_TEXT["skipped_vs_bytes.png"]
+            t = plots.PLOT_TEXT["skipped_vs_bytes.png"]
             self.assertEqual(t["legends"][0][0], "colour: precision; marker: mode; panels: "
                                                  "latency")
             self.assertIn("unbounded\n(no fixed size)", t["ticks"])
             self.assertEqual(len(t["xlabels"]), 4)  # 2 scenes x 2 latencies
             # 12 configurations at two delays: two pages of at most 8 lines.
-            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
-            self.assertEqual(len(sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
+            self.assertEqual(len(plots.PLOT_TEXT["hit_rate_vs_latency.png"]["legends"][0][1]), 8)
+            self.assertEqual(len(plots.PLOT_TEXT["hit_rate_vs_latency-2.png"]["legends"][0][1]),
                              4)
-            self.assertIn("(page 2 of 2)", sweep.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
+            self.assertIn("(page 2 of 2)", plots.PLOT_TEXT["hit_rate_vs_latency-2.png"]["title"])
             # The report leads with time; an unbounded table is not a size.
             r = os.path.join(d, "r.md")
             p = run_sweep("--from-csv", a, "--report", r)
@@ -563,7 +585,7 @@ class Simulate(unittest.TestCase):
             p = run_sweep(*args, "--no-dask", "--csv", a, "--report", os.path.join(d, "r.md"))
             self.assertEqual(p.returncode, 0, p.stderr)
             rows = read(a)
-            self.assertEqual(list(rows[0]), self.COST_HEADER.split(",") + sweep.SIM_COLUMNS)
+            self.assertEqual(list(rows[0]), self.COST_HEADER.split(",") + tasks.SIM_COLUMNS)
             self.assertEqual(len(rows), 2 * 4)
             by = {}
             for r in rows:
@@ -605,7 +627,7 @@ class Simulate(unittest.TestCase):
             # Through the Dask driver (a local cluster of two workers): the same bytes.
             p = run_sweep(*args, "--workers", "2", "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertIn("on 2 Dask workers", p.stderr)
+            self.assertIn("on 2 local Dask workers", p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())
             # Never merged with cost-model rows (nor with another GPU's).
             c = os.path.join(d, "cost.csv")
@@ -618,9 +640,67 @@ class Simulate(unittest.TestCase):
             self.assertIn("of the cost model", p.stderr)
             self.assertIn("of the simulated, mobile", p.stderr)
             self.assertFalse(os.path.exists(os.path.join(d, "mixed.md")))
-            p = run_sweep("--from-csv", a, "--doc", os.path.join(d, "r.md"))
-            self.assertEqual(p.returncode, 2, p.stderr)
-            self.assertIn("cost-model cycles", p.stderr)
+
+    def test_fronts_on_the_page(self):
+        """make report's flow, small: a simulated grid fills the page's fronts and recommendation
+        (--doc-blocks), cost-model latency and delay sweeps the latency, delay and speculative
+        image blocks; the fronts' header names the GPU, their cycles have two decimals; the
+        report of a simulated closest-spec sweep has no pictures to show."""
+        page = ROOT / "docs" / "results.md"
+        with tempfile.TemporaryDirectory() as d:
+            grid, lat, delay = (os.path.join(d, f"{n}.csv") for n in ("grid", "lat", "delay"))
+            common = [CORNELL, "--res", "16x16", "--no-dask", "--no-timing"]
+            for csv_, params in ((grid, ["precision=4,5", "table=16x2,unbounded",
+                                         "mode=anyhit,closest-spec"]),
+                                 (lat, ["table=16x2", "mode=anyhit,closest-spec",
+                                        "latency=none,0"]),
+                                 (delay, ["table=16x2", "mode=anyhit,closest-spec",
+                                          "update_delay=0,16"])):
+                p = run_sweep(*common, *[a for v in params for a in ("--param", v)],
+                              *(["--timing", "simulate"] if csv_ == grid else []), "--csv", csv_)
+                self.assertEqual(p.returncode, 0, p.stderr)
+            doc = pathlib.Path(d, "results.md")
+            doc.write_text(page.read_text())
+            fronts, pipeline = pathlib.Path(d, "fronts.md"), pathlib.Path(d, "pipeline.md")
+            p = run_sweep("--from-csv", grid, "--report", str(fronts), "--doc", str(doc),
+                          "--doc-blocks", "sweep-pareto,sweep-recommend")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("sweep: wrote sweep-pareto, sweep-recommend blocks of", p.stderr)
+            text = fronts.read_text()
+            self.assertIn("Time is simulated cycles per ray on the `mobile` GPU", text)
+            self.assertNotIn("## Speculative closest hits", text)  # hrpp simulate: no pictures
+            self.assertRegex(text, r"\| no predictor \(the baseline walk, spp=1\) \| \d+\.\d\d \|")
+            p = run_sweep("--from-csv", lat, delay, "--report", str(pipeline), "--doc", str(doc),
+                          "--doc-blocks", "sweep-latency,sweep-delay,sweep-spec")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("sweep: wrote sweep-latency, sweep-delay, sweep-spec blocks of",
+                          p.stderr)
+            self.assertIn("Both are the cost model's", pipeline.read_text())
+            new = doc.read_text()
+            old_out, old_blocks = split_blocks(page.read_text())
+            new_out, new_blocks = split_blocks(new)
+            self.assertEqual(old_out, new_out)
+            for name in DOC_BLOCKS:
+                self.assertIn("| cornell_box |", new_blocks[name], name)
+            self.assertIn("| scene | kind | query | baseline cycles/ray (simulated, mobile GPU) |",
+                          new_blocks["sweep-pareto"])
+            self.assertRegex(new_blocks["sweep-pareto"],
+                             r"\| cornell_box \| all \| any-hit \| \d+\.\d\d \| .*"
+                             r"no predictor \(\d+\.\d\d, 100\.00%\) \|")
+            self.assertIn("| scene | mode | P = 4 | P = 5 |", new_blocks["sweep-recommend"])
+            self.assertIn("| scene | mode | precision: untimed / 16 rays |",
+                          new_blocks["sweep-latency"])
+            self.assertNotIn("(simulated", new_blocks["sweep-latency"])
+            # Each block from rows that fill it; unknown names; the page left as it was.
+            for rows, blocks, err in (
+                    ([grid], "sweep-latency", "--doc-blocks: these rows fill no sweep-latency "
+                                              "block"),
+                    ([grid], "sweep-spec", "these rows fill no sweep-spec block"),
+                    ([lat], "sweep-fronts", "--doc-blocks: unknown block 'sweep-fronts'")):
+                p = run_sweep("--from-csv", *rows, "--doc", str(doc), "--doc-blocks", blocks)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(err, p.stderr)
+                self.assertEqual(doc.read_text(), new)
 
     def test_errors(self):
         with tempfile.TemporaryDirectory() as d:
@@ -680,7 +760,7 @@ class Dask(unittest.TestCase):
                               dashboard_address=None) as cluster:
                 p = run_sweep(*args, "--scheduler", cluster.scheduler_address, "--csv", a)
                 self.assertEqual(p.returncode, 0, p.stderr)
-                self.assertIn("on 2 Dask workers", p.stderr)
+                self.assertIn(f"on the Dask cluster at {cluster.scheduler_address}", p.stderr)
             p = run_sweep(*args, "--no-dask", "--csv", b)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertEqual(pathlib.Path(a).read_text(), pathlib.Path(b).read_text())
