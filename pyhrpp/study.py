@@ -191,6 +191,10 @@ class Interrupted(Exception):
         self.signum = signum
 
 
+def _runs(n):
+    return f"{n} run{'s' * (n != 1)}"
+
+
 def _duration(s):
     s = int(round(s))
     return f"{s // 3600} h {s % 3600 // 60:02d} min" if s >= 3600 else \
@@ -369,7 +373,7 @@ class Study:
                 todo.append((i, t))
         n, k = len(tasks), len(tasks) - len(todo)
         if todo:
-            self._say(f"{len(todo)} runs {self.where()}"
+            self._say(f"{_runs(len(todo))} {self.where()}"
                       + (f"; {k} of {n} kept from {self.path}" if k else ""))
         t0 = time.time()
         finished = 0
@@ -414,10 +418,11 @@ class Study:
             self.close()
             data = e.data
             err = data["stderr"].strip()
+            kept = len(self.done)
             print(f"{self.name}: {' '.join(data.get('cmd') or map(str, e.task.cmd))} exited "
-                  f"{data['rc']}:\n{err[-4000:]}\n{self.name}: stopped; {len(self.done)} "
-                  f"finished runs kept in {self.path}; --resume continues",
-                  file=sys.stderr, flush=True)
+                  f"{data['rc']}:\n{err[-4000:]}\n{self.name}: stopped; "
+                  + (f"{_runs(kept)} finished kept in {self.path}; --resume continues" if kept
+                     else "no run had finished"), file=sys.stderr, flush=True)
             raise SystemExit(2 if data["rc"] == 2 else 1)
         except BaseException:
             runs.close()

@@ -219,8 +219,9 @@ class Failures(unittest.TestCase):
                 r = run_drive(out, 4, "--fail", 3, *opts)
                 self.assertEqual(r.returncode, 1, r.stderr)
                 self.assertRegex(r.stderr, r"teststudy: \S+ \S+ tool 3 .* exited 3:\n"
-                                           r"tool: bad input 3\nteststudy: stopped; \d finished "
-                                           r"runs kept in .*journal.jsonl; --resume continues")
+                                           r"tool: bad input 3\nteststudy: stopped; (\d runs? finished "
+                                           r"kept in .*journal.jsonl; --resume continues|no run "
+                                           r"had finished)")
                 self.assertNotIn("Traceback", r.stderr)
                 self.assertFalse((out / "summary.json").exists())
 
