@@ -75,9 +75,9 @@ class Task:
     writes (see files). files: NAME -> where the driver writes that file (None: kept in the result
     only). report: "json" (the file `json` is the report), "stdout" (the standard output is) or
     None. stdout: where to write the tool's standard output (None: not written). ok: the exit
-    codes that are a finished run (None: any). unsupported: a run exiting 2 with this text in its standard
-    error is a finished run whose Result.unsupported is the error's last line (a limit of the
-    configuration, not a failure). record: more text that identifies the run for --resume besides
+    codes that are a finished run (None: any). unsupported: a run exiting 2 with this text (or
+    one of these texts) in its standard error is a finished run whose Result.unsupported is the
+    error's last line (a limit of the configuration, not a failure). record: more text that identifies the run for --resume besides
     its command (e.g. the contents of a file the command names)."""
     key: tuple
     cmd: list
@@ -85,7 +85,7 @@ class Task:
     report: str | None = "json"
     stdout: str | Path | None = None
     ok: tuple = (0,)
-    unsupported: str | None = None
+    unsupported: str | tuple | None = None
     record: str = ""
 
     def plain(self) -> dict:
@@ -135,7 +135,9 @@ def execute(task: dict) -> dict:
                     "files": {}, "cmd": cmd}
         data = {"rc": proc.returncode, "seconds": round(time.time() - t0, 3),
                 "stdout": proc.stdout, "stderr": proc.stderr, "files": {}, "cmd": cmd}
-        if proc.returncode == 2 and task["unsupported"] and task["unsupported"] in proc.stderr:
+        texts = task["unsupported"] or ()
+        if proc.returncode == 2 and any(t in proc.stderr for t in
+                                        ([texts] if isinstance(texts, str) else texts)):
             data["unsupported"] = proc.stderr.strip().splitlines()[-1]
             return data
         for name, p in paths.items():
@@ -410,8 +412,10 @@ class Study:
             runs.close()
             self.close()
             kept = sum(r is not None for r in results)
-            print(f"{self.name}: interrupted; {kept} of {n} runs kept in {self.path}; "
-                  "--resume continues", file=sys.stderr, flush=True)
+            more = len(self.done) - kept  # of the study's earlier run() calls
+            print(f"{self.name}: interrupted; {kept} of {n} runs kept in {self.path}"
+                  + (f" (and {_runs(more)} before them)" if more > 0 else "")
+                  + "; --resume continues", file=sys.stderr, flush=True)
             raise SystemExit(128 + e.signum)
         except _Failed as e:
             runs.close()

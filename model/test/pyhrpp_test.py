@@ -278,7 +278,7 @@ class SimStudy(unittest.TestCase):
     def tearDown(self):
         self.dir.cleanup()
 
-    def run_study(self, *extra, resume=True, ok=(0,)):
+    def run_study(self, *extra, resume=True, no_rays=False):
         """One run of the stand-in in a study with --no-dask: ({key: report}, runs so far)."""
         import argparse
         from pyhrpp import study
@@ -287,7 +287,7 @@ class SimStudy(unittest.TestCase):
         args = argparse.Namespace(workers=1, scheduler=None, no_dask=True, resume=resume)
         with study.Study("t", self.d / "journal.jsonl", {}, args, quiet=True) as st:
             rep = self.sim_study.reports(st, [self.sim_study.task(("k", 1), cmd,
-                                                                  self.d / "r.json", ok=ok)])
+                                                                  self.d / "r.json", no_rays)])
             st.complete()
         return rep[("k", "1")], int(self.count.read_text())
 
@@ -308,12 +308,16 @@ class SimStudy(unittest.TestCase):
         self.assertEqual(self.run_study("--rc", "2", "--say", bvh, resume=False)[0],
                          {"unsupported": bvh})
         no_rays = "hrpp simulate: no rays of the kinds 'shadow' in the workload"
-        self.assertIsNone(self.run_study("--rc", "2", "--say", no_rays, ok=(0, 2))[0])
+        self.assertIsNone(self.run_study("--rc", "2", "--say", no_rays, no_rays=True)[0])
         err = io.StringIO()
         with self.assertRaises(SystemExit) as e, contextlib.redirect_stderr(err):
-            self.run_study("--rc", "2", "--say", "bad input", ok=(0, 2))  # another error
+            self.run_study("--rc", "2", "--say", no_rays, resume=False)  # not finished here
         self.assertEqual(e.exception.code, 2)
-        self.assertIn(" exited 2:\nbad input\nt: the journal ", err.getvalue())
+        with self.assertRaises(SystemExit) as e, contextlib.redirect_stderr(err):
+            self.run_study("--rc", "2", "--say", "bad input", resume=False,
+                           no_rays=True)  # another error
+        self.assertEqual(e.exception.code, 2)
+        self.assertIn(" exited 2:\nbad input\nt: stopped; ", err.getvalue())
 
     def test_made_by_leaves_out_where_the_runs_went(self):
         self.assertEqual(self.sim_study.made_by(

@@ -88,7 +88,8 @@ def tb_task(tb, test):
     figures (write_tb)."""
     name, cmd = test
     cmd = [tb if os.path.basename(c) in ('tb_hrpp',) else c for c in cmd]
-    return study.Task(key=('tb', name), cmd=cmd, report=None, ok=None)  # its exit code is one of its figures
+    # Any exit code is a finished run: it is one of the run's figures.
+    return study.Task(key=('tb', name), cmd=cmd, report=None, ok=None)
 
 def write_tb(out, task, result):
     lines = [l for l in (result.stdout + result.stderr).splitlines() if not TB_DROP.match(l)]

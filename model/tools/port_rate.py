@@ -52,7 +52,7 @@ TOLERANCE = 0.01  # a rate is enough when its speed-up is within 1% of the large
 def tasks_for(args, scenes, gpus, rates, built, out):
     """Every run: per GPU, scene and ray kind, each rate and each RTL preset of --built. A run
     with no rays of its kind (shadow rays of a scene without lights) is finished, without a
-    report (ok=(0, 2))."""
+    report (no_rays)."""
     tasks = []
     for gpu in gpus:
         for s in scenes:
@@ -63,13 +63,13 @@ def tasks_for(args, scenes, gpus, rates, built, out):
                            "--lookups-per-cycle", n, "--updates-per-cycle", n, "--no-oracle",
                            "--no-per-kind", "--json", "{json}"] + kopts
                     tasks.append(task((gpu, s.stem, kind, n), cmd,
-                                      out / gpu / f"{s.stem}-{kind}-{n}.json", ok=(0, 2)))
+                                      out / gpu / f"{s.stem}-{kind}-{n}.json", no_rays=True))
                 for p in built:
                     cmd = [args.hrpp, "simulate", s, "--res", args.res, "--gpu", gpu,
                            "--preset", p, "--no-oracle", "--no-per-kind", "--json",
                            "{json}"] + kopts
                     tasks.append(task((gpu, s.stem, kind, p), cmd,
-                                      out / gpu / f"{s.stem}-{kind}-{p}.json", ok=(0, 2)))
+                                      out / gpu / f"{s.stem}-{kind}-{p}.json", no_rays=True))
     return tasks
 
 
