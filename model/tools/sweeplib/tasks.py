@@ -180,9 +180,10 @@ def applies(name, cfg):
     return True
 
 
-def predict_args(cfg, swept=()):
-    """hrpp predict's options for a configuration: every parameter, or with a preset the preset
-    and the parameters SWEPT beside it (the others are the preset's)."""
+def tool_args(cfg, swept, left_out):
+    """The tool's options for a configuration: every parameter, or with a preset the preset and
+    the parameters SWEPT beside it (the others are the preset's); LEFT_OUT(name, value): a
+    parameter the tool is not given."""
     args = []
     for name, (opt, default) in PARAMS.items():
         v = cfg[name]
@@ -191,29 +192,25 @@ def predict_args(cfg, swept=()):
             continue
         if cfg["preset"] and name in PRESET_SET and name not in swept:
             continue
-        if name in ("tag_bits", "latency") and v in ("full", "none") or not applies(name, cfg):
+        if left_out(name, v) or not applies(name, cfg):
             continue
-        if name == "update_delay" and cfg["latency"] != "none":
-            continue  # the latency sets the update delay (from the RTL's cycle model)
         args += [opt, v]
     return args
+
+
+def predict_args(cfg, swept=()):
+    """hrpp predict's options for a configuration (tool_args). The latency, when given, sets the
+    update delay (from the RTL's cycle model)."""
+    return tool_args(cfg, swept, lambda name, v: (
+        name in ("tag_bits", "latency") and v in ("full", "none")
+        or name == "update_delay" and cfg["latency"] != "none"))
 
 
 def simulate_args(cfg, swept=()):
     """hrpp simulate's options for a configuration: predict_args without the update delay and
     the pipeline latency (parse_params refuses sweeping them; their defaults add nothing)."""
-    args = []
-    for name, (opt, default) in PARAMS.items():
-        v = cfg[name]
-        if name == "preset":
-            args += [opt, v] if v else []
-            continue
-        if cfg["preset"] and name in PRESET_SET and name not in swept:
-            continue
-        if name in NOT_SIMULATED or (name == "tag_bits" and v == "full") or not applies(name, cfg):
-            continue
-        args += [opt, v]
-    return args
+    return tool_args(cfg, swept, lambda name, v: (
+        name in NOT_SIMULATED or name == "tag_bits" and v == "full"))
 
 
 def run_command(hrpp, scene, cfg, res, swept, timing="cost-model", gpu=None, oracle=False,
