@@ -257,8 +257,8 @@ synth-check: build
 # parameters, while the simulator derives the table's staleness from its own rays in flight.
 # `make report` adds the plots and two reports, out/report.md (the fronts) and
 # out/report-pipeline.md (latency, update delay, speculative pictures), and rewrites the sweep-*
-# blocks of docs/results.md. At the default 256x256, 1 spp the 600 simulated runs take 2 to 16 s
-# each (about 40 minutes on 2 cores); the cost model's runs under a second.
+# blocks of docs/results.md. At the default 256x256, 1 spp the 600 simulated runs take 0.8 to 30 s
+# each (about 24 minutes on 2 cores in all); the cost model's runs under a second.
 # ---------------------------------------------------------------------------------------------
 SWEEP_SCENES    ?= $(wildcard $(SHARED)/scenes/*.glb)
 SWEEP_RES       ?= 256x256
