@@ -21,7 +21,7 @@ same checkout), or one after another in this process (--no-dask, which needs no 
 is shipped to the workers by value, so a remote worker needs Python and Dask, not the repository.
 
 A task's files: `{NAME}` in its command names a file the tool writes. The worker gives the tool a
-path in a temporary folder of its own for each (the tool runs in the worker's working folder),
+path in a temporary folder of its own for each (the tool runs in the driver's working folder),
 reads the files back and returns them with the tool's output; the
 driver writes each to its destination (Task.files[NAME], through NAME.tmp and a rename: never half
 written). Where the tool's output names a file's temporary path (hrpp's reports record their own
@@ -91,7 +91,7 @@ class Task:
     def plain(self) -> dict:
         return {"cmd": [str(c) for c in self.cmd],
                 "files": {n: str(d) if d else "{" + n + "}" for n, d in self.files.items()},
-                "unsupported": self.unsupported}
+                "unsupported": self.unsupported, "cwd": os.getcwd()}
 
     def record_text(self):
         return "\n".join(map(str, self.cmd)) + ("\n" + self.record if self.record else "")
@@ -127,10 +127,16 @@ def execute(task: dict) -> dict:
         cmd = list(task["cmd"])
         for name, p in paths.items():
             cmd = [c.replace("{" + name + "}", p) for c in cmd]
+        if not os.path.isdir(task["cwd"]):
+            return {"rc": 127, "seconds": 0.0, "stdout": "", "files": {}, "cmd": cmd,
+                    "stderr": f"the driver's folder {task['cwd']} is not on this worker (the "
+                              "workers must see the driver's paths: docs/studies.md)"}
         t0 = time.time()
         try:
-            proc = subprocess.run(cmd, capture_output=True, text=True)
-        except OSError as e:  # no such tool, not executable
+            # In the driver's folder, so that relative paths (build/hrpp, ../shared) name the
+            # same files on a cluster's workers as here.
+            proc = subprocess.run(cmd, capture_output=True, text=True, cwd=task["cwd"])
+        except OSError as e:  # no such tool or folder, not executable
             return {"rc": 127, "seconds": 0.0, "stdout": "", "stderr": f"{cmd[0]}: {e}",
                     "files": {}, "cmd": cmd}
         data = {"rc": proc.returncode, "seconds": round(time.time() - t0, 3),

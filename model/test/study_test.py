@@ -68,7 +68,9 @@ def drive(argv):
     def go():
         tasks = []
         for i in range(args.n):
-            cmd = [PY, ME, "tool", i, "--json", "-" if args.stdout else "{json}",
+            # The stand-in by its path relative to the driver's folder: the workers (elsewhere
+            # in the Scheduler test) run it from there.
+            cmd = [PY, os.path.relpath(ME), "tool", i, "--json", "-" if args.stdout else "{json}",
                    "--sleep", (args.n - i) * 0.05, "--log", out / "log.txt"]
             if i == args.fail:
                 cmd += ["--rc", 3]
