@@ -314,6 +314,10 @@ OPTION_CASES = [
     ("option: depth 17", {}, P + "--depth 17", r"--depth"),
     ("option: tile 0", {}, P + "--tile 0 --order tiled", r"--tile"),
     ("option: unknown order", {}, P + "--order spiral", r"--order"),
+    ("option: unknown workload", {}, "predict {scene} --workload sobol", r"--workload"),
+    ("option: micro21-ao with a resolution", {}, P + "--workload micro21-ao",
+     r"--workload micro21-ao has no camera and its own AO rays \(one per triangle, unbounded\): "
+     r"--res, --spp, --order and --ao-distance do not apply"),
     ("option: negative AO distance", {}, P + "--ao-distance -1", r"--ao-distance"),
     ("option: NaN AO distance", {}, P + "--ao-distance nan", r"--ao-distance"),
     ("option: -inf AO distance", {}, P + "--ao-distance -inf", r"--ao-distance: must be a number >= 0 or 'inf', got -inf"),

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -381,6 +382,94 @@ TEST(Workload, EffectsSpecErrors) {
   EXPECT_TRUE(def.shadow && def.ao);
   EXPECT_FALSE(def.reflection || def.refraction || def.diffuse);
   EXPECT_EQ(def.order, RayOrder::kScanline);
+}
+
+// ---- MICRO 2021's AO benchmark (--workload micro21-ao) -----------------------------------------
+
+Scene micro21_scene(size_t n) {
+  Scene s;
+  for (size_t i = 0; i < n; ++i) {
+    const float x = static_cast<float>(i % 1000), z = static_cast<float>(i / 1000);
+    // Triangles of alternating winding in the plane y = x / 1000, and every 7th degenerate.
+    Triangle t{Vec3(x, x / 1000, z), Vec3(x + 0.5f, (x + 0.5f) / 1000, z),
+               Vec3(x, x / 1000, z + 0.5f)};
+    if (i % 2) std::swap(t.v1, t.v2);
+    if (i % 7 == 3) t.v2 = t.v0 + 2.f * (t.v1 - t.v0);  // collinear
+    s.triangles.push_back(t);
+  }
+  return s;
+}
+
+std::vector<RayRecord> micro21_rays(const Scene& s, uint64_t seed = 1) {
+  WorkloadOptions wo;
+  wo.source = WorkloadSource::kMicro21Ao;
+  wo.seed = seed;
+  return collect(s, Bvh{}, wo);
+}
+
+TEST(Micro21Ao, OneRayPerNonDegenerateTriangleInOrder) {
+  const Scene s = micro21_scene(700);
+  const std::vector<RayRecord> rays = micro21_rays(s);
+  std::vector<uint32_t> want;
+  for (uint32_t i = 0; i < s.triangles.size(); ++i)
+    if (i % 7 != 3) want.push_back(i);
+  ASSERT_EQ(rays.size(), want.size());
+  for (size_t k = 0; k < rays.size(); ++k) {
+    const RayRecord& r = rays[k];
+    EXPECT_EQ(r.spawn_prim, want[k]);
+    EXPECT_EQ(r.id, k);
+    EXPECT_EQ(r.kind, RayKind::kAo);
+    // tmin as MICRO 2021's, unbounded.
+    EXPECT_EQ(r.ray.tnear, kMicro21AoTnear);
+    EXPECT_TRUE(std::isinf(r.ray.tfar) && r.ray.tfar > 0);
+    // The origin on its triangle (inside, in its plane), the direction unit and on the side
+    // the triangle's winding faces.
+    const Triangle& t = s.triangles[r.spawn_prim];
+    const Vec3 ng = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+    const Vec3 p = r.ray.org;
+    EXPECT_NEAR(glm::dot(p - t.v0, glm::normalize(ng)), 0.f, 1e-4f);
+    EXPECT_GE(glm::dot(glm::cross(t.v1 - t.v0, p - t.v0), ng), -1e-6f);
+    EXPECT_GE(glm::dot(glm::cross(t.v2 - t.v1, p - t.v1), ng), -1e-6f);
+    EXPECT_GE(glm::dot(glm::cross(t.v0 - t.v2, p - t.v2), ng), -1e-6f);
+    EXPECT_NEAR(glm::length(r.ray.dir), 1.f, 1e-5f);
+    EXPECT_GT(glm::dot(r.ray.dir, ng), 0.f);
+  }
+}
+
+TEST(Micro21Ao, CosineDistributedAndSeeded) {
+  // cos(theta) of a cosine-weighted direction: cos^2 uniform on [0, 1] (mean of cos 2/3).
+  const Scene s = micro21_scene(40000);
+  const std::vector<RayRecord> rays = micro21_rays(s);
+  ASSERT_GT(rays.size(), 30000u);
+  int bins[10] = {};
+  double sum = 0, sum_t = 0;
+  for (const RayRecord& r : rays) {
+    const Triangle& t = s.triangles[r.spawn_prim];
+    const Vec3 n = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+    const double c = glm::dot(r.ray.dir, n);
+    sum += c;
+    sum_t += glm::dot(r.ray.dir, glm::normalize(t.v1 - t.v0));  // a tangent: mean 0
+    ++bins[std::min(9, static_cast<int>(c * c * 10))];
+  }
+  const double n = static_cast<double>(rays.size());
+  EXPECT_NEAR(sum / n, 2.0 / 3.0, 5 * std::sqrt(1.0 / 18 / n));
+  EXPECT_NEAR(sum_t / n, 0.0, 5 * std::sqrt(1.0 / 4 / n));
+  double chi2 = 0;
+  for (int b : bins) chi2 += (b - n / 10) * (b - n / 10) / (n / 10);
+  EXPECT_LT(chi2, 27.88) << "cos^2 not uniform (chi-square, 9 degrees of freedom, p = 0.001)";
+  // Deterministic for a seed, other rays for another.
+  const std::vector<RayRecord> again = micro21_rays(s), other = micro21_rays(s, 2);
+  EXPECT_EQ(again[123].ray.dir, rays[123].ray.dir);
+  EXPECT_EQ(again[123].ray.org, rays[123].ray.org);
+  EXPECT_NE(other[123].ray.dir, rays[123].ray.dir);
+}
+
+TEST(Micro21Ao, AtMostItsPointCount) {
+  // MICRO 2021's generator stops once it has more than 1,000,000 points.
+  const Scene s = micro21_scene(1200000);
+  const std::vector<RayRecord> rays = micro21_rays(s);
+  EXPECT_EQ(rays.size(), kMicro21AoMaxRays);
+  EXPECT_EQ(rays.back().id, kMicro21AoMaxRays - 1);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "hrpp/util/rng.h"
 #include "hrpp/workload/workload.h"
@@ -206,10 +207,39 @@ void morton_walk(uint32_t w, uint32_t h, F&& f) {
   }
 }
 
+/// MICRO 2021's AO benchmark (generate_rays). The random numbers of triangle i are
+/// uniform01(seed, camera_key(i, 0), 0..3): two for the point, two for the direction.
+void micro21_ao(const Scene& scene, const WorkloadOptions& opt,
+                const std::function<void(const RayRecord&, const Hit*)>& sink) {
+  uint64_t id = 0;
+  for (uint32_t i = 0; i < scene.triangles.size() && id < kMicro21AoMaxRays; ++i) {
+    const Triangle& t = scene.triangles[i];
+    if (t.degenerate()) continue;
+    const Vec3 ng = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+    const float len = glm::length(ng);
+    if (!(len > 0) || !std::isfinite(len)) continue;  // no normal to sample about
+    const uint64_t key = camera_key(i, 0);
+    const float r1 = uniform01(opt.seed, key, 0), r2 = uniform01(opt.seed, key, 1);
+    const float su = std::sqrt(r1);
+    RayRecord rec;
+    rec.ray.org = (1.f - su) * t.v0 + su * (1.f - r2) * t.v1 + su * r2 * t.v2;
+    rec.ray.dir =
+        cosine_direction(ng / len, uniform01(opt.seed, key, 2), uniform01(opt.seed, key, 3));
+    rec.ray.tnear = kMicro21AoTnear;
+    rec.ray.tfar = std::numeric_limits<float>::infinity();
+    rec.kind = RayKind::kAo;
+    rec.id = id++;
+    rec.spawn_prim = i;
+    rec.depth = 1;
+    sink(rec, nullptr);
+  }
+}
+
 }  // namespace
 
 void generate_rays(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
                    const std::function<void(const RayRecord&, const Hit*)>& sink) {
+  if (opt.source == WorkloadSource::kMicro21Ao) return micro21_ao(scene, opt, sink);
   int w, h;
   workload_resolution(scene, opt, &w, &h);
   Generator g(scene, bvh, opt, w, h, sink);

@@ -23,6 +23,19 @@ std::string_view ray_order_name(RayOrder o) {
   return "?";
 }
 
+std::string_view workload_source_name(WorkloadSource s) {
+  return s == WorkloadSource::kMicro21Ao ? "micro21-ao" : "camera";
+}
+
+bool parse_workload_source(std::string_view name, WorkloadSource* out) {
+  for (WorkloadSource s : {WorkloadSource::kCamera, WorkloadSource::kMicro21Ao})
+    if (workload_source_name(s) == name) {
+      *out = s;
+      return true;
+    }
+  return false;
+}
+
 bool parse_ray_order(std::string_view name, RayOrder* out) {
   for (RayOrder o : {RayOrder::kScanline, RayOrder::kTiled, RayOrder::kMorton})
     if (ray_order_name(o) == name) {
@@ -221,6 +234,14 @@ float ao_distance_for(const Scene& scene, const WorkloadOptions& opt) {
 }
 
 nlohmann::json workload_json(const Scene& scene, const WorkloadOptions& opt) {
+  if (opt.source == WorkloadSource::kMicro21Ao)
+    return {{"scene", scene.path},
+            {"workload", std::string(workload_source_name(opt.source))},
+            {"seed", opt.seed},
+            {"effects", {"ao"}},
+            {"tnear", kMicro21AoTnear},
+            {"ao_distance", "inf"},
+            {"max_rays", kMicro21AoMaxRays}};
   int w, h;
   workload_resolution(scene, opt, &w, &h);
   nlohmann::json effects = nlohmann::json::array({"primary"});

@@ -180,6 +180,12 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
                                                const std::string& default_effects) {
   a.effects = default_effects;
   std::vector<CLI::Option*> o;
+  o.push_back(app->add_option("--workload", a.workload,
+                              "where the rays come from: 'camera' (camera rays and the secondary "
+                              "rays of their hits), or 'micro21-ao' (MICRO 2021's AO benchmark: no "
+                              "camera, one AO ray per triangle; docs/workloads.md)")
+                  ->check(CLI::IsMember({"camera", "micro21-ao"}))
+                  ->capture_default_str());
   o.push_back(app->add_option("--effects", a.effects,
                               "'auto' (what the scene's lights and materials call for), 'none', or "
                               "a comma-separated list of shadow, ao, reflection, refraction, "
@@ -222,6 +228,14 @@ bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
                  a.res.c_str());
     return false;
   }
+  if (a.workload == "micro21-ao" &&
+      (!a.res.empty() || a.spp != 1 || a.order != "scanline" || a.ao_distance != 0.f)) {
+    std::fprintf(stderr,
+                 "hrpp %s: --workload micro21-ao has no camera and its own AO rays (one per "
+                 "triangle, unbounded): --res, --spp, --order and --ao-distance do not apply\n",
+                 cmd);
+    return false;
+  }
   if (std::isnan(a.ao_distance)) {  // CLI11's NonNegativeNumber lets NaN through; +inf is fine
     std::fprintf(stderr, "hrpp %s: --ao-distance must be a number >= 0 or 'inf', got %g\n", cmd,
                  a.ao_distance);
@@ -251,11 +265,19 @@ bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
   }
   wo->shadow = wo->shadow && a.shadow;
   wo->ao = wo->ao && a.ao;
+  parse_workload_source(a.workload, &wo->source);  // checked by CLI11
+  if (wo->source == WorkloadSource::kMicro21Ao) {  // AO rays only
+    wo->shadow = wo->reflection = wo->refraction = wo->diffuse = false;
+    wo->ao = true;
+  }
   return true;
 }
 
 /// "512x512, 1 spp, seed 1, scanline order, depth 2"
 std::string workload_line(const WorkloadOptions& wo) {
+  if (wo.source == WorkloadSource::kMicro21Ao)
+    return "micro21-ao: one AO ray per triangle (MICRO 2021's benchmark), seed " +
+           std::to_string(wo.seed);
   std::string order(ray_order_name(wo.order));
   if (wo.order != RayOrder::kScanline)
     order += " (" + std::to_string(wo.tile) + "x" + std::to_string(wo.tile) + " tiles)";
@@ -265,6 +287,10 @@ std::string workload_line(const WorkloadOptions& wo) {
 }
 
 void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::string& spec) {
+  if (wo.source == WorkloadSource::kMicro21Ao) {
+    std::printf("effects: AO rays only (--workload micro21-ao; --effects does not apply)\n");
+    return;
+  }
   std::printf("effects (--effects %s):\n", spec.c_str());
   for (const std::string& l : describe_effects(scene, wo, spec)) std::printf("  %s\n", l.c_str());
 }

@@ -50,7 +50,7 @@ bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b);
 // ---- workload options (trace, predict, render) -----------------------------------------------
 
 struct WorkloadArgs {
-  std::string effects, order = "scanline", res;
+  std::string workload = "camera", effects, order = "scanline", res;
   int spp = 1, depth = 2, tile = 8;
   uint64_t seed = 1;
   float ao_distance = 0.f;

@@ -45,7 +45,23 @@ enum class RayOrder : uint8_t {
 std::string_view ray_order_name(RayOrder o);
 bool parse_ray_order(std::string_view name, RayOrder* out);
 
+/// Where the rays come from (docs/workloads.md).
+enum class WorkloadSource : uint8_t {
+  kCamera = 0,     // camera samples and the secondary rays their hits spawn
+  kMicro21Ao = 1,  // MICRO 2021's AO benchmark: no camera, one AO ray per triangle
+};
+std::string_view workload_source_name(WorkloadSource s);
+bool parse_workload_source(std::string_view name, WorkloadSource* out);
+
+// MICRO 2021's AO benchmark (GitHub ubc-aamodt-group/ray-intersection-predictor, 29eeb01,
+// rtao-benchmark/src): rays start at tmin = 0.1 world units and are unbounded (main.cpp 116:
+// RayGenerator(camera, spp, 1, 0.1, FLT_MAX)); points are generated triangle by triangle until
+// their count exceeds 1,000,000 (main.cpp 138, RayGenerator.cpp 563), so at most 1,000,001.
+constexpr float kMicro21AoTnear = 0.1f;
+constexpr uint64_t kMicro21AoMaxRays = 1000001;
+
 struct WorkloadOptions {
+  WorkloadSource source = WorkloadSource::kCamera;
   int width = 0, height = 0;  // 0: from the camera (its image size)
   int spp = 1;
   uint64_t seed = 1;
@@ -100,9 +116,14 @@ void workload_resolution(const Scene& scene, const WorkloadOptions& opt, int* wi
 float ao_distance_for(const Scene& scene, const WorkloadOptions& opt);
 
 /// Generates the workload in opt.order: primary rays and, from their hits (found with our BVH),
-/// the secondary rays the options ask for (docs/workloads.md). Calls sink for every ray in issue
-/// order, a parent always before its children; `hit` is the ray's closest hit for closest-hit
-/// kinds (the generator traces them to spawn their children) and nullptr for any-hit kinds.
+/// the secondary rays the options ask for (docs/workloads.md). With opt.source kMicro21Ao, MICRO
+/// 2021's AO benchmark instead: for every non-degenerate triangle in the scene's order, one point
+/// uniform on it (Osada et al.'s square-root formula, as RayGenerator.cpp 236) and one
+/// cosine-weighted AO ray about its geometric normal as wound, from [kMicro21AoTnear, inf), at
+/// most kMicro21AoMaxRays; the options' camera, effects and order do not apply. Calls sink for
+/// every ray in issue order, a parent always before its children; `hit` is the ray's closest hit
+/// for closest-hit kinds (the generator traces them to spawn their children) and nullptr for
+/// any-hit kinds.
 void generate_rays(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
                    const std::function<void(const RayRecord&, const Hit* hit)>& sink);
 
