@@ -37,8 +37,9 @@ result) is written as each run finishes, and kept when the study completes. --re
 run the journal holds whose key and record (its command, and any text its Task.record adds, e.g.
 the contents of a preset file) are unchanged, and runs the rest; a journal of another study, or of
 the same study with another identity (another tool version, another grid), is refused, naming the
-difference. Without --resume a complete journal is started afresh, and an incomplete one (an
-interrupted study) is refused: its runs would be lost.
+difference; --resume-any-build also keeps the runs of another build of the same tool version
+(another commit in its `--version` line). Without --resume a complete journal is started afresh,
+and an incomplete one (an interrupted study) is refused: its runs would be lost.
 
 Progress: one line per finished run on stderr (done of all, the run's summary, runs per minute,
 time left). SIGINT or SIGTERM stops the study with one line (exit 130 or 143): the Dask workers
@@ -52,6 +53,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -77,8 +79,9 @@ class Task:
     None. stdout: where to write the tool's standard output (None: not written). ok: the exit
     codes that are a finished run (None: any). unsupported: a run exiting 2 with this text (or
     one of these texts) in its standard error is a finished run whose Result.unsupported is the
-    error's last line (a limit of the configuration, not a failure). record: more text that identifies the run for --resume besides
-    its command (e.g. the contents of a file the command names)."""
+    error's last line (a limit of the configuration, not a failure). record: more text that
+    identifies the run for --resume besides its command (e.g. the contents of a file the command
+    names)."""
     key: tuple
     cmd: list
     files: dict = field(default_factory=dict)
@@ -176,6 +179,10 @@ def add_arguments(ap, what="runs"):
     g.add_argument("--resume", action="store_true",
                    help="keep the finished runs of the study's journal whose command is "
                         "unchanged and run the rest")
+    g.add_argument("--resume-any-build", action="store_true",
+                   help="--resume, keeping also the runs of another build of the tools (another "
+                        "commit in `--version`): for changes since then that cannot move them "
+                        "(docs, a study's spec), which is yours to judge")
 
 
 def tool_version(tool) -> str:
@@ -199,6 +206,14 @@ class Interrupted(Exception):
         self.signum = signum
 
 
+def _build(value, ignore):
+    """VALUE without the commit of a `--version` line ("hrpp 0.1.0 (commit 7bafa2b)") when
+    IGNORE."""
+    if ignore and isinstance(value, str):
+        return re.sub(r" \(commit [^)]*\)", "", value)
+    return value
+
+
 def _runs(n):
     return f"{n} run{'s' * (n != 1)}"
 
@@ -218,7 +233,8 @@ class Study:
     def __init__(self, name, journal, identity, args, quiet=False):
         self.name, self.path, self.identity = name, Path(journal), dict(identity)
         self.workers, self.scheduler = args.workers, args.scheduler
-        self.no_dask, self.resume, self.quiet = args.no_dask, args.resume, quiet
+        self.any_build = getattr(args, "resume_any_build", False)
+        self.no_dask, self.resume, self.quiet = args.no_dask, args.resume or self.any_build, quiet
         if self.scheduler and self.no_dask:
             raise StudyError("--scheduler and --no-dask exclude each other")
         if self.workers < 1:
@@ -260,13 +276,20 @@ class Study:
                                  f"({header['study']}, not {self.name}); give another --out or "
                                  "delete it")
             if self.resume:
-                diff = [f"{k}: {header['identity'].get(k)!r} then, {v!r} now"
-                        for k, v in self.identity.items() if header["identity"].get(k) != v]
-                diff += [f"{k}: {v!r} then, not set now" for k, v in header["identity"].items()
+                then = header["identity"]
+                diff = [f"{k}: {then.get(k)!r} then, {v!r} now"
+                        for k, v in self.identity.items()
+                        if _build(then.get(k), self.any_build) != _build(v, self.any_build)]
+                diff += [f"{k}: {v!r} then, not set now" for k, v in then.items()
                          if k not in self.identity]
                 if diff:
-                    raise StudyError(f"--resume: {self.path} is of another {self.name}: "
-                                     + "; ".join(diff))
+                    builds = all(_build(then.get(k), True) == _build(v, True)
+                                 for k, v in self.identity.items()) and set(then) <= set(
+                                     self.identity)
+                    raise StudyError(
+                        f"--resume: {self.path} is of another {self.name}: " + "; ".join(diff)
+                        + ("; only the build differs: --resume-any-build keeps its runs if "
+                           "nothing since can move them" if builds else ""))
             elif not complete and done:
                 raise StudyError(f"{self.path} holds {len(done)} finished runs of an interrupted "
                                  f"{self.name}; --resume continues it (or delete it to start "

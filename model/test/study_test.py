@@ -194,6 +194,21 @@ class Journal(unittest.TestCase):
             self.assertIn("is of another teststudy: ident: '1' then, '2' now", r.stderr)
             self.assertEqual(runs_logged(d), [0, 1])
 
+    def test_another_build_only_with_resume_any_build(self):
+        with tempfile.TemporaryDirectory() as d:
+            old, new = "hrpp 0.1.0 (commit 1111111)", "hrpp 0.1.0 (commit 2222222-dirty)"
+            self.assertEqual(run_drive(d, 2, "--no-dask", "--ident", old).returncode, 0)
+            r = run_drive(d, 2, "--no-dask", "--resume", "--ident", new)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("only the build differs: --resume-any-build keeps its runs", r.stderr)
+            r = run_drive(d, 2, "--no-dask", "--resume-any-build", "--ident", new)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(runs_logged(d), [0, 1])  # kept
+            # Another version is another tool, with or without it.
+            r = run_drive(d, 2, "--no-dask", "--resume-any-build", "--ident", "hrpp 0.2.0")
+            self.assertEqual(r.returncode, 2)
+            self.assertNotIn("only the build differs", r.stderr)
+
     def test_a_changed_command_runs_again(self):
         with tempfile.TemporaryDirectory() as d:
             self.assertEqual(run_drive(d, 3, "--no-dask").returncode, 0)
@@ -221,9 +236,9 @@ class Failures(unittest.TestCase):
                 r = run_drive(out, 4, "--fail", 3, *opts)
                 self.assertEqual(r.returncode, 1, r.stderr)
                 self.assertRegex(r.stderr, r"teststudy: \S+ \S+ tool 3 .* exited 3:\n"
-                                           r"tool: bad input 3\nteststudy: stopped; (\d runs? finished "
-                                           r"kept in .*journal.jsonl; --resume continues|no run "
-                                           r"had finished)")
+                                           r"tool: bad input 3\nteststudy: stopped; (\d runs? "
+                                           r"finished kept in .*journal.jsonl; --resume "
+                                           r"continues|no run had finished)")
                 self.assertNotIn("Traceback", r.stderr)
                 self.assertFalse((out / "summary.json").exists())
 
