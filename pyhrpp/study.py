@@ -122,8 +122,8 @@ class Result:
 
 def execute(task: dict) -> dict:
     """Runs TASK (a Task's plain() form: plain data, which any worker unpickles) here or on a
-    Dask worker, in a temporary folder of its own; the data of its Result. Standard library
-    only."""
+    Dask worker, in the driver's working folder, its files in a temporary folder of its own; the
+    data of its Result. Standard library only."""
     tmp = tempfile.mkdtemp(prefix="hrpp-study-")
     try:
         paths = {name: os.path.join(tmp, f"{name}.out") for name in task["files"]}
@@ -324,8 +324,8 @@ class Study:
             print(f"{self.name}: {msg}", file=sys.stderr, flush=True)
 
     def _start_dask(self):
-        # The local workers' warnings about tasks cancelled by an interruption are no news (errors
-        # still show); set before the import, which reads it, and inherited by the workers.
+        # Dask's warnings about tasks cancelled by an interruption are no news (errors still
+        # show); set before the import, which reads it.
         os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
         try:
             import cloudpickle
