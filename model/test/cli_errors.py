@@ -416,7 +416,7 @@ def main():
     run([hrpp, "predict", scene, "--res", "8x8", "--timing", "cost-model", "--gpu", "desktop"],
         2, r"--gpu applies only to --timing simulate", name="predict --gpu with cost-model")
     run([hrpp, "predict", scene, "--res", "8x8", "--gpu", "laptop"], 2,
-        r"hrpp predict: --gpu laptop: .*known: desktop, mobile", name="predict --gpu unknown")
+        r"hrpp predict: --gpu laptop: .*known: desktop, micro21-sim, mobile", name="predict --gpu unknown")
     for argv, path in (
             (["info", scene], "i.json"), (["check-embree", scene, "--rays", "100"], "c.json"),
             (["simulate", scene, "--res", "8x8", "--no-per-kind"], "s.json"),

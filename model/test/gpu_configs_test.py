@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The GPU configurations of `hrpp simulate` (model/gpu/*.json): every key of the schema present
-with its type and a positive value, no unknown keys, powers of two where the caches need them
-(line bytes, sets = bytes / line_bytes / ways, warp size), and a `sources` entry for every number
+(the optional ones may be absent) with its type and a positive value (0 where it means none or
+unbounded), no unknown keys, powers of two where the caches need them (line bytes, sector bytes,
+sets = bytes / line_bytes / ways, warp size), and a `sources` entry for every number and switch
 (docs/timing_model.md, "GPU configurations").
 
   gpu_configs_test.py ROOT        (ctest: sim.gpu_configs)
@@ -10,8 +11,9 @@ import json
 import pathlib
 import sys
 
-# The schema: key -> int, float (int or float accepted), str, or a nested schema.
-CACHE = {"bytes": int, "ways": int, "line_bytes": int, "hit_latency": int, "mshrs": int}
+# The schema: key -> int, float (int or float accepted), bool, str, or a nested schema.
+CACHE = {"bytes": int, "ways": int, "line_bytes": int, "hit_latency": int, "mshrs": int,
+         "sector_bytes": int}
 SCHEMA = {
     "name": str,
     "description": str,
@@ -24,9 +26,17 @@ SCHEMA = {
     "dram": {"latency": int, "bytes_per_cycle": float},
     "box": {"latency": int, "per_cycle": int},
     "triangle": {"latency": int, "per_cycle": int},
+    "rt_unit": {"request_bytes": int, "triangle_records": bool, "triangle_bytes": int,
+                "leaf_end_bytes": int, "launch_latency": int},
     "sources": dict,
 }
-CONFIGS = ("mobile", "desktop")
+OPTIONAL = {"l1.sector_bytes", "l2.sector_bytes", "rt_unit", "rt_unit.request_bytes",
+            "rt_unit.triangle_records", "rt_unit.triangle_bytes", "rt_unit.leaf_end_bytes",
+            "rt_unit.launch_latency"}
+# Numbers whose 0 means none (a latency) or unbounded (a rate).
+ZERO_OK = {"l1.hit_latency", "l2.hit_latency", "dram.latency", "box.per_cycle",
+           "triangle.per_cycle", "rt_unit.leaf_end_bytes", "rt_unit.launch_latency"}
+CONFIGS = ("mobile", "desktop", "micro21-sim")
 
 
 def pow2(n: int) -> bool:
@@ -40,7 +50,8 @@ def check_fields(obj: dict, schema: dict, prefix: str, numbers: list[str], error
     for key, kind in schema.items():
         name = prefix + key
         if key not in obj:
-            errors.append(f"missing key '{name}'")
+            if name not in OPTIONAL:
+                errors.append(f"missing key '{name}'")
             continue
         value = obj[key]
         if isinstance(kind, dict):
@@ -54,11 +65,16 @@ def check_fields(obj: dict, schema: dict, prefix: str, numbers: list[str], error
         elif kind is dict:
             if not isinstance(value, dict):
                 errors.append(f"'{name}' must be an object")
+        elif kind is bool:
+            if not isinstance(value, bool):
+                errors.append(f"'{name}' must be true or false")
+            else:
+                numbers.append(name)
         else:
             ok_types = (int,) if kind is int else (int, float)
             if isinstance(value, bool) or not isinstance(value, ok_types):
                 errors.append(f"'{name}' must be {'an integer' if kind is int else 'a number'}")
-            elif not value > 0:
+            elif not (value > 0 or (value == 0 and name in ZERO_OK)):
                 errors.append(f"'{name}' must be positive, not {value}")
             else:
                 numbers.append(name)
@@ -78,6 +94,10 @@ def check_config(cfg: dict, stem: str) -> list[str]:
         c = cfg[level]
         if not pow2(c["line_bytes"]):
             errors.append(f"{level}.line_bytes {c['line_bytes']} is not a power of two")
+        if "sector_bytes" in c and not (pow2(c["sector_bytes"])
+                                        and c["sector_bytes"] <= c["line_bytes"]):
+            errors.append(f"{level}.sector_bytes {c['sector_bytes']} is not a power of two "
+                          "no larger than the line")
         sets, rest = divmod(c["bytes"], c["line_bytes"] * c["ways"])
         if rest or not pow2(sets):
             errors.append(f"{level}: bytes / line_bytes / ways = "

@@ -67,6 +67,30 @@ TEST(Scene, OwnScenesLoad) {
   }
 }
 
+// keep_meshes: the named meshes' triangles in order, their materials, bounds and ranges; an
+// unknown name is an error naming the scene's meshes.
+TEST(Scene, KeepMeshesKeepsOnlyTheNamedOnes) {
+  const Scene full = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/cornell_box.glb");
+  ASSERT_GE(full.meshes.size(), 3u);
+  const MeshRange& a = full.meshes[1];
+  const MeshRange& c = full.meshes[2];
+  Scene s = full;
+  keep_meshes(&s, {c.name, a.name});
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.meshes[0].name, a.name);  // in the scene's order
+  EXPECT_EQ(s.meshes[1].first, a.count);
+  ASSERT_EQ(s.triangles.size(), size_t(a.count) + c.count);
+  Aabb b;
+  for (uint32_t i = 0; i < a.count; ++i) {
+    EXPECT_EQ(s.triangles[i].v0, full.triangles[a.first + i].v0);
+    EXPECT_EQ(s.tri_material[i], full.tri_material[a.first + i]);
+  }
+  for (const Triangle& t : s.triangles) b.grow(t.bounds());
+  EXPECT_EQ(s.bounds.lo, b.lo);
+  EXPECT_EQ(s.bounds.hi, b.hi);
+  EXPECT_THROW(keep_meshes(&s, {"no_such_mesh"}), std::invalid_argument);
+}
+
 class Malformed : public ::testing::Test {
  protected:
   void SetUp() override {

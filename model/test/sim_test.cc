@@ -6,6 +6,7 @@
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/predictor/engine_side.h"
 #include "hrpp/scene/scene.h"
+#include "hrpp/sim/memory.h"
 #include "hrpp/sim/simulator.h"
 #include "hrpp/sim/unit_gate.h"
 #include "hrpp/trace/bvh.h"
@@ -423,6 +424,182 @@ TEST(Sim, LanesTakeEveryRayAndAnswerAsTheGoldenWalks) {
   }
 }
 
+// MICRO 2021's timing (docs/timing_model.md, "MICRO 2021's timing"): each switch alone.
+
+// A sectored cache fetches only the sectors read: two sectors of one line are two misses and
+// two sectors' bytes from DRAM, where an unsectored cache fetches the line once.
+TEST(Sim, SectoredCachesFetchOnlyTheSectorsRead) {
+  for (const uint32_t sector : {0u, 32u}) {
+    GpuConfig g = mobile();
+    g.l1.sector_bytes = g.l2.sector_bytes = sector;
+    sim::MemorySystem m(g);
+    m.load(0, 0, 32, 0);
+    m.load(0, 32, 32, 1000);
+    m.load(0, 0, 32, 2000);
+    const sim::MemoryStats s = m.stats();
+    EXPECT_EQ(s.l1.accesses, 3u) << sector;
+    EXPECT_EQ(s.l1.misses, sector ? 2u : 1u) << sector;
+    EXPECT_EQ(s.l1.hits, sector ? 1u : 2u) << sector;
+    EXPECT_EQ(s.dram_bytes, sector ? 64u : 128u) << sector;
+  }
+  // A line's eviction takes all its sectors: one set of one way, two sectors of line 0, then
+  // line 1 in its place: its second sector is a miss too.
+  GpuConfig g = mobile();
+  g.l1.sector_bytes = g.l2.sector_bytes = 32;
+  g.l1.bytes = g.l1.line_bytes = 128;
+  g.l1.ways = 1;
+  sim::MemorySystem m(g);
+  for (const uint64_t addr : {0, 32, 128, 160}) m.load(0, addr, 32, addr * 100);
+  EXPECT_EQ(m.stats().l1.misses, 4u);
+}
+
+// rt.request_bytes: every record fetch is one request (a node pair, each triangle of a leaf).
+TEST(Sim, RecordRequestsReadOneBlockPerRecord) {
+  const World w = make_world(own("spd_balls.glb"), 16);
+  SimOptions o;
+  o.gpu = mobile();
+  o.gpu.l1.sector_bytes = o.gpu.l2.sector_bytes = 32;
+  const SimStats lines = run(w, o);
+  EXPECT_GT(lines.memory.l1.accesses, lines.node_fetches + lines.triangle_fetches);
+  o.gpu.rt.request_bytes = 32;
+  const SimStats s = run(w, o);
+  EXPECT_EQ(s.memory.l1.accesses, s.node_fetches + s.triangle_fetches);
+  EXPECT_EQ(s.node_fetches, lines.node_fetches);
+}
+
+// rt.triangle_records: a leaf's triangles are fetched and tested one after the other, each
+// paying the test latency (the compute-bound figure of IdealMemoryGivesTheComputeBoundFigure).
+TEST(Sim, TriangleRecordsAreTestedOneAfterAnother) {
+  const World w = make_world(own("spd_balls.glb"), 16);
+  SimOptions o;
+  o.gpu = ideal_memory(mobile());
+  o.gpu.units = o.gpu.warps_per_unit = o.gpu.warp_size = 1;
+  o.gpu.box = {.latency = 3, .per_cycle = 1};
+  o.gpu.triangle = {.latency = 5, .per_cycle = 1};
+  o.gpu.rt.triangle_records = true;
+  const Golden g = golden(w, o.pred.mode);
+  ASSERT_GT(g.work.tri_tests, g.work.leaf_visits);  // leaves of several triangles
+  EXPECT_EQ(run(w, o).cycles, g.work.interior_tests * 3 + g.work.tri_tests * 5 + g.rays);
+  // The layout's sizes move addresses, not the work.
+  o.gpu = mobile();
+  o.gpu.rt.triangle_records = true;
+  o.gpu.rt.triangle_bytes = 48;
+  o.gpu.rt.leaf_end_bytes = 16;
+  const SimStats s = run(w, o);
+  EXPECT_EQ(s.triangle_fetches, g.work.tri_tests);
+  EXPECT_EQ(s.node_fetches, g.work.interior_tests);
+}
+
+// An oracle on unbounded AO rays (every ray that hits is told its leaf), timed for replay.
+SimOptions oracle_ao(const GpuConfig& g) {
+  SimOptions o;
+  o.gpu = g;
+  o.kind = sim::PredictorKind::kTimed;
+  o.timed.oracle = true;
+  o.timed.lookup_latency = o.timed.decision_latency = 0;
+  o.timed.lookups_per_cycle = 32;
+  return o;
+}
+
+// Replay: a correct prediction's fetches replace the walk (the predicted walk only, from the
+// predicted node's own pair: no start fetch), a wrong one's precede the root walk, and the
+// fetch list goes on without waiting for the decision, so its latency does not count.
+TEST(Sim, ReplaySettlesTheFetchListAtThePrediction) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  uint64_t cycles[2][2] = {};
+  for (const bool replay : {false, true})
+    for (const uint32_t decision : {0u, 300u}) {
+      SimOptions o = oracle_ao(mobile());
+      o.replay = replay;
+      o.timed.decision_latency = decision;
+      std::vector<Hit> answers;
+      o.answers = &answers;
+      const SimStats s = run(w, o);
+      cycles[replay][decision > 0] = s.cycles;
+      EXPECT_TRUE(golden_answers(w, g, answers));
+      const PredictStats p = s.predict_total();
+      ASSERT_GT(p.skipped_walks, 0u);
+      if (replay) {
+        EXPECT_EQ(s.start_fetches, 0u);
+        // Every node fetched is a test the golden model counts: the predicted walks, and the
+        // root walks of the rays they did not answer.
+        EXPECT_EQ(s.node_fetches, p.hrpp.interior_tests);
+      } else {
+        EXPECT_GT(s.start_fetches, 0u);
+      }
+    }
+  EXPECT_EQ(cycles[1][0], cycles[1][1]);  // replay: the decision's latency is not waited for
+  EXPECT_LT(cycles[0][0], cycles[0][1]);
+  EXPECT_LT(cycles[1][0], cycles[0][0]);
+}
+
+// MICRO 2021's repacking: only rays given a prediction leave their warps (for one pool), a warp
+// waits in the predictor for the timer, and every answer stays the golden walk's.
+TEST(Sim, Micro21RepackingPoolsOnlyPredictedRays) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  uint64_t cycles_by_timer[2] = {};
+  for (const uint32_t timer : {20u, 200u}) {
+    SimOptions o = oracle_ao(mobile());
+    o.repack = SimOptions::Repack::kMicro21;
+    o.repack_timer = timer;
+    std::vector<Hit> answers;
+    o.answers = &answers;
+    const SimStats s = run(w, o);
+    EXPECT_TRUE(golden_answers(w, g, answers));
+    const PredictStats p = s.predict_total();
+    ASSERT_GT(p.true_positive, 0u);
+    ASSERT_LT(p.true_positive, s.rays);  // some rays miss: no prediction, they stay
+    EXPECT_EQ(s.pooled_rays, p.true_positive + p.false_positive);
+    EXPECT_GE(s.repacked_warps * 32, s.pooled_rays);
+    cycles_by_timer[timer > 20] = s.cycles;
+    if (timer == 20) {  // the project's repacking pools every ray
+      o.repack = SimOptions::Repack::kPredicted;
+      EXPECT_EQ(run(w, o).pooled_rays, s.rays);
+    }
+  }
+  EXPECT_LT(cycles_by_timer[0], cycles_by_timer[1]);
+}
+
+// Counting cycles until the admitted warps retire: no predictor, the same cycles; with MICRO
+// 2021's repacking, a warp whose rays all left retires when released, so the count ends before
+// the last pooled ray's answer.
+TEST(Sim, CountingOriginalWarpsStopsAtTheirRetirement) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  SimOptions none;
+  none.gpu = mobile();
+  const uint64_t all = run(w, none).cycles;
+  none.count_original_warps = true;
+  EXPECT_EQ(run(w, none).cycles, all);
+  SimOptions o = oracle_ao(mobile());
+  o.repack = SimOptions::Repack::kMicro21;
+  o.repack_timer = 200;  // the pool's last rays leave 200 cycles after the last warp's release
+  const uint64_t rays = run(w, o).cycles;
+  o.count_original_warps = true;
+  EXPECT_LT(run(w, o).cycles, rays);
+}
+
+// A warm-up kernel's cycles are not counted; a launch latency is added to every run.
+TEST(Sim, WarmupRaysAndTheLaunchLatency) {
+  const World w = make_world(own("cornell_box.glb"), 32, kInf);
+  const Golden g = golden(w, PredictMode::kClosestExact);
+  SimOptions o;
+  o.gpu = mobile();
+  const uint64_t all = run(w, o).cycles;
+  o.gpu.rt.launch_latency = 5000;
+  EXPECT_EQ(run(w, o).cycles, all + 5000);
+  o.gpu.rt.launch_latency = 0;
+  o.warmup_rays = w.rays.size() / 2 + 7;  // not a whole number of warps
+  std::vector<Hit> answers;
+  o.answers = &answers;
+  const SimStats s = run(w, o);
+  EXPECT_TRUE(golden_answers(w, g, answers));
+  EXPECT_EQ(s.rays, g.rays);
+  EXPECT_LT(s.cycles, all * 3 / 4);
+  EXPECT_GT(s.cycles, all / 4);
+}
+
 TEST(Sim, GpuConfigurationErrorsNameTheKey) {
   nlohmann::json j = mobile().to_json();
   EXPECT_NO_THROW(sim::gpu_config_from_json(j, "mobile"));
@@ -446,6 +623,20 @@ TEST(Sim, GpuConfigurationErrorsNameTheKey) {
   bad = j;
   bad["dram"]["latency"] = -1;
   EXPECT_NE(error(bad).find("latency"), std::string::npos) << error(bad);
+  bad = j;
+  bad["l1"]["sector_bytes"] = 48;
+  EXPECT_NE(error(bad).find("sector_bytes"), std::string::npos) << error(bad);
+  bad = j;
+  bad["rt_unit"] = {{"request_bytes", 32}, {"triangle_record", true}};
+  EXPECT_NE(error(bad).find("unknown key \"triangle_record\""), std::string::npos) << error(bad);
+  bad = j;
+  bad["rt_unit"] = {{"request_bytes", 256}};
+  EXPECT_NE(error(bad).find("request_bytes"), std::string::npos) << error(bad);
+  const GpuConfig m21 =
+      sim::load_gpu_config(std::string(HRPP_SOURCE_DIR) + "/model/gpu/micro21-sim.json");
+  EXPECT_EQ(m21.rt.request_bytes, 32u);
+  EXPECT_TRUE(m21.rt.triangle_records);
+  EXPECT_EQ(sim::gpu_config_from_json(m21.to_json(), "again").to_json(), m21.to_json());
 }
 
 }  // namespace

@@ -318,6 +318,25 @@ OPTION_CASES = [
     ("option: micro21-ao with a resolution", {}, P + "--workload micro21-ao",
      r"--workload micro21-ao has no camera and its own AO rays \(one per triangle, unbounded\): "
      r"--res, --spp, --order and --ao-distance do not apply"),
+    ("option: micro21-ao-sorted with a resolution", {}, P + "--workload micro21-ao-sorted",
+     r"--workload micro21-ao-sorted has no camera"),
+    ("option: flipped AO normal on the camera workload", {},
+     "predict {scene} --ao-normal flipped", r"--ao-normal applies to MICRO 2021's AO workloads"),
+    ("option: unknown AO normal", {}, "predict {scene} --workload micro21-ao --ao-normal up",
+     r"--ao-normal"),
+    ("option: simulate warm-up of every ray", {},
+     "simulate {scene} --workload micro21-ao --preset micro21 --warmup-rays 100",
+     r"--warmup-rays 100 leaves no rays to measure \(\d+ rays\)"),
+    ("option: simulate unknown mesh", {}, "simulate {scene} --res 4x4 --meshes teapot",
+     r"--meshes: no mesh 'teapot' in .* \(its meshes: "),
+    ("option: simulate replay on the RTL's cycle model", {},
+     "simulate {scene} --res 4x4 --preset rtl-default --replay",
+     r"--replay settles the golden predictor's fetch lists; rtl-default runs the RTL's cycle "
+     r"model"),
+    ("option: simulate unknown repacking", {}, "simulate {scene} --res 4x4 --repack --repack-by "
+     "lane", r"--repack-by"),
+    ("option: simulate unknown cycle count", {}, "simulate {scene} --res 4x4 --cycles-until "
+     "warps", r"--cycles-until"),
     ("option: negative AO distance", {}, P + "--ao-distance -1", r"--ao-distance"),
     ("option: NaN AO distance", {}, P + "--ao-distance nan", r"--ao-distance"),
     ("option: -inf AO distance", {}, P + "--ao-distance -inf", r"--ao-distance: must be a number >= 0 or 'inf', got -inf"),

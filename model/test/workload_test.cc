@@ -464,6 +464,56 @@ TEST(Micro21Ao, CosineDistributedAndSeeded) {
   EXPECT_NE(other[123].ray.dir, rays[123].ray.dir);
 }
 
+// The sorted workload: the same rays, ordered by MICRO 2021's sorting key, rays of one key in
+// triangle order, ids in issue order; the key's fields as their hash_grid_spherical computes them.
+TEST(Micro21Ao, SortedByTheirKeyStably) {
+  const Scene s = micro21_scene(5000);
+  const std::vector<RayRecord> plain = micro21_rays(s);
+  WorkloadOptions wo;
+  wo.source = WorkloadSource::kMicro21AoSorted;
+  const std::vector<RayRecord> sorted = collect(s, Bvh{}, wo);
+  ASSERT_EQ(sorted.size(), plain.size());
+  Aabb b;
+  for (const Triangle& t : s.triangles)
+    for (const Vec3& v : {t.v0, t.v1, t.v2}) b.grow(v);
+  std::vector<uint32_t> prims;
+  for (size_t k = 0; k < sorted.size(); ++k) {
+    EXPECT_EQ(sorted[k].id, k);
+    prims.push_back(sorted[k].spawn_prim);
+    if (k == 0) continue;
+    const uint64_t a = micro21_sort_key(sorted[k - 1].ray, b),
+                   c = micro21_sort_key(sorted[k].ray, b);
+    ASSERT_LE(a, c) << k;
+    if (a == c) EXPECT_LT(sorted[k - 1].spawn_prim, sorted[k].spawn_prim) << k;
+  }
+  std::sort(prims.begin(), prims.end());
+  for (size_t k = 0; k < plain.size(); ++k) ASSERT_EQ(prims[k], plain[k].spawn_prim);
+  EXPECT_NE(sorted[10].spawn_prim, plain[10].spawn_prim);  // another order
+  // The key: origin cell (32 per axis over the vertex bounds) << 7 | phi (4 bits) << 3 | theta.
+  Ray r;
+  r.org = b.lo;
+  r.dir = Vec3(0, 0, 1);  // theta 0; phi = atan2(0, 0) + pi = 180 degrees: 180 >> 5 = 5
+  EXPECT_EQ(micro21_sort_key(r, b), uint64_t(5) << 3);
+  r.org = b.hi;
+  r.dir = Vec3(0, 0, -1);  // theta 180 >> 5 = 5
+  EXPECT_EQ(micro21_sort_key(r, b), (uint64_t(0x7FFF) << 7) | (5 << 3) | 5);
+}
+
+// --ao-normal flipped: the hemisphere about the opposite of the normal as wound.
+TEST(Micro21Ao, FlippedNormalSamplesTheOtherHemisphere) {
+  const Scene s = micro21_scene(700);
+  WorkloadOptions wo;
+  wo.source = WorkloadSource::kMicro21Ao;
+  wo.micro21_flip = true;
+  const std::vector<RayRecord> flipped = collect(s, Bvh{}, wo), plain = micro21_rays(s);
+  ASSERT_EQ(flipped.size(), plain.size());
+  for (size_t k = 0; k < flipped.size(); ++k) {
+    const Triangle& t = s.triangles[flipped[k].spawn_prim];
+    EXPECT_LT(glm::dot(flipped[k].ray.dir, glm::cross(t.v1 - t.v0, t.v2 - t.v0)), 0.f);
+    EXPECT_EQ(flipped[k].ray.org, plain[k].ray.org);
+  }
+}
+
 TEST(Micro21Ao, AtMostItsPointCount) {
   // MICRO 2021's generator stops once it has more than 1,000,000 points.
   const Scene s = micro21_scene(1200000);

@@ -618,4 +618,39 @@ Scene load_scene(const std::string& path) {
   return s;
 }
 
+void keep_meshes(Scene* scene, const std::vector<std::string>& names) {
+  for (const std::string& n : names) {
+    bool found = false;
+    for (const MeshRange& m : scene->meshes) found = found || m.name == n;
+    if (!found) {
+      std::string known;
+      for (const MeshRange& m : scene->meshes) known += (known.empty() ? "" : ", ") + m.name;
+      throw std::invalid_argument("no mesh '" + n + "' in " + scene->path +
+                                  " (its meshes: " + known + ")");
+    }
+  }
+  std::vector<Triangle> tris;
+  std::vector<uint32_t> mats;
+  std::vector<MeshRange> meshes;
+  Aabb bounds;
+  uint32_t degenerate = 0;
+  for (const MeshRange& m : scene->meshes) {
+    if (std::find(names.begin(), names.end(), m.name) == names.end()) continue;
+    MeshRange k = m;
+    k.first = uint32_t(tris.size());
+    for (uint32_t i = m.first; i < m.first + m.count; ++i) {
+      tris.push_back(scene->triangles[i]);
+      mats.push_back(scene->tri_material[i]);
+      degenerate += tris.back().degenerate();
+      bounds.grow(tris.back().bounds());
+    }
+    meshes.push_back(k);
+  }
+  scene->triangles = std::move(tris);
+  scene->tri_material = std::move(mats);
+  scene->meshes = std::move(meshes);
+  scene->bounds = bounds;
+  scene->degenerate_triangles = degenerate;
+}
+
 }  // namespace hrpp

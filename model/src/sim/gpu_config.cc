@@ -17,6 +17,7 @@ class Reader {
   [[noreturn]] void fail(const std::string& what) const {
     throw GpuConfigError(where_ + " " + what);
   }
+  bool has(const char* key) const { return j_.contains(key); }
   const nlohmann::json& at(const char* key) {
     seen_.insert(key);
     if (!j_.contains(key)) fail("has no \"" + std::string(key) + "\"");
@@ -38,6 +39,11 @@ class Reader {
       fail("\"" + std::string(key) + "\" must be an integer " + (allow_zero ? ">= 0" : ">= 1") +
            ", got " + v.dump());
     return v.get<uint32_t>();
+  }
+  bool flag(const char* key) {
+    const nlohmann::json& v = at(key);
+    if (!v.is_boolean()) fail("\"" + std::string(key) + "\" must be true or false");
+    return v.get<bool>();
   }
   std::string text(const char* key) {
     const nlohmann::json& v = at(key);
@@ -65,6 +71,7 @@ CacheConfig read_cache(const nlohmann::json& j, const std::string& where, bool l
   c.mshrs = r.integer("mshrs");
   if (l2) c.bytes_per_cycle = r.number("bytes_per_cycle", true);
   if (!l2) c.requests_per_cycle = r.integer("requests_per_cycle", true);
+  if (r.has("sector_bytes")) c.sector_bytes = r.integer("sector_bytes");
   r.done();
   return c;
 }
@@ -88,6 +95,9 @@ std::string check_cache(const CacheConfig& c, const char* name) {
     return n + ": bytes / line_bytes / ways = " + std::to_string(c.sets()) +
            " sets, not a power of two";
   if (c.mshrs == 0) return n + ".mshrs must be >= 1";
+  if (c.sector_bytes &&
+      (!std::has_single_bit(c.sector_bytes) || c.sector_bytes < 4 || c.sector_bytes > c.line_bytes))
+    return n + ".sector_bytes must be a power of two from 4 to line_bytes";
   return {};
 }
 
@@ -101,6 +111,11 @@ std::string GpuConfig::validate() const {
   for (const auto& [c, n] : {std::pair{&l1, "l1"}, std::pair{&l2, "l2"}})
     if (std::string e = check_cache(*c, n); !e.empty()) return e;
   if (l2.line_bytes < l1.line_bytes) return "l2.line_bytes must be >= l1.line_bytes";
+  if (l2.block_bytes() < l1.block_bytes())
+    return "the L2's block (sector or line) must be at least the L1's";
+  if (rt.request_bytes &&
+      (!std::has_single_bit(rt.request_bytes) || rt.request_bytes > l1.block_bytes()))
+    return "rt_unit.request_bytes must be a power of two no larger than the L1's block";
   return {};
 }
 
@@ -113,23 +128,32 @@ nlohmann::json GpuConfig::to_json() const {
                         {"mshrs", c.mshrs}};
     if (l2) j["bytes_per_cycle"] = c.bytes_per_cycle;
     if (!l2) j["requests_per_cycle"] = c.requests_per_cycle;
+    if (c.sector_bytes) j["sector_bytes"] = c.sector_bytes;
     return j;
   };
   auto pipe = [](const PipeConfig& p) {
     return nlohmann::json{{"latency", p.latency}, {"per_cycle", p.per_cycle}};
   };
-  return {{"name", name},
-          {"description", description},
-          {"clock_mhz", clock_mhz},
-          {"units", units},
-          {"warps_per_unit", warps_per_unit},
-          {"warp_size", warp_size},
-          {"l1", cache(l1, false)},
-          {"l2", cache(l2, true)},
-          {"dram", {{"latency", dram.latency}, {"bytes_per_cycle", dram.bytes_per_cycle}}},
-          {"box", pipe(box)},
-          {"triangle", pipe(triangle)},
-          {"sources", sources}};
+  nlohmann::json j = {
+      {"name", name},
+      {"description", description},
+      {"clock_mhz", clock_mhz},
+      {"units", units},
+      {"warps_per_unit", warps_per_unit},
+      {"warp_size", warp_size},
+      {"l1", cache(l1, false)},
+      {"l2", cache(l2, true)},
+      {"dram", {{"latency", dram.latency}, {"bytes_per_cycle", dram.bytes_per_cycle}}},
+      {"box", pipe(box)},
+      {"triangle", pipe(triangle)},
+      {"sources", sources}};
+  if (!rt.is_default())
+    j["rt_unit"] = {{"request_bytes", rt.request_bytes},
+                    {"triangle_records", rt.triangle_records},
+                    {"triangle_bytes", rt.triangle_bytes},
+                    {"leaf_end_bytes", rt.leaf_end_bytes},
+                    {"launch_latency", rt.launch_latency}};
+  return j;
 }
 
 GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& origin) {
@@ -151,6 +175,15 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& origi
   }
   g.box = read_pipe(r.at("box"), origin + ": box");
   g.triangle = read_pipe(r.at("triangle"), origin + ": triangle");
+  if (r.has("rt_unit")) {
+    Reader u(r.at("rt_unit"), origin + ": rt_unit");
+    if (u.has("request_bytes")) g.rt.request_bytes = u.integer("request_bytes");
+    if (u.has("triangle_records")) g.rt.triangle_records = u.flag("triangle_records");
+    if (u.has("triangle_bytes")) g.rt.triangle_bytes = u.integer("triangle_bytes");
+    if (u.has("leaf_end_bytes")) g.rt.leaf_end_bytes = u.integer("leaf_end_bytes", true);
+    if (u.has("launch_latency")) g.rt.launch_latency = u.integer("launch_latency", true);
+    u.done();
+  }
   g.sources = r.at("sources");
   if (!g.sources.is_object()) r.fail("\"sources\" must be an object");
   r.done();

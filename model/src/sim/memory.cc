@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace hrpp::sim {
 
@@ -20,33 +21,47 @@ CacheStats& CacheStats::operator+=(const CacheStats& o) {
 Cache::Cache(const CacheConfig& cfg)
     : cfg_(cfg),
       set_mask_(cfg.sets() - 1),
+      line_shift_(std::countr_zero(cfg.line_bytes)),
+      sectors_(cfg.line_bytes / cfg.block_bytes()),
       tag_(size_t(cfg.sets()) * cfg.ways, 0),
-      ready_(tag_.size(), 0),
+      ready_(tag_.size() * sectors_, kNoData),
       used_(tag_.size(), 0) {}
 
-bool Cache::lookup(uint64_t line, uint64_t* ready) {
+size_t Cache::way_of(uint64_t line) const {
   const size_t base = size_t(line & set_mask_) * cfg_.ways;
   for (uint32_t w = 0; w < cfg_.ways; ++w)
-    if (tag_[base + w] == line + 1) {
-      used_[base + w] = ++stamp_;
-      *ready = ready_[base + w];
-      return true;
-    }
-  return false;
+    if (tag_[base + w] == line + 1) return base + w;
+  return std::string::npos;
 }
 
-void Cache::insert(uint64_t line, uint64_t ready) {
-  const size_t base = size_t(line & set_mask_) * cfg_.ways;
-  size_t victim = base;
-  for (uint32_t w = 0; w < cfg_.ways; ++w) {
-    if (tag_[base + w] == 0) {
-      victim = base + w;
-      break;
+Cache::Probe Cache::lookup(uint64_t addr, uint64_t* ready) {
+  const uint64_t line = addr >> line_shift_;
+  const size_t w = way_of(line);
+  if (w == std::string::npos) return Probe::kAbsent;
+  used_[w] = ++stamp_;
+  const uint64_t r = ready_[w * sectors_ + (addr & (cfg_.line_bytes - 1)) / cfg_.block_bytes()];
+  if (r == kNoData) return Probe::kSectorMissing;
+  *ready = r;
+  return Probe::kPresent;
+}
+
+void Cache::insert(uint64_t addr, uint64_t ready) {
+  const uint64_t line = addr >> line_shift_;
+  size_t victim = way_of(line);
+  if (victim == std::string::npos) {
+    const size_t base = size_t(line & set_mask_) * cfg_.ways;
+    victim = base;
+    for (uint32_t w = 0; w < cfg_.ways; ++w) {
+      if (tag_[base + w] == 0) {
+        victim = base + w;
+        break;
+      }
+      if (used_[base + w] < used_[victim]) victim = base + w;
     }
-    if (used_[base + w] < used_[victim]) victim = base + w;
+    tag_[victim] = line + 1;
+    std::fill_n(ready_.begin() + victim * sectors_, sectors_, kNoData);
   }
-  tag_[victim] = line + 1;
-  ready_[victim] = ready;
+  ready_[victim * sectors_ + (addr & (cfg_.line_bytes - 1)) / cfg_.block_bytes()] = ready;
   used_[victim] = ++stamp_;
 }
 
@@ -94,47 +109,46 @@ MemorySystem::MemorySystem(const GpuConfig& g)
       l2_(g.l2),
       l2_link_(g.l2.bytes_per_cycle),
       dram_link_(g.dram.bytes_per_cycle),
-      l1_shift_(std::countr_zero(g.l1.line_bytes)),
-      l2_shift_(std::countr_zero(g.l2.line_bytes)) {}
+      l1_block_shift_(std::countr_zero(g.l1.block_bytes())) {}
 
-uint64_t MemorySystem::l2_line(uint64_t line, uint64_t t) {
+uint64_t MemorySystem::l2_block(uint64_t addr, uint64_t t) {
   Cache& c = l2_;
   c.stats.accesses++;
   uint64_t ready;
-  if (c.lookup(line, &ready)) {
+  if (c.lookup(addr, &ready) == Cache::Probe::kPresent) {
     (ready <= t ? c.stats.hits : c.stats.merged)++;
     return std::max(ready, t) + c.config().hit_latency;
   }
   c.stats.misses++;
   const uint64_t start = c.mshr_free_at(t);
   // The miss reaches DRAM after the L2's tag check; DRAM answers after its latency, then the
-  // line crosses the DRAM link.
+  // block crosses the DRAM link.
+  const uint32_t bytes = c.config().block_bytes();
   const uint64_t arrive =
-      dram_link_.transfer(start + c.config().hit_latency + g_.dram.latency, c.config().line_bytes);
-  dram_bytes_ += c.config().line_bytes;
+      dram_link_.transfer(start + c.config().hit_latency + g_.dram.latency, bytes);
+  dram_bytes_ += bytes;
   c.hold_mshr(arrive);
-  c.insert(line, arrive);
+  c.insert(addr, arrive);
   return arrive;
 }
 
-uint64_t MemorySystem::l1_line(uint32_t unit, uint64_t line, uint64_t now, bool* hit) {
+uint64_t MemorySystem::l1_block(uint32_t unit, uint64_t addr, uint64_t now, bool* hit) {
   Cache& c = l1_[unit];
   c.stats.accesses++;
   uint64_t ready;
   *hit = false;
-  if (c.lookup(line, &ready)) {
+  if (c.lookup(addr, &ready) == Cache::Probe::kPresent) {
     *hit = ready <= now;
     (ready <= now ? c.stats.hits : c.stats.merged)++;
     return std::max(ready, now + c.config().hit_latency);
   }
   c.stats.misses++;
   const uint64_t start = c.mshr_free_at(now);
-  // The L1's tag check, then the L2 (its line holds this one), then the L2-to-L1 link.
-  const uint64_t l2_ready =
-      l2_line((line << l1_shift_) >> l2_shift_, start + c.config().hit_latency);
-  const uint64_t arrive = l2_link_.transfer(l2_ready, g_.l1.line_bytes);
+  // The L1's tag check, then the L2 (its block holds this one), then the L2-to-L1 link.
+  const uint64_t l2_ready = l2_block(addr, start + c.config().hit_latency);
+  const uint64_t arrive = l2_link_.transfer(l2_ready, c.config().block_bytes());
   c.hold_mshr(arrive);
-  c.insert(line, arrive);
+  c.insert(addr, arrive);
   return arrive;
 }
 
@@ -143,12 +157,13 @@ uint64_t MemorySystem::load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64
   loads_++;
   bool all = true;
   uint64_t ready = now;
-  const uint64_t first = addr >> l1_shift_, last = (addr + std::max(bytes, 1u) - 1) >> l1_shift_;
-  for (uint64_t line = first; line <= last; ++line) {
+  const uint64_t first = addr >> l1_block_shift_,
+                 last = (addr + std::max(bytes, 1u) - 1) >> l1_block_shift_;
+  for (uint64_t block = first; block <= last; ++block) {
     const uint64_t t = l1_port_[unit].issue(now, now, 1);  // the L1's request port
     port_wait_ += t - now;
     bool hit;
-    ready = std::max(ready, l1_line(unit, line, t, &hit));
+    ready = std::max(ready, l1_block(unit, block << l1_block_shift_, t, &hit));
     all = all && hit;
   }
   if (l1_hit) *l1_hit = all;

@@ -49,7 +49,20 @@ struct Warp {
   uint64_t admit = 0;  // entered its unit (repacked: formed)
   uint32_t left = 0;   // rays not yet answered
   uint64_t last = 0;   // the latest answer
+  // Repack::kMicro21: an admitted warp waits in the predictor until released; `pending`: its
+  // rays not yet given a prediction; `parked`: the slots of the rays it keeps (no prediction).
+  bool released = true;
+  uint32_t pending = 0;
+  std::vector<uint32_t> parked;
 };
+
+// A warp formed by repacking at `now` with n rays.
+Warp formed_warp(uint64_t now, uint32_t n) {
+  Warp w;
+  w.admit = w.last = now;
+  w.left = n;
+  return w;
+}
 
 constexpr uint64_t kMaxIdle = 50'000'000;  // cycles without an answer
 
@@ -78,6 +91,22 @@ class Simulator {
     }
     io_.resize(g_.units);
     warps_in_unit_.assign(g_.units, 0);
+    originals_.assign(g_.units, 0);
+    walking_.assign(g_.units, 0);
+    pool_.resize(g_.units);
+    waiting_.resize(g_.units);
+    if (g_.rt.leaf_end_bytes) {  // leaves in triangle order, for their terminators' addresses
+      std::vector<uint32_t> leaves;
+      for (uint32_t i = 0; i < bvh.nodes.size(); ++i)
+        if (bvh.nodes[i].is_leaf()) leaves.push_back(i);
+      std::sort(leaves.begin(), leaves.end(), [&](uint32_t a, uint32_t b) {
+        return bvh.nodes[a].right_or_first < bvh.nodes[b].right_or_first;
+      });
+      leaf_rank_.assign(bvh.nodes.size(), 0);
+      for (uint32_t r = 0; r < leaves.size(); ++r) leaf_rank_[leaves[r]] = r;
+    }
+    if (opt.replay && opt.kind != PredictorKind::kTimed)
+      throw std::runtime_error("replay needs the golden predictor (PredictorKind::kTimed)");
     repack_.resize(g_.units);
     buffered_.assign(g_.units, 0);
     repack_since_.assign(g_.units, 0);
@@ -114,8 +143,22 @@ class Simulator {
   void finish_ray(uint32_t slot, uint64_t now);
   void leave_warp(const Slot& s, uint64_t now);
   void form_warps(uint32_t unit, uint64_t now);
+  void release_micro21(uint32_t unit, uint64_t now);
+  void retire(uint32_t warp, uint32_t unit, uint64_t now);
+  bool micro21() const { return opt_.repack == SimOptions::Repack::kMicro21; }
   uint32_t warps_held(uint32_t unit) const {
+    if (micro21()) return originals_[unit];
     return warps_in_unit_[unit] + (buffered_[unit] + g_.warp_size - 1) / g_.warp_size;
+  }
+  // A leaf's first triangle record in memory.
+  uint64_t leaf_addr(uint32_t node) const {
+    return tri_base_ + uint64_t(bvh_.nodes[node].right_or_first) * tri_bytes_ +
+           (leaf_rank_.empty() ? 0 : uint64_t(leaf_rank_[node]) * g_.rt.leaf_end_bytes);
+  }
+  uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now, bool* hit) {
+    if (!g_.rt.request_bytes) return mem_.load(unit, addr, bytes, now, hit);
+    return mem_.load(unit, addr & ~uint64_t(g_.rt.request_bytes - 1), g_.rt.request_bytes, now,
+                     hit);
   }
   void add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& path, const Hit& hit);
   void on_prediction(uint32_t ray, const Prediction& p, uint64_t now);
@@ -135,10 +178,20 @@ class Simulator {
   const GpuConfig& g_;
   MemorySystem mem_;
   uint64_t tri_base_;
+  uint32_t tri_bytes_ = g_.rt.triangle_bytes ? g_.rt.triangle_bytes : kTriangleBytes;
+  std::vector<uint32_t> leaf_rank_;  // by leaf node: leaves before it (rt.leaf_end_bytes)
   std::vector<IssueSlots> box_, tri_;
   std::vector<UnitIo> io_;
   std::vector<std::unique_ptr<UnitPredictor>> pred_;
   std::vector<uint32_t> warps_in_unit_;
+  // Repack::kMicro21, per unit: admitted warps not retired, released warps walking (pool warps
+  // included), the pool's slots, the warps waiting in the predictor (admission order).
+  std::vector<uint32_t> originals_, walking_;
+  std::vector<std::deque<uint32_t>> pool_, waiting_;
+  uint32_t num_original_ = 0;          // warps_[0, num_original_) are the admitted ones
+  uint64_t last_original_retire_ = 0;  // SimOptions::count_original_warps
+  // replay: the rays owed a decision: the action their predicted walk settled, and their unit.
+  std::unordered_map<uint32_t, std::pair<Action, uint32_t>> replay_owed_;
   // Repacking: per unit, the buffers by category (slot, cycle it arrived), and their ray count.
   std::vector<std::map<uint64_t, std::deque<std::pair<uint32_t, uint64_t>>>> repack_;
   std::vector<uint32_t> buffered_;
@@ -146,6 +199,7 @@ class Simulator {
       repack_since_;             // the timer's start: first ray buffered, or last warp formed
   std::vector<uint32_t> valid_;  // stream indices of the valid rays, in issue order
   std::vector<Warp> warps_;
+  std::vector<size_t> warp_first_;  // admitted warp w: valid_[warp_first_[w], warp_first_[w + 1])
   std::vector<Slot> slots_;
   std::vector<uint32_t> free_slots_;
   std::unordered_map<uint32_t, uint32_t> slot_of_;  // ray -> slot
@@ -163,7 +217,7 @@ void Simulator::add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& p
                          const Hit& hit) {
   // A walk from a node other than the root first tests the node's own box, which sits in its
   // parent's pair; the root's box is the scene's, held by the unit.
-  if (start != 0 && bvh_.parent[start] != kNoNode) {
+  if (start != 0 && bvh_.parent[start] != kNoNode && !opt_.replay) {
     s.steps.push_back({uint64_t(bvh_.pair_of[bvh_.parent[start]]) * kPairBytes, kPairBytes, 0,
                        bvh_.parent[start]});
     st_.start_fetches++;
@@ -182,8 +236,11 @@ void Simulator::add_walk(Slot& s, uint32_t start, const std::vector<uint32_t>& p
           tests = k + 1;
           break;
         }
-    s.steps.push_back({tri_base_ + uint64_t(n.right_or_first) * kTriangleBytes,
-                       tests * kTriangleBytes, tests, path[i]});
+    if (g_.rt.triangle_records)  // one fetch and one test per triangle record
+      for (uint32_t k = 0; k < tests; ++k)
+        s.steps.push_back({leaf_addr(path[i]) + uint64_t(k) * tri_bytes_, tri_bytes_, 1, path[i]});
+    else
+      s.steps.push_back({leaf_addr(path[i]), tests * tri_bytes_, tests, path[i]});
   }
 }
 
@@ -191,10 +248,17 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
   warps_in_unit_[unit]++;
   Warp& warp = warps_[w];
   warp.admit = now;
-  const size_t first = size_t(w) * g_.warp_size;
-  const size_t end = std::min(valid_.size(), first + g_.warp_size);
+  const size_t first = warp_first_[w];
+  const size_t end = warp_first_[w + 1];
   warp.left = uint32_t(end - first);
   st_.warps++;
+  if (micro21()) {
+    // The warp waits in the predictor; a warp entering an empty one starts its timer.
+    if (waiting_[unit].empty() && pool_[unit].empty()) repack_since_[unit] = now;
+    waiting_[unit].push_back(w);
+    originals_[unit]++;
+    warp.released = false;
+  }
   for (size_t i = first; i < end; ++i) {
     const uint32_t ray = valid_[i];
     const uint32_t si = free_slots_.back();
@@ -216,6 +280,7 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
     if (s.uses_pred) {
       s.phase = Phase::kEntering;
       io_[unit].entering.push_back(ray);
+      warp.pending++;
     } else {
       start_root_walk(s, Action::kFull);
       schedule(si, now);
@@ -268,17 +333,69 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
     if (!more) break;
   }
   if (opt_.repack == SimOptions::Repack::kNone) return schedule(si, now + 1);
+  if (micro21()) {  // a predicted ray leaves its warp for the pool; the others stay in it
+    Warp& w = warps_[s.warp];
+    w.pending--;
+    if (p.count == 0) return w.parked.push_back(si);
+    leave_warp(s, now);
+    pool_[s.unit].push_back(si);
+    buffered_[s.unit]++;
+    st_.pooled_rays++;
+    return;
+  }
   // The ray leaves its warp for its category's buffer.
   const uint64_t key = p.count == 0                                    ? 0
                        : opt_.repack == SimOptions::Repack::kPredicted ? 1
                                                                        : uint64_t(p.nodes[0]) + 1;
   leave_warp(s, now);
+  st_.pooled_rays++;
   if (buffered_[s.unit] == 0) repack_since_[s.unit] = now;  // the timer starts
   repack_[s.unit][key].emplace_back(si, now);
   buffered_[s.unit]++;
 }
 
+void Simulator::release_micro21(uint32_t unit, uint64_t now) {
+  std::deque<uint32_t>& pool = pool_[unit];
+  std::deque<uint32_t>& waiting = waiting_[unit];
+  if ((waiting.empty() && pool.empty()) || walking_[unit] >= g_.warps_per_unit) return;
+  const bool expired = now - repack_since_[unit] >= opt_.repack_timer;
+  const bool full = pool.size() > g_.warp_size || (expired && pool.size() == g_.warp_size);
+  // The pool's last rays go when no warp waits (theirs never go) or when the oldest waiting
+  // warp still has rays waiting to enter (they may wait for credits the pool's rays hold).
+  const bool rest =
+      expired && !pool.empty() && (waiting.empty() || warps_[waiting.front()].pending > 0);
+  if (full || rest) {  // a warp of pooled rays
+    const uint32_t w = uint32_t(warps_.size());
+    const uint32_t n = std::min<uint32_t>(g_.warp_size, uint32_t(pool.size()));
+    for (uint32_t i = 0; i < n; ++i) {
+      slots_[pool.front()].warp = w;
+      schedule(pool.front(), now + 1);
+      pool.pop_front();
+    }
+    warps_.push_back(formed_warp(now, n));
+    warps_in_unit_[unit]++;
+    walking_[unit]++;
+    st_.warps++;
+    st_.repacked_warps++;
+    buffered_[unit] -= n;
+    repack_since_[unit] = now;
+    return;
+  }
+  if (!expired || warps_[waiting.front()].pending > 0) return;
+  // The oldest waiting warp goes on with the rays it kept.
+  const uint32_t w = waiting.front();
+  waiting.pop_front();
+  Warp& warp = warps_[w];
+  warp.released = true;
+  walking_[unit]++;
+  for (const uint32_t si : warp.parked) schedule(si, now + 1);
+  warp.parked.clear();
+  repack_since_[unit] = now;
+  if (warp.left == 0) retire(w, unit, now);  // every ray left for the pool
+}
+
 void Simulator::form_warps(uint32_t unit, uint64_t now) {
+  if (micro21()) return release_micro21(unit, now);
   auto& cats = repack_[unit];
   // A new warp of up to warp_size rays taken from the categories in key order (0, not
   // predicted, first, as their `retrieve` takes unpredicted rays before predicted ones).
@@ -300,7 +417,7 @@ void Simulator::form_warps(uint32_t unit, uint64_t now) {
       }
       it = q.empty() ? cats.erase(it) : std::next(it);
     }
-    warps_.push_back({now, n, now});
+    warps_.push_back(formed_warp(now, n));
     warps_in_unit_[unit]++;
     st_.warps++;
     st_.repacked_warps++;
@@ -322,6 +439,15 @@ void Simulator::form_warps(uint32_t unit, uint64_t now) {
 }
 
 void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {
+  if (const auto it = replay_owed_.find(ray); it != replay_owed_.end()) {
+    if (it->second.first != a)
+      throw std::runtime_error("replay: the predictor's decision for ray " + std::to_string(ray) +
+                               " differs from the predicted walk's result");
+    if (a != Action::kFull)
+      st_.predictor.gate_openings += gate_[it->second.second].on_predicted_hit();
+    replay_owed_.erase(it);
+    return;
+  }
   const uint32_t si = slot_of(ray);
   Slot& s = slots_[si];
   if (s.decision_owed) {  // its root walk started at the predicted walks' miss
@@ -344,8 +470,18 @@ void Simulator::step(uint32_t si, uint64_t now) {
   Slot& s = slots_[si];
   if (s.next == s.steps.size()) return walk_end(si, now);
   const Step& st = s.steps[s.next++];
-  bool hit;
-  const uint64_t ready = mem_.load(s.unit, st.addr, st.bytes, now, &hit);
+  bool hit = true;
+  uint64_t ready = now;
+  if (st.tests > 1 && g_.rt.request_bytes) {  // one request per triangle record of the leaf
+    for (uint32_t k = 0; k < st.tests; ++k) {
+      bool h;
+      ready =
+          std::max(ready, load(s.unit, st.addr + uint64_t(k) * tri_bytes_, tri_bytes_, now, &h));
+      hit = hit && h;
+    }
+  } else {
+    ready = load(s.unit, st.addr, st.bytes, now, &hit);
+  }
   uint64_t done;
   if (st.tests == 0) {
     st_.node_fetches++;
@@ -369,6 +505,12 @@ void Simulator::walk_end(uint32_t si, uint64_t now) {
   if (s.phase == Phase::kPredWalk) {
     s.phase = Phase::kDeciding;
     io_[s.unit].pw.push_back({s.ray, s.er.best.hit(), s.er.best.hit() ? s.er.best_node : 0});
+    if (opt_.replay) {  // the fetch list goes on at once; the decision must agree when it comes
+      const Action a = skip_action(s.er.best.hit(), s.er.any, opt_.pred.mode);
+      replay_owed_[s.ray] = {a, s.unit};
+      start_root_walk(s, a);
+      return a == Action::kSkip ? walk_end(si, now) : step(si, now);
+    }
     if (opt_.early_root && !s.er.best.hit()) {  // the decision can only be the full walk
       s.decision_owed = true;
       start_root_walk(s, Action::kFull);
@@ -416,10 +558,19 @@ void Simulator::leave_warp(const Slot& s, uint64_t now) {
   Warp& w = warps_[s.warp];
   st_.lane_cycles += now - w.admit;
   w.last = std::max(w.last, now);
-  if (--w.left == 0) {
-    st_.warp_cycles += uint64_t(g_.warp_size) * (w.last - w.admit);
-    warps_in_unit_[s.unit]--;
-    retired_ = true;
+  if (--w.left == 0 && w.released) retire(s.warp, s.unit, now);
+}
+
+void Simulator::retire(uint32_t wi, uint32_t unit, uint64_t now) {
+  Warp& w = warps_[wi];
+  w.last = std::max(w.last, now);
+  st_.warp_cycles += uint64_t(g_.warp_size) * (w.last - w.admit);
+  warps_in_unit_[unit]--;
+  retired_ = true;
+  if (wi < num_original_) last_original_retire_ = std::max(last_original_retire_, now);
+  if (micro21()) {
+    walking_[unit]--;
+    if (wi < num_original_) originals_[unit]--;
   }
 }
 
@@ -437,15 +588,28 @@ SimStats Simulator::run() {
   if (opt_.answers) opt_.answers->assign(rays_.size(), Hit{});
   admitted_at_.assign(slots_.size(), 0);
   gate_.assign(g_.units, UnitGate(opt_.gate, opt_.gate_first));
-  const uint32_t num_warps = uint32_t((valid_.size() + g_.warp_size - 1) / g_.warp_size);
+  // The warps: the warm-up kernel's rays, then the others, warp_size at a time.
+  size_t warm = 0;
+  while (warm < valid_.size() && valid_[warm] < opt_.warmup_rays) ++warm;
+  for (size_t i = 0; i < warm; i += g_.warp_size) warp_first_.push_back(i);
+  const uint32_t warm_warps = uint32_t(warp_first_.size());
+  for (size_t i = warm; i < valid_.size(); i += g_.warp_size) warp_first_.push_back(i);
+  const uint32_t num_warps = uint32_t(warp_first_.size());
+  warp_first_.push_back(valid_.size());
   warps_.resize(num_warps);  // repacking appends the warps it forms
+  num_original_ = num_warps;
+  uint64_t start = 0;  // the measured kernel's first cycle
   uint32_t next_warp = 0;
   uint64_t now = 0, idle = 0;
   const bool clocked = !pred_.empty();
   while (finished_ < valid_.size()) {
     // 1. Warps enter units with a free slot, in issue order, units in order.
     for (uint32_t u = 0; u < g_.units; ++u)
-      while (warps_held(u) < g_.warps_per_unit && next_warp < num_warps) admit(next_warp++, u, now);
+      while (warps_held(u) < g_.warps_per_unit && next_warp < num_warps &&
+             (next_warp != warm_warps || finished_ >= warm)) {
+        if (next_warp == warm_warps) start = now;  // the measured kernel begins
+        admit(next_warp++, u, now);
+      }
     const uint64_t finished_before = finished_;
     // 2. The steps due now.
     while (!events_.empty() && events_.top().time <= now) {
@@ -471,6 +635,7 @@ SimStats Simulator::run() {
         io.entering.pop_front();
         Slot& s = slots_[si];
         s.uses_pred = false;
+        if (micro21()) warps_[s.warp].pending--;  // it walks at once, as its warp waits
         start_root_walk(s, Action::kFull);
         schedule(si, now + 1);
         st_.predictor.bypassed++;
@@ -499,7 +664,8 @@ SimStats Simulator::run() {
   }
   // Cycles: the last answer's cycle + 1 (cycles 0 .. last). in_flight_area counted every ray in
   // the units from its admission up to, not including, its answer's cycle.
-  st_.cycles = valid_.empty() ? 0 : st_.cycles + 1;
+  if (opt_.count_original_warps) st_.cycles = last_original_retire_;
+  st_.cycles = valid_.empty() ? 0 : st_.cycles + 1 - start + g_.rt.launch_latency;
   st_.memory = mem_.stats();
   for (auto& p : pred_) {
     const UnitPredictorStats& ps = p->stats();

@@ -223,8 +223,8 @@ void micro21_ao(const Scene& scene, const WorkloadOptions& opt,
     const float su = std::sqrt(r1);
     RayRecord rec;
     rec.ray.org = (1.f - su) * t.v0 + su * (1.f - r2) * t.v1 + su * r2 * t.v2;
-    rec.ray.dir =
-        cosine_direction(ng / len, uniform01(opt.seed, key, 2), uniform01(opt.seed, key, 3));
+    const Vec3 n = opt.micro21_flip ? -ng / len : ng / len;
+    rec.ray.dir = cosine_direction(n, uniform01(opt.seed, key, 2), uniform01(opt.seed, key, 3));
     rec.ray.tnear = kMicro21AoTnear;
     rec.ray.tfar = std::numeric_limits<float>::infinity();
     rec.kind = RayKind::kAo;
@@ -237,9 +237,43 @@ void micro21_ao(const Scene& scene, const WorkloadOptions& opt,
 
 }  // namespace
 
+uint64_t micro21_sort_key(const Ray& ray, const Aabb& b) {
+  // hash_direction_spherical(d, 3) (RayGenerator.cpp 394-404): degrees truncated to integers,
+  // theta >> (8 - 3), phi >> (9 - 4).
+  const double kPi = 3.14159265358979323846;
+  const float pi = float(kPi);
+  const uint64_t theta = uint64_t(std::acos(std::clamp(ray.dir.z, -1.f, 1.f)) / pi * 180);
+  const uint64_t phi = uint64_t((std::atan2(ray.dir.y, ray.dir.x) + pi) / pi * 180);
+  const uint64_t h_d = ((phi >> 5) << 3) | (theta >> 5);
+  // hash_origin_grid(o, min, max, 5) (406-414): clamped to [0, 31], truncated.
+  auto cell = [](float o, float lo, float hi) {
+    return uint64_t(std::clamp((o - lo) / (hi - lo) * 32.f, 0.f, 31.f));
+  };
+  const uint64_t h_o = (cell(ray.org.x, b.lo.x, b.hi.x) << 10) |
+                       (cell(ray.org.y, b.lo.y, b.hi.y) << 5) | cell(ray.org.z, b.lo.z, b.hi.z);
+  return (h_o << 7) | h_d;  // hash_grid_spherical (444-451)
+}
+
 void generate_rays(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,
                    const std::function<void(const RayRecord&, const Hit*)>& sink) {
   if (opt.source == WorkloadSource::kMicro21Ao) return micro21_ao(scene, opt, sink);
+  if (opt.source == WorkloadSource::kMicro21AoSorted) {
+    Aabb bounds;  // their world bounds: every vertex of the model
+    for (const Triangle& t : scene.triangles)
+      for (const Vec3& v : {t.v0, t.v1, t.v2}) bounds.grow(v);
+    std::vector<std::pair<uint64_t, RayRecord>> rays;
+    micro21_ao(scene, opt, [&](const RayRecord& r, const Hit*) {
+      rays.emplace_back(micro21_sort_key(r.ray, bounds), r);
+    });
+    std::stable_sort(rays.begin(), rays.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    uint64_t id = 0;
+    for (auto& [key, r] : rays) {
+      r.id = id++;  // ids in issue order
+      sink(r, nullptr);
+    }
+    return;
+  }
   int w, h;
   workload_resolution(scene, opt, &w, &h);
   Generator g(scene, bvh, opt, w, h, sink);

@@ -24,11 +24,20 @@ std::string_view ray_order_name(RayOrder o) {
 }
 
 std::string_view workload_source_name(WorkloadSource s) {
-  return s == WorkloadSource::kMicro21Ao ? "micro21-ao" : "camera";
+  switch (s) {
+    case WorkloadSource::kMicro21Ao:
+      return "micro21-ao";
+    case WorkloadSource::kMicro21AoSorted:
+      return "micro21-ao-sorted";
+    case WorkloadSource::kCamera:
+      break;
+  }
+  return "camera";
 }
 
 bool parse_workload_source(std::string_view name, WorkloadSource* out) {
-  for (WorkloadSource s : {WorkloadSource::kCamera, WorkloadSource::kMicro21Ao})
+  for (WorkloadSource s :
+       {WorkloadSource::kCamera, WorkloadSource::kMicro21Ao, WorkloadSource::kMicro21AoSorted})
     if (workload_source_name(s) == name) {
       *out = s;
       return true;
@@ -234,14 +243,17 @@ float ao_distance_for(const Scene& scene, const WorkloadOptions& opt) {
 }
 
 nlohmann::json workload_json(const Scene& scene, const WorkloadOptions& opt) {
-  if (opt.source == WorkloadSource::kMicro21Ao)
-    return {{"scene", scene.path},
-            {"workload", std::string(workload_source_name(opt.source))},
-            {"seed", opt.seed},
-            {"effects", {"ao"}},
-            {"tnear", kMicro21AoTnear},
-            {"ao_distance", "inf"},
-            {"max_rays", kMicro21AoMaxRays}};
+  if (is_micro21_ao(opt.source)) {
+    nlohmann::json j = {{"scene", scene.path},
+                        {"workload", std::string(workload_source_name(opt.source))},
+                        {"seed", opt.seed},
+                        {"effects", {"ao"}},
+                        {"tnear", kMicro21AoTnear},
+                        {"ao_distance", "inf"},
+                        {"max_rays", kMicro21AoMaxRays}};
+    if (opt.micro21_flip) j["ao_normal"] = "flipped";
+    return j;
+  }
   int w, h;
   workload_resolution(scene, opt, &w, &h);
   nlohmann::json effects = nlohmann::json::array({"primary"});

@@ -182,9 +182,15 @@ std::vector<CLI::Option*> add_workload_options(CLI::App* app, WorkloadArgs& a,
   std::vector<CLI::Option*> o;
   o.push_back(app->add_option("--workload", a.workload,
                               "where the rays come from: 'camera' (camera rays and the secondary "
-                              "rays of their hits), or 'micro21-ao' (MICRO 2021's AO benchmark: no "
-                              "camera, one AO ray per triangle; docs/workloads.md)")
-                  ->check(CLI::IsMember({"camera", "micro21-ao"}))
+                              "rays of their hits), 'micro21-ao' (MICRO 2021's AO benchmark: no "
+                              "camera, one AO ray per triangle; docs/workloads.md) or "
+                              "'micro21-ao-sorted' (the same rays in its ray-sorting order)")
+                  ->check(CLI::IsMember({"camera", "micro21-ao", "micro21-ao-sorted"}))
+                  ->capture_default_str());
+  o.push_back(app->add_option("--ao-normal", a.ao_normal,
+                              "MICRO 2021's AO workloads: the hemisphere about the triangle's "
+                              "normal as wound, or about its opposite (flipped; docs/workloads.md)")
+                  ->check(CLI::IsMember({"wound", "flipped"}))
                   ->capture_default_str());
   o.push_back(app->add_option("--effects", a.effects,
                               "'auto' (what the scene's lights and materials call for), 'none', or "
@@ -228,11 +234,19 @@ bool check_workload_args(const char* cmd, const WorkloadArgs& a) {
                  a.res.c_str());
     return false;
   }
-  if (a.workload == "micro21-ao" &&
+  if (a.workload != "camera" &&
       (!a.res.empty() || a.spp != 1 || a.order != "scanline" || a.ao_distance != 0.f)) {
     std::fprintf(stderr,
-                 "hrpp %s: --workload micro21-ao has no camera and its own AO rays (one per "
+                 "hrpp %s: --workload %s has no camera and its own AO rays (one per "
                  "triangle, unbounded): --res, --spp, --order and --ao-distance do not apply\n",
+                 cmd, a.workload.c_str());
+    return false;
+  }
+  if (a.workload == "camera" && a.ao_normal != "wound") {
+    std::fprintf(stderr,
+                 "hrpp %s: --ao-normal applies to MICRO 2021's AO workloads (--workload "
+                 "micro21-ao or micro21-ao-sorted); the camera's AO rays sample about the hit's "
+                 "normal facing the ray\n",
                  cmd);
     return false;
   }
@@ -266,7 +280,8 @@ bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
   wo->shadow = wo->shadow && a.shadow;
   wo->ao = wo->ao && a.ao;
   parse_workload_source(a.workload, &wo->source);  // checked by CLI11
-  if (wo->source == WorkloadSource::kMicro21Ao) {  // AO rays only
+  wo->micro21_flip = a.ao_normal == "flipped";
+  if (is_micro21_ao(wo->source)) {  // AO rays only
     wo->shadow = wo->reflection = wo->refraction = wo->diffuse = false;
     wo->ao = true;
   }
@@ -275,8 +290,12 @@ bool make_workload(const char* cmd, const WorkloadArgs& a, const Scene& scene,
 
 /// "512x512, 1 spp, seed 1, scanline order, depth 2"
 std::string workload_line(const WorkloadOptions& wo) {
-  if (wo.source == WorkloadSource::kMicro21Ao)
-    return "micro21-ao: one AO ray per triangle (MICRO 2021's benchmark), seed " +
+  if (is_micro21_ao(wo.source))
+    return std::string(workload_source_name(wo.source)) +
+           ": one AO ray per triangle (MICRO 2021's benchmark" +
+           (wo.source == WorkloadSource::kMicro21AoSorted ? ", sorted by its ray-sorting key"
+                                                          : "") +
+           (wo.micro21_flip ? ", about the flipped normal" : "") + "), seed " +
            std::to_string(wo.seed);
   std::string order(ray_order_name(wo.order));
   if (wo.order != RayOrder::kScanline)
@@ -287,8 +306,9 @@ std::string workload_line(const WorkloadOptions& wo) {
 }
 
 void print_effects(const Scene& scene, const WorkloadOptions& wo, const std::string& spec) {
-  if (wo.source == WorkloadSource::kMicro21Ao) {
-    std::printf("effects: AO rays only (--workload micro21-ao; --effects does not apply)\n");
+  if (is_micro21_ao(wo.source)) {
+    std::printf("effects: AO rays only (--workload %s; --effects does not apply)\n",
+                std::string(workload_source_name(wo.source)).c_str());
     return;
   }
   std::printf("effects (--effects %s):\n", spec.c_str());

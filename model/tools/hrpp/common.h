@@ -54,7 +54,8 @@ struct WorkloadArgs {
   int spp = 1, depth = 2, tile = 8;
   uint64_t seed = 1;
   float ao_distance = 0.f;
-  bool shadow = true, ao = true;  // predict's --no-shadow / --no-ao
+  bool shadow = true, ao = true;    // predict's --no-shadow / --no-ao
+  std::string ao_normal = "wound";  // MICRO 2021's AO workloads: wound or flipped
 };
 
 /// Adds the workload options; returns them (so that --stream can exclude them).

@@ -39,10 +39,14 @@ struct SimulateArgs {
   // Timing of golden-model presets (docs/timing_model.md, "Presets"); < 0: the preset's.
   int lookup_latency = -1, decision_latency = -1, update_latency = -1, lookups_per_cycle = -1,
       updates_per_cycle = -1, credits = -1;
-  uint32_t entry_timeout = 0;  // the preset's rays give up entering after this many cycles
-  uint32_t gate = 0;           // SimOptions::gate
-  int64_t gate_first = -1;     // SimOptions::gate_first; < 0: unset
-  bool early_root = false;     // SimOptions::early_root
+  uint32_t entry_timeout = 0;       // the preset's rays give up entering after this many cycles
+  uint32_t gate = 0;                // SimOptions::gate
+  int64_t gate_first = -1;          // SimOptions::gate_first; < 0: unset
+  bool early_root = false;          // SimOptions::early_root
+  bool replay = false;              // SimOptions::replay (golden presets and the oracle)
+  std::string count = "rays";       // SimOptions::count_original_warps: "original-warps"
+  uint64_t warmup_rays = 0;         // SimOptions::warmup_rays
+  std::vector<std::string> meshes;  // keep only these meshes of the scene
 };
 
 /// One simulated configuration.
@@ -131,8 +135,9 @@ void add_repacked(const SimulateArgs& a, const RunSpec& r, SimulateSetup* s) {
   if (!a.repack) return;
   RunSpec rr = r;
   rr.name = r.name + "+repack";
-  rr.opt.repack =
-      a.repack_by == "node" ? sim::SimOptions::Repack::kNode : sim::SimOptions::Repack::kPredicted;
+  rr.opt.repack = a.repack_by == "node"      ? sim::SimOptions::Repack::kNode
+                  : a.repack_by == "micro21" ? sim::SimOptions::Repack::kMicro21
+                                             : sim::SimOptions::Repack::kPredicted;
   s->runs.push_back(rr);
   s->repacked = int(s->runs.size() - 1);
 }
@@ -160,6 +165,14 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   std::unique_ptr<RayStreamReader> stream;
   if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
   s->scene = load_scene(a.scene);
+  if (!a.meshes.empty()) {
+    try {
+      keep_meshes(&s->scene, a.meshes);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "hrpp simulate: --meshes: %s\n", e.what());
+      return 2;
+    }
+  }
   s->bvh = build_bvh(s->scene.triangles);
   if (!finish_predictor_config(cmd, a.p, s->scene, s->bvh, &cfg)) return 2;
 
@@ -184,6 +197,11 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
     s->workload = workload_json(s->scene, s->wo);
     generate_rays(s->scene, s->bvh, s->wo, [&](const RayRecord& r, const Hit*) { take(r); });
   }
+  if (a.warmup_rays && a.warmup_rays >= s->rays.size()) {
+    std::fprintf(stderr, "hrpp simulate: --warmup-rays %llu leaves no rays to measure (%zu rays)\n",
+                 (unsigned long long)a.warmup_rays, s->rays.size());
+    return 2;
+  }
   s->workload["kinds"] = a.kinds;
   if (a.max_rays) s->workload["max_rays"] = a.max_rays;
   if (s->rays.empty()) {
@@ -198,10 +216,13 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   base.pred = cfg;
   base.any_hit_only = cfg.any_hit_only;
   base.early_root = a.early_root;  // the oracle's run and the preset's (none predicts nothing)
+  base.count_original_warps = a.count == "original-warps";  // every run
+  base.warmup_rays = a.warmup_rays;                         // every run
   s->runs.push_back({"none", base, "no predictor"});
   s->preset = a.p.label;
   if (s->preset != "none" && s->preset != "oracle" && !a.no_oracle) {
     s->runs.push_back(oracle_run(base));
+    s->runs.back().opt.replay = a.replay;
   }
   if (s->preset == "none") {
     if (a.repack) {
@@ -213,6 +234,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
   RunSpec r{s->preset, base, ""};
   if (s->preset == "oracle") {
     r = oracle_run(base);
+    r.opt.replay = a.replay;
     s->runs.push_back(r);
     add_repacked(a, r, s);
     return 0;
@@ -263,7 +285,17 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
       return 2;
     }
     r.opt.timed = timed_for(a, r.opt.timed);
+    r.opt.replay = a.replay;
     r.timing = "the golden predictor behind a timing wrapper " + r.opt.timed.to_json().dump();
+    if (a.replay) r.timing += "; fetch lists settled at the prediction (MICRO 2021's replay)";
+  }
+  if (a.replay && r.opt.kind != sim::PredictorKind::kTimed) {
+    std::fprintf(stderr,
+                 "hrpp simulate: --replay settles the golden predictor's fetch lists; %s runs the "
+                 "RTL's cycle model, whose decisions come from its ports (the oracle and golden "
+                 "presets take --replay)\n",
+                 a.p.preset.c_str());
+    return 2;
   }
   r.opt.entry_timeout = a.entry_timeout;
   if (a.entry_timeout > 0)
@@ -276,6 +308,8 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
                 (a.gate_first >= 0 ? " (" + std::to_string(a.gate_first) + " before the first)"
                                    : std::string());
   if (a.early_root) r.timing += "; the root walk starts at a predicted-walk miss";
+  if (base.count_original_warps)
+    r.timing += "; cycles counted until the last admitted warp retires";
   s->runs.push_back(r);
   add_repacked(a, r, s);
   return 0;
@@ -357,6 +391,10 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
     j["rtl_first_mismatch"] = s.rtl_mismatches->empty() ? "" : s.rtl_mismatches->front();
   }
   j["repack"] = a.repack;
+  if (a.replay) j["replay"] = true;
+  if (a.count != "rays") j["cycles_until"] = a.count;
+  if (a.warmup_rays) j["warmup_rays"] = a.warmup_rays;
+  if (!a.meshes.empty()) j["meshes"] = a.meshes;
   return j;
 }
 
@@ -377,6 +415,20 @@ void print_simulate_head(const SimulateSetup& s, const SimulateArgs& a) {
       (unsigned long long)(g.l1.bytes / 1024), g.l1.ways, g.l1.line_bytes, g.l1.hit_latency,
       (unsigned long long)(g.l2.bytes / 1024), g.l2.hit_latency, g.l2.bytes_per_cycle,
       g.dram.latency, g.dram.bytes_per_cycle, g.box.per_cycle, g.triangle.per_cycle);
+  if (!g.rt.is_default() || g.l1.sector_bytes || g.l2.sector_bytes) {
+    std::string t;
+    auto add = [&](const std::string& x) { t += (t.empty() ? "" : ", ") + x; };
+    if (g.l1.sector_bytes || g.l2.sector_bytes)
+      add("L1 / L2 sectors " + std::to_string(g.l1.sector_bytes) + " / " +
+          std::to_string(g.l2.sector_bytes) + " B");
+    if (g.rt.request_bytes)
+      add("one " + std::to_string(g.rt.request_bytes) + "-byte request per record");
+    if (g.rt.triangle_records) add("triangles one record at a time");
+    if (g.rt.triangle_bytes) add(std::to_string(g.rt.triangle_bytes) + "-byte triangles");
+    if (g.rt.leaf_end_bytes) add(std::to_string(g.rt.leaf_end_bytes) + " bytes after each leaf");
+    if (g.rt.launch_latency) add(std::to_string(g.rt.launch_latency) + "-cycle launch");
+    std::printf("  rt unit: %s\n", t.c_str());
+  }
   if (s.preset != "none" && s.preset != "oracle")
     std::printf("  predictor %s: %s\n    timing: %s\n", s.preset.c_str(), s.predictor_line.c_str(),
                 s.runs[s.main].timing.c_str());
@@ -585,7 +637,8 @@ Subcommand add_simulate(CLI::App& app) {
                  "are generated (to spawn their children) but not simulated")
       ->capture_default_str();
   sc->add_option("--max-rays", sa->max_rays, "simulate only the first N rays (0: all)");
-  sc->add_option("--gpu", sa->gpu, "GPU configuration: mobile, desktop (model/gpu/) or a JSON file")
+  sc->add_option("--gpu", sa->gpu,
+                 "GPU configuration: mobile, desktop, micro21-sim (model/gpu/) or a JSON file")
       ->capture_default_str();
   sc->add_option("--json", sa->json_path,
                  "write the report as JSON to this file ('-': to standard output, the text report "
@@ -600,9 +653,10 @@ Subcommand add_simulate(CLI::App& app) {
                "also run the predictor with warp repacking: rays regrouped into warps after "
                "their predictions (docs/timing_model.md)");
   sc->add_option("--repack-by", sa->repack_by,
-                 "repacking categories: predicted (MICRO 2021: predicted or not) or node (by "
-                 "first predicted node)")
-      ->check(CLI::IsMember({"predicted", "node"}))
+                 "repacking categories: predicted (predicted or not), node (by first predicted "
+                 "node) or micro21 (MICRO 2021's simulator: a warp waits in the predictor, its "
+                 "predicted rays leave for one pool; docs/timing_model.md)")
+      ->check(CLI::IsMember({"predicted", "node", "micro21"}))
       ->capture_default_str();
   sc->add_option("--lookup-latency", sa->lookup_latency,
                  "golden presets: cycles from a ray's entry to its prediction")
@@ -641,6 +695,23 @@ Subcommand add_simulate(CLI::App& app) {
                "the RT unit starts a ray's walk from the root as soon as its predicted walks "
                "found no hit (the decision can then only be the full walk) instead of waiting "
                "for the skip decision");
+  sc->add_flag("--replay", sa->replay,
+               "MICRO 2021's replay: a ray's fetch list is settled at its prediction (the "
+               "predicted walk from the predicted node's own pair, then at once the root walk "
+               "or nothing); the oracle and golden presets (docs/timing_model.md)");
+  sc->add_option("--cycles-until", sa->count,
+                 "count a run's cycles until its last ray's answer (rays) or its last admitted "
+                 "warp's retirement (original-warps: MICRO 2021's simulator's kernel end, which "
+                 "does not wait for rays its predictor moved into warps of its own)")
+      ->check(CLI::IsMember({"rays", "original-warps"}))
+      ->capture_default_str();
+  sc->add_option("--meshes", sa->meshes,
+                 "keep only these meshes (glTF node names, comma-separated) of the scene")
+      ->delimiter(',');
+  sc->add_option("--warmup-rays", sa->warmup_rays,
+                 "run the first N rays as a warm-up kernel (MICRO 2021's benchmark's -w): the "
+                 "others enter when they are answered, and cycles count from then")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 40));
   return {sc, [sa] {
             // No preset: the RTL's default configuration, unless hash or table options are
             // given (then the golden model's defaults with those options).

@@ -98,6 +98,11 @@ constexpr double kMinTwiceArea = 0x1p-100;  // 7.9e-31
 /// range above (naming the node, mesh and offending value).
 Scene load_scene(const std::string& path);
 
+/// Keeps only the triangles of the named meshes (MeshRange::name), in their order: the scene's
+/// triangles, materials per triangle, meshes, bounds and degenerate count follow; its camera and
+/// lights stay. Throws std::invalid_argument naming an unknown mesh (and the scene's meshes).
+void keep_meshes(Scene* scene, const std::vector<std::string>& names);
+
 /// Loads glTF bytes held in memory (binary when they start with "glTF", else JSON; external
 /// buffer URIs are not resolved, and the camera is the file's or a computed default). `name`
 /// names the bytes in messages. Throws SceneError. Used by the scene-loader fuzz target.

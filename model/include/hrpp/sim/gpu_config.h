@@ -22,12 +22,36 @@ struct CacheConfig {
   uint32_t mshrs = 0;               // misses outstanding at once (requests to a missing line merge)
   double bytes_per_cycle = 0;       // L2 only: bandwidth to the L1s (0: unbounded)
   uint32_t requests_per_cycle = 0;  // L1 only: line requests a unit sends per cycle (0: unbounded)
+  /// A sectored cache (optional key; 0: not sectored): a line holds line_bytes / sector_bytes
+  /// sectors, a request reads one sector, and a miss fetches only the sector it needs (the line
+  /// is allocated, evicting its set's least recently used line, when absent).
+  uint32_t sector_bytes = 0;
   uint32_t sets() const { return uint32_t(bytes / line_bytes / ways); }
+  /// The bytes a request reads and a miss fetches: the sector, or the line.
+  uint32_t block_bytes() const { return sector_bytes ? sector_bytes : line_bytes; }
 };
 
 struct DramConfig {
   uint32_t latency = 0;        // cycles after the L2's miss
   double bytes_per_cycle = 0;  // 0: unbounded
+};
+
+/// How the RT unit reads the BVH (optional "rt_unit" object; each key optional, the defaults are
+/// the project's own unit: docs/timing_model.md, "MICRO 2021's timing").
+struct RtUnitConfig {
+  /// 0: a fetch reads its whole record (a node pair, a leaf's triangles). N: every record fetch is
+  /// one request for the N-byte aligned block holding the record's first byte.
+  uint32_t request_bytes = 0;
+  /// false: a leaf's triangles are one fetch and one issue of their tests. true: one fetch and
+  /// one test per triangle record, one after the other.
+  bool triangle_records = false;
+  uint32_t triangle_bytes = 0;  // a triangle record's bytes in memory (0: ours, 36)
+  uint32_t leaf_end_bytes = 0;  // bytes after each leaf's triangles (a terminator record)
+  uint32_t launch_latency = 0;  // cycles added to every run (a kernel launch)
+  bool is_default() const {
+    return !request_bytes && !triangle_records && !triangle_bytes && !leaf_end_bytes &&
+           !launch_latency;
+  }
 };
 
 struct GpuConfig {
@@ -40,6 +64,7 @@ struct GpuConfig {
   DramConfig dram;
   PipeConfig box;       // node tests: one test = both child boxes of a node
   PipeConfig triangle;  // triangle tests
+  RtUnitConfig rt;
   nlohmann::json sources = nlohmann::json::object();
 
   /// "" when usable, else what is wrong.

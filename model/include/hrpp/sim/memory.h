@@ -18,7 +18,7 @@
 namespace hrpp::sim {
 
 struct CacheStats {
-  uint64_t accesses = 0;     // line requests
+  uint64_t accesses = 0;     // block (line or sector) requests
   uint64_t hits = 0;         // the line was there, its data arrived
   uint64_t merged = 0;       // the line's miss was in flight: waited for its data (no new miss)
   uint64_t misses = 0;       // new misses (sent to the next level)
@@ -48,15 +48,22 @@ class IssueSlots {
   std::vector<Slot> ring_;
 };
 
-/// Tags, LRU order and MSHRs of one cache.
+/// Tags, LRU order and MSHRs of one cache. A request names a byte address; the cache's block is
+/// its sector (CacheConfig::sector_bytes) or its line.
 class Cache {
  public:
+  enum class Probe : uint8_t {
+    kAbsent,         // the line is not there
+    kSectorMissing,  // sectored: the line is there, the request's sector is not
+    kPresent,        // the block is there (its data arrived or in flight)
+  };
   explicit Cache(const CacheConfig& cfg);
-  /// The line's arrival cycle when present (data arrived or in flight), refreshing its recency;
-  /// false when absent.
-  bool lookup(uint64_t line, uint64_t* ready);
-  /// Installs a missing line whose data arrives at `ready` (replacing the LRU way).
-  void insert(uint64_t line, uint64_t ready);
+  /// kPresent with the block's arrival cycle in *ready; a line that is there has its recency
+  /// refreshed.
+  Probe lookup(uint64_t addr, uint64_t* ready);
+  /// Installs the missing block of addr, whose data arrives at `ready` (allocating its line when
+  /// absent, replacing the set's least recently used line).
+  void insert(uint64_t addr, uint64_t ready);
   /// The first cycle >= t at which an MSHR is free for a miss made at t; the caller then calls
   /// hold_mshr with the cycle the miss's data arrives.
   uint64_t mshr_free_at(uint64_t t);
@@ -65,10 +72,12 @@ class Cache {
   CacheStats stats;
 
  private:
+  static constexpr uint64_t kNoData = ~0ull;
+  size_t way_of(uint64_t line) const;  // the way holding the line, or npos
   CacheConfig cfg_;
-  uint32_t set_mask_;
+  uint32_t set_mask_, line_shift_, sectors_;
   std::vector<uint64_t> tag_;    // line + 1 (0: invalid), sets x ways
-  std::vector<uint64_t> ready_;  // the line's arrival cycle
+  std::vector<uint64_t> ready_;  // by way and sector: the block's arrival cycle (kNoData: absent)
   std::vector<uint64_t> used_;   // LRU stamp
   uint64_t stamp_ = 0;
   std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<>> mshr_;  // busy until
@@ -97,21 +106,21 @@ struct MemoryStats {
 class MemorySystem {
  public:
   explicit MemorySystem(const GpuConfig& g);
-  /// Unit `unit` reads [addr, addr + bytes) at cycle `now`: the cycle every line of it is there.
-  /// *l1_hit (if set): every line was an L1 hit.
+  /// Unit `unit` reads [addr, addr + bytes) at cycle `now`, one request per L1 block (sector or
+  /// line): the cycle every block of it is there. *l1_hit (if set): every block was an L1 hit.
   uint64_t load(uint32_t unit, uint64_t addr, uint32_t bytes, uint64_t now, bool* l1_hit = nullptr);
   MemoryStats stats() const;
 
  private:
-  uint64_t l1_line(uint32_t unit, uint64_t line, uint64_t now, bool* hit);
-  uint64_t l2_line(uint64_t l2line, uint64_t t);
+  uint64_t l1_block(uint32_t unit, uint64_t addr, uint64_t now, bool* hit);
+  uint64_t l2_block(uint64_t addr, uint64_t t);
   GpuConfig g_;
   std::vector<Cache> l1_;
   std::vector<IssueSlots> l1_port_;  // requests_per_cycle
   Cache l2_;
   Link l2_link_, dram_link_;
   uint64_t dram_bytes_ = 0, loads_ = 0, port_wait_ = 0;
-  uint32_t l1_shift_, l2_shift_;
+  uint32_t l1_block_shift_;
 };
 
 }  // namespace hrpp::sim

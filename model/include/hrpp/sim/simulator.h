@@ -58,6 +58,14 @@ struct SimOptions {
     kNone = 0,
     kPredicted = 1,  // MICRO 2021: two categories, predicted and not predicted
     kNode = 2,       // one category per first predicted node, and not predicted
+    /// MICRO 2021's simulator (docs/timing_model.md, "MICRO 2021's timing"): a warp waits in
+    /// the predictor; its rays given a prediction leave it for one pool, the others stay. The
+    /// pool forms a warp of warp_size rays at once when it holds more than warp_size; when the
+    /// timer (started by a warp entering an empty predictor, restarted by every release)
+    /// expires, one release: a pool warp when the pool holds warp_size rays, else the oldest
+    /// waiting warp goes on with the rays it kept (the pool's last rays when no warp waits). A
+    /// unit holds warps_per_unit admitted warps (waiting ones included) and as many walking.
+    kMicro21 = 3,
   } repack = Repack::kNone;
   uint32_t repack_timer = 20;  // MICRO 2021's -gpgpu_rt_predictor_repacking_timer
   /// A ray that has waited this many cycles to enter its unit's predictor (no credit, port busy)
@@ -76,6 +84,23 @@ struct SimOptions {
   /// (the skip decision can then only be a full walk: skip_action) instead of waiting for the
   /// decision; the decision still comes and is taken, and the ray's outcome is sent after it.
   bool early_root = false;
+  /// kTimed only. The ray's fetch list is settled at its prediction, as MICRO 2021's simulator
+  /// replays functional walks (docs/timing_model.md, "MICRO 2021's timing"): the predicted walk
+  /// starts at the predicted node's own pair (not its parent's, for the node's box), and the
+  /// walk that follows (none when the predicted walk answers the ray, else from the root) starts
+  /// as the predicted walk ends, without waiting for the predictor's decision; the decision must
+  /// then agree.
+  bool replay = false;
+  /// How a run's cycles are counted. false: up to the last ray's answer. true: up to the last
+  /// admitted (original) warp's retirement, as MICRO 2021's simulator ends a kernel when the
+  /// warps of its thread blocks have retired, without waiting for the rays its predictor moved
+  /// into warps of its own (with Repack::kMicro21, a warp whose rays all left retires when it
+  /// is released).
+  bool count_original_warps = false;
+  /// A warm-up kernel, as MICRO 2021's benchmark's -w: the first warmup_rays rays of the stream
+  /// run first; the other rays' warps enter once every warm-up ray is answered, and the run's
+  /// cycles are counted from then (caches and tables stay as the warm-up left them).
+  uint64_t warmup_rays = 0;
   /// kPort: the port model of unit u; default: the cycle model of `cycle`.
   std::function<std::unique_ptr<PortModel>(uint32_t unit)> port_model;
   /// When set: (*answers)[i] receives stream ray i's answer (resized to the stream; tests).
@@ -105,6 +130,7 @@ struct SimStats {
   uint64_t latency = 0;         // sum over rays of their latencies (admission to answer)
   uint64_t lane_cycles = 0;     // sum over rays and the warps they were in of their cycles there
   uint64_t repacked_warps = 0;  // warps formed by repacking (counted in `warps` too)
+  uint64_t pooled_rays = 0;     // rays that left their warps for repacking's buffers
   uint64_t warp_cycles = 0;     // sum over warps of warp_size x cycles in a unit
   uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
   std::array<KindTime, kNumRayKinds> by_kind{};

@@ -49,7 +49,16 @@ bool parse_ray_order(std::string_view name, RayOrder* out);
 enum class WorkloadSource : uint8_t {
   kCamera = 0,     // camera samples and the secondary rays their hits spawn
   kMicro21Ao = 1,  // MICRO 2021's AO benchmark: no camera, one AO ray per triangle
+  /// The same rays in the order of MICRO 2021's ray sorting (its benchmark's --sort): by the
+  /// key (origin cell << 7) | direction bin, the origin on a 32^3 grid over the scene's vertex
+  /// bounds, the direction in 3 theta and 4 phi bits (RayGenerator.cpp 381-413, 444-451,
+  /// 494-502 at 29eeb01); rays of one key keep their triangle order.
+  kMicro21AoSorted = 2,
 };
+/// MICRO 2021's ray-sorting key of a ray over the scene's bounds (kMicro21AoSorted).
+uint64_t micro21_sort_key(const Ray& ray, const Aabb& bounds);
+/// Either of MICRO 2021's AO workloads.
+inline bool is_micro21_ao(WorkloadSource s) { return s != WorkloadSource::kCamera; }
 std::string_view workload_source_name(WorkloadSource s);
 bool parse_workload_source(std::string_view name, WorkloadSource* out);
 
@@ -62,6 +71,11 @@ constexpr uint64_t kMicro21AoMaxRays = 1000001;
 
 struct WorkloadOptions {
   WorkloadSource source = WorkloadSource::kCamera;
+  /// MICRO 2021's AO workloads: sample the hemisphere about the opposite of the triangle's
+  /// normal as wound. Their benchmark samples about the OBJ file's vertex normals, or, for a face
+  /// without them, (v0 - v1) x (v2 - v1), the opposite of ours (OBJ_Loader.h 822-833 at 29eeb01);
+  /// its RayGenerator.h 72 notes that the teapot's normals point inwards.
+  bool micro21_flip = false;
   int width = 0, height = 0;  // 0: from the camera (its image size)
   int spp = 1;
   uint64_t seed = 1;
