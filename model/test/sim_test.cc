@@ -560,6 +560,15 @@ TEST(Sim, Micro21RepackingPoolsOnlyPredictedRays) {
     }
   }
   EXPECT_LT(cycles_by_timer[0], cycles_by_timer[1]);
+  // One warp per unit: the pool outgrows the unit's warp slots, as theirs may.
+  SimOptions o = oracle_ao(mobile());
+  o.gpu.warps_per_unit = 1;
+  o.repack = SimOptions::Repack::kMicro21;
+  std::vector<Hit> answers;
+  o.answers = &answers;
+  const SimStats s = run(w, o);
+  EXPECT_TRUE(golden_answers(w, g, answers));
+  EXPECT_GT(s.pooled_rays, 2u * 32);
 }
 
 // Counting cycles until the admitted warps retire: no predictor, the same cycles; with MICRO

@@ -261,6 +261,13 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
   }
   for (size_t i = first; i < end; ++i) {
     const uint32_t ray = valid_[i];
+    // Repack::kMicro21: a unit holds its admitted warps' rays and its pool's, which has no bound
+    // (theirs has none either).
+    if (free_slots_.empty()) {
+      free_slots_.push_back(uint32_t(slots_.size()));
+      slots_.emplace_back();
+      admitted_at_.push_back(0);
+    }
     const uint32_t si = free_slots_.back();
     free_slots_.pop_back();
     Slot& s = slots_[si];
