@@ -21,8 +21,8 @@ STUDY_OPTS ?=
 
 # Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
-  libembree-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev nlohmann-json3-dev \
-  libstb-dev verilator zlib1g-dev yosys clang libclang-rt-14-dev
+  libembree-dev libtbb-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev \
+  nlohmann-json3-dev libstb-dev verilator zlib1g-dev yosys clang libclang-rt-14-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
