@@ -226,16 +226,6 @@ TEST(Micro21Bvh, CheckerDetectsBrokenTrees) {
   EXPECT_NE(check_bvh(b4, tris.size()), "");
 }
 
-Ray random_ray(uint64_t seed, uint64_t i) {
-  auto u = [&](uint64_t k) { return 2.f * uniform01(seed, i, k) - 1.f; };
-  Ray r;
-  r.org = 1.5f * Vec3(u(0), u(1), u(2));
-  r.dir = glm::normalize(Vec3(u(3), u(4), u(5)) - 0.3f * r.org);
-  if (i % 5 == 0) r.tfar = 0.5f + uniform01(seed, i, 6);
-  if (i % 7 == 0) r.tnear = 0.2f * uniform01(seed, i, 7);
-  return r;
-}
-
 // A triangle referenced by several leaves is tested in each of them, and its hit may lie outside
 // the leaf it was found in: closest and any hit still agree with testing every triangle.
 TEST(Micro21Bvh, TraversalAgreesWithBruteForce) {
@@ -245,7 +235,7 @@ TEST(Micro21Bvh, TraversalAgreesWithBruteForce) {
     ASSERT_EQ(check_bvh(bvh, tris.size()), "");
     int hits = 0;
     for (uint64_t i = 0; i < 4000; ++i) {
-      const Ray r = random_ray(seed * 1000, i);
+      const Ray r = test::random_ray(seed * 1000, i);
       Counters c;
       const Hit a = closest_hit(bvh, r, &c);
       const Hit b = brute_force_closest(bvh, r);
