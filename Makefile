@@ -21,8 +21,8 @@ STUDY_OPTS ?=
 
 # Debian packages the project needs (Debian 12). `make setup` installs only the missing ones.
 APT_PACKAGES := build-essential cmake ninja-build pkg-config python3 python3-venv \
-  libembree-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev nlohmann-json3-dev \
-  libstb-dev verilator zlib1g-dev yosys clang libclang-rt-14-dev
+  libembree-dev libtbb-dev libglm-dev libtinygltf-dev libgtest-dev libcli11-dev \
+  nlohmann-json3-dev libstb-dev verilator zlib1g-dev yosys clang libclang-rt-14-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
@@ -142,12 +142,17 @@ exactness: build
 	  --workers $(JOBS) --min-rays $(EXACTNESS_RAYS) --out $(OUT)/exactness --doc docs/results.md \
 	  $(STUDY_OPTS)
 
-# Cross-check every shared scene at a larger ray count than the test suite uses.
+# Cross-check every shared scene at a larger ray count than the test suite uses, on the BVH that
+# BVH names (sah, or micro21-sbvh: MICRO 2021's; docs/bvh.md, "Builders"); reports in
+# $(OUT)/check-embree-SCENE.json (sah) or $(OUT)/check-embree-BVH-SCENE.json.
+BVH ?= sah
+CHECK_EMBREE_TAG := $(if $(filter-out sah,$(BVH)),-$(BVH))
 check-embree: build
 	@mkdir -p $(OUT)
 	@for s in $(SHARED)/scenes/*.glb scenes/*.glb; do \
 	  n=$$(basename $$s .glb); \
-	  $(BUILD)/hrpp check-embree $$s --rays 1000000 --kind all --json $(OUT)/check-embree-$$n.json || exit 1; \
+	  $(BUILD)/hrpp check-embree $$s --rays 1000000 --kind all --bvh $(BVH) \
+	    --json $(OUT)/check-embree$(CHECK_EMBREE_TAG)-$$n.json || exit 1; \
 	done
 
 # The predictor tables of docs/results.md: the study's Table 1 configuration and the finite

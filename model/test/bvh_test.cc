@@ -78,16 +78,6 @@ TEST(Bvh, AncestorWalksParents) {
   }
 }
 
-Ray random_ray(uint64_t seed, uint64_t i) {
-  auto u = [&](uint64_t k) { return 2.f * uniform01(seed, i, k) - 1.f; };
-  Ray r;
-  r.org = 1.5f * Vec3(u(0), u(1), u(2));
-  r.dir = glm::normalize(Vec3(u(3), u(4), u(5)) - 0.3f * r.org);
-  if (i % 5 == 0) r.tfar = 0.5f + uniform01(seed, i, 6);
-  if (i % 7 == 0) r.tnear = 0.2f * uniform01(seed, i, 7);
-  return r;
-}
-
 TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
   for (uint64_t seed : {1u, 2u, 3u}) {
     auto tris = test::random_soup(2000, 0.08f, seed);
@@ -95,7 +85,7 @@ TEST(Traversal, ClosestHitEqualsBruteForceOnRandomSoups) {
       Bvh bvh = build_bvh(tris, {.max_leaf_size = leaf});
       int hits = 0;
       for (uint64_t i = 0; i < 3000; ++i) {
-        Ray r = random_ray(seed * 100 + leaf, i);
+        Ray r = test::random_ray(seed * 100 + leaf, i);
         Counters c;
         Hit a = closest_hit(bvh, r, &c);
         Hit b = brute_force_closest(bvh, r);
@@ -136,7 +126,7 @@ TEST(Traversal, PairLayoutIsTheNodeWalk) {
     nodes_only.pairs.clear();
     nodes_only.pair_of.clear();
     for (uint64_t i = 0; i < 2000; ++i) {
-      const Ray r = random_ray(500 + leaf, i);
+      const Ray r = test::random_ray(500 + leaf, i);
       for (uint32_t start = 0; start < bvh.nodes.size(); start += (i % 50 == 0 ? 13 : 1u << 30)) {
         for (bool any : {false, true}) {
           std::vector<uint32_t> pa, pb;
@@ -171,7 +161,7 @@ TEST(Traversal, ClosestHitPairIsTwoWalks) {
     nodes_only.pairs.clear();
     nodes_only.pair_of.clear();
     for (uint64_t i = 0; i < 3000; ++i) {
-      const Ray r = random_ray(900 + leaf, i);
+      const Ray r = test::random_ray(900 + leaf, i);
       Counters c0;
       const Hit full = closest_hit(bvh, r, &c0);
       std::vector<float> bounds{r.tfar};
@@ -214,7 +204,7 @@ TEST(Traversal, AnyHitAgreesWithBruteForce) {
   auto tris = test::random_soup(2000, 0.08f, 11);
   Bvh bvh = build_bvh(tris);
   for (uint64_t i = 0; i < 5000; ++i) {
-    Ray r = random_ray(77, i);
+    Ray r = test::random_ray(77, i);
     Counters c;
     Hit a = any_hit(bvh, r, &c);
     Hit b = brute_force_closest(bvh, r);
@@ -231,7 +221,7 @@ TEST(Traversal, CountersAndPathAreConsistent) {
   auto tris = test::random_soup(3000, 0.05f, 21);
   Bvh bvh = build_bvh(tris);
   for (uint64_t i = 0; i < 500; ++i) {
-    Ray r = random_ray(5, i);
+    Ray r = test::random_ray(5, i);
     Counters c;
     std::vector<uint32_t> path;
     Hit h = closest_hit(bvh, r, &c, {.path = &path});
@@ -259,7 +249,7 @@ TEST(Traversal, SubtreeWalkFindsHitsInsideTheSubtree) {
   Bvh bvh = build_bvh(tris);
   int checked = 0;
   for (uint64_t i = 0; i < 2000; ++i) {
-    Ray r = random_ray(9, i);
+    Ray r = test::random_ray(9, i);
     Counters c;
     Hit h = closest_hit(bvh, r, &c);
     if (!h.hit()) continue;

@@ -55,6 +55,16 @@ std::vector<Triangle> random_soup(size_t n, float scale, uint64_t seed) {
   return out;
 }
 
+Ray random_ray(uint64_t seed, uint64_t i) {
+  auto u = [&](uint64_t k) { return 2.f * uniform01(seed, i, k) - 1.f; };
+  Ray r;
+  r.org = 1.5f * Vec3(u(0), u(1), u(2));
+  r.dir = glm::normalize(Vec3(u(3), u(4), u(5)) - 0.3f * r.org);
+  if (i % 5 == 0) r.tfar = 0.5f + uniform01(seed, i, 6);
+  if (i % 7 == 0) r.tnear = 0.2f * uniform01(seed, i, 7);
+  return r;
+}
+
 std::string temp_dir(const std::string& name) {
   fs::path p = fs::temp_directory_path() / ("hrpp_test_" + std::to_string(::getpid())) / name;
   fs::remove_all(p);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hrpp/scene/scene.h"
+#include "hrpp/trace/ray.h"
 
 namespace hrpp::test {
 
@@ -21,6 +22,10 @@ Scene scene_from_triangles(std::vector<Triangle> tris);
 
 /// Random triangle soup: n triangles of size ~scale inside [-1, 1]^3, deterministic in seed.
 std::vector<Triangle> random_soup(size_t n, float scale, uint64_t seed);
+
+/// Ray i of seed: from a random origin in [-1.5, 1.5]^3 roughly towards the centre of the soups;
+/// every 5th with a finite tfar in [0.5, 1.5), every 7th with tnear in [0, 0.2).
+Ray random_ray(uint64_t seed, uint64_t i);
 
 /// A fresh temporary directory for one test.
 std::string temp_dir(const std::string& name);

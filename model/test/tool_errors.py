@@ -315,6 +315,11 @@ OPTION_CASES = [
     ("option: tile 0", {}, P + "--tile 0 --order tiled", r"--tile"),
     ("option: unknown order", {}, P + "--order spiral", r"--order"),
     ("option: unknown workload", {}, "predict {scene} --workload sobol", r"--workload"),
+    ("option: unknown bvh", {}, P + "--bvh sbvh", r"--bvh: sbvh not in \{sah,micro21-sbvh\}"),
+    ("option: simulate unknown bvh", {}, "simulate {scene} --res 4x4 --bvh embree", r"--bvh"),
+    ("option: trace unknown bvh", {}, "trace {scene} --res 4x4 --out {dir}/x.rays --bvh SAH", r"--bvh"),
+    ("option: check-embree unknown bvh", {}, "check-embree {scene} --bvh micro21", r"--bvh"),
+    ("option: info unknown bvh", {}, "info {scene} --bvh none", r"--bvh"),
     ("option: micro21-ao with a resolution", {}, P + "--workload micro21-ao",
      r"--workload micro21-ao has no camera and its own AO rays \(one per triangle, unbounded\): "
      r"--res, --spp, --order and --ao-distance do not apply"),
@@ -432,6 +437,10 @@ INAPPLICABLE_CASES = [
      "render {scene} --res 4x4 --out {dir}/r --hash improved --precision 5", r"hrpp render: --precision " + APPLIES),
     ("inapplicable: simulate --origin-bits with --hash faithful", {},
      "simulate {scene} --res 4x4 --hash faithful --origin-bits 5", r"hrpp simulate: --origin-bits " + APPLIES),
+    ("inapplicable: info --leaf-size with --bvh micro21-sbvh", {},
+     "info {scene} --bvh micro21-sbvh --leaf-size 8",
+     r"hrpp info: --leaf-size " + APPLIES + r"our SAH build \(--bvh sah\); this run uses --bvh "
+     r"micro21-sbvh"),
 ]
 
 

@@ -14,17 +14,24 @@
 namespace hrpp::cli {
 namespace {
 
-int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& kind, uint64_t seed,
-                     const std::string& config, const std::string& json_path) {
+struct CheckEmbreeArgs {
+  std::string scene, json_path;
+  uint64_t rays = 100000, seed = 1;
+  std::string kind = "all", config = kEmbreeReferenceConfig, bvh = "sah";
+};
+
+int cmd_check_embree(const CheckEmbreeArgs& a) {
+  const std::string& json_path = a.json_path;
   if (!json_path.empty() &&
       !check_output_path("check-embree", "--json", json_path, OutputKind::kJson))
     return 2;
-  Scene s = load_scene(path);
-  Bvh bvh = build_bvh(s.triangles);
+  Scene s = load_scene(a.scene);
+  Bvh bvh = build_bvh(s.triangles, bvh_build_options(a.bvh));
+  const std::string& kind = a.kind;
   CrossCheckOptions opt;
-  opt.rays = rays;
-  opt.seed = seed;
-  opt.embree_config = config;
+  opt.rays = a.rays;
+  opt.seed = a.seed;
+  opt.embree_config = a.config;
   if (kind != "all") {
     RayKind k;
     parse_ray_kind(kind, &k);  // validated by CLI11
@@ -39,6 +46,7 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
   CrossCheckResult r = cross_check(s, bvh, opt);
   progress.reset();
   std::printf("check-embree %s: %s\n", s.path.c_str(), r.embree.c_str());
+  std::printf("%s", bvh_line(bvh).c_str());
   std::printf("  %dx%d camera samples, %.2f s\n", r.width, r.height, r.seconds);
   std::printf("  %-8s %9s %8s %8s %9s %13s %8s %7s %6s %6s %6s\n", "kind", "rays", "invalid",
               "no-embr", "hits", "hit-agreement", "hit-mis", "grazes", "t-mis", "p-mis", "ties");
@@ -67,16 +75,11 @@ int cmd_check_embree(const std::string& path, uint64_t rays, const std::string& 
   if (!json_path.empty()) {
     nlohmann::json j = {{"tool", tool_json()}};
     j.update(r.to_json());
+    j["bvh"] = bvh_json(bvh);
     if (!write_json_file(json_path, j)) return 2;
   }
   return r.passed() ? 0 : 1;
 }
-
-struct CheckEmbreeArgs {
-  std::string scene, json_path;
-  uint64_t rays = 100000, seed = 1;
-  std::string kind = "all", config = kEmbreeReferenceConfig;
-};
 
 }  // namespace
 
@@ -91,12 +94,11 @@ Subcommand add_check_embree(CLI::App& app) {
       ->check(CLI::IsMember({"primary", "shadow", "ao", "all"}));
   ce->add_option("--seed", a->seed, "random seed of the ray generator");
   ce->add_option("--embree-config", a->config, "Embree device configuration string");
+  add_bvh_option(ce, a->bvh);
   ce->add_option("--json", a->json_path,
                  "write the results as JSON to this file ('-': to standard output, the text report "
                  "then to standard error)");
-  return {ce, [a] {
-            return cmd_check_embree(a->scene, a->rays, a->kind, a->seed, a->config, a->json_path);
-          }};
+  return {ce, [a] { return cmd_check_embree(*a); }};
 }
 
 }  // namespace hrpp::cli

@@ -173,6 +173,53 @@ bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b) {
   }
 }
 
+// ---- the BVH (simulate, predict, trace, check-embree, exactness, info) -----------------------
+
+CLI::Option* add_bvh_option(CLI::App* app, std::string& name) {
+  return app
+      ->add_option("--bvh", name,
+                   "BVH builder: 'sah' (ours: binned SAH, up to 4 triangles per leaf) or "
+                   "'micro21-sbvh' (MICRO 2021's simulator's: Embree's spatial-split SAH, up to "
+                   "32; docs/bvh.md)")
+      ->check(CLI::IsMember({std::string(bvh_builder_name(BvhBuilder::kSah)),
+                             std::string(bvh_builder_name(BvhBuilder::kMicro21Sbvh))}))
+      ->capture_default_str();
+}
+
+BvhBuildOptions bvh_build_options(const std::string& name) {
+  BvhBuildOptions o;
+  parse_bvh_builder(name, &o.builder);  // checked by CLI11
+  return o;
+}
+
+nlohmann::json bvh_json(const Bvh& bvh) {
+  const BvhStats& s = bvh.stats;
+  return {{"builder", bvh_builder_name(bvh.options.builder)},
+          {"nodes", s.nodes},
+          {"interior", s.interior},
+          {"leaves", s.leaves},
+          {"references", s.references},
+          {"max_depth", s.max_depth},
+          {"mean_leaf_depth", s.mean_leaf_depth},
+          {"leaf_size_histogram", s.leaf_size_histogram},
+          {"sah_cost", s.sah_cost},
+          {"max_leaf_size", bvh.options.max_leaf_size},
+          {"bins", bvh.options.bins},
+          {"memory_bytes", bvh.memory_bytes()}};
+}
+
+std::string bvh_line(const Bvh& bvh) {
+  if (bvh.options.builder == BvhBuilder::kSah) return "";
+  const BvhStats& s = bvh.stats;
+  char b[256];
+  std::snprintf(b, sizeof b,
+                "  bvh %s (MICRO 2021's: Embree's spatial-split SAH): %u nodes, %u leaves, %u "
+                "triangle references, depth max %u, SAH cost %.2f\n",
+                std::string(bvh_builder_name(bvh.options.builder)).c_str(), s.nodes, s.leaves,
+                s.references, s.max_depth, s.sah_cost);
+  return b;
+}
+
 // ---- workload options (trace, predict, render) -----------------------------------------------
 
 /// Adds the workload options; returns them (so that --stream can exclude them).

@@ -47,6 +47,23 @@ void null_unmeasured_times(nlohmann::json* j);
 /// Parses "WxH" into two positive integers.
 bool parse_wxh(const std::string& s, uint32_t* a, uint32_t* b);
 
+// ---- the BVH (simulate, predict, trace, check-embree, exactness, info) -----------------------
+
+/// Adds --bvh NAME (sah, micro21-sbvh: the builder, docs/bvh.md "Builders"; default sah).
+CLI::Option* add_bvh_option(CLI::App* app, std::string& name);
+
+/// The build options of --bvh NAME (a name CLI11 checked).
+BvhBuildOptions bvh_build_options(const std::string& name);
+
+/// A report's "bvh": {"builder", "max_leaf_size", "bins", the statistics (BvhStats: node counts,
+/// triangle references, depths, leaf sizes, SAH cost; not the build time, so that a report's
+/// figures are the same every run) and "memory_bytes"}.
+nlohmann::json bvh_json(const Bvh& bvh);
+
+/// A text report's line for a BVH other than the default (--bvh sah): "  bvh micro21-sbvh (MICRO
+/// 2021's: ...): N nodes, ..."; "" for our SAH build, whose reports print no line.
+std::string bvh_line(const Bvh& bvh);
+
 // ---- workload options (trace, predict, render) -----------------------------------------------
 
 struct WorkloadArgs {

@@ -19,7 +19,7 @@ namespace hrpp::cli {
 namespace {
 
 struct ExactnessArgs {
-  std::string scene, json_path, misses_path, replay_path, res, kinds = "all";
+  std::string scene, json_path, misses_path, replay_path, res, kinds = "all", bvh = "sah";
   uint64_t min_rays = 10'000'000, seed = 1, max_samples = 0;
   int spp = 0;
   size_t max_examples = 16, max_printed = 20;
@@ -70,8 +70,9 @@ bool read_replay(const std::string& path, std::vector<std::pair<Ray, StudyKind>>
   return true;
 }
 
-void print_report(const ExactnessResult& r, const ExactnessArgs& a) {
+void print_report(const ExactnessResult& r, const ExactnessArgs& a, const Bvh& bvh) {
   std::printf("exactness %s: %zu triangles; %s\n", r.scene.c_str(), r.triangles, r.embree.c_str());
+  std::printf("%s", bvh_line(bvh).c_str());
   for (const FrameInfo& f : r.frames)
     std::printf("  frame: seed %llu, %dx%d, %d spp, effects %s: %llu camera samples\n",
                 (unsigned long long)f.seed, f.width, f.height, f.spp, f.effects.c_str(),
@@ -156,7 +157,7 @@ int cmd_exactness(const ExactnessArgs& a) {
   opt.max_examples = a.max_examples;
 
   Scene s = load_scene(a.scene);
-  Bvh bvh = build_bvh(s.triangles);
+  Bvh bvh = build_bvh(s.triangles, bvh_build_options(a.bvh));
   // Walk misses go to --misses as they are found: a long run that is stopped keeps them.
   std::FILE* misses = nullptr;
   if (!a.misses_path.empty()) {
@@ -210,10 +211,11 @@ int cmd_exactness(const ExactnessArgs& a) {
   }
   progress.reset();
   if (misses) std::fclose(misses);
-  print_report(r, a);
+  print_report(r, a, bvh);
   if (!a.json_path.empty()) {
     nlohmann::json j = {{"tool", tool_json()}};
     j.update(r.to_json());
+    j["bvh"] = bvh_json(bvh);
     if (!write_json_file(a.json_path, j)) return 2;
   }
   return r.passed() ? 0 : 1;
@@ -255,6 +257,7 @@ Subcommand add_exactness(CLI::App& app) {
       ->capture_default_str();
   ex->add_option("--embree-config", a->config, "Embree device configuration string")
       ->capture_default_str();
+  add_bvh_option(ex, a->bvh);
   ex->add_option("--json", a->json_path,
                  "write the results as JSON to this file ('-': to standard output, the text report "
                  "then to standard error)");

@@ -6,6 +6,7 @@
 #include "common.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/trace/bvh.h"
+#include "hrpp/trace/bvh_micro21.h"
 #include "subcommands.h"
 
 namespace hrpp::cli {
@@ -15,26 +16,26 @@ void print_vec(const char* label, const Vec3& v) {
   std::printf("%s(%g, %g, %g)\n", label, v.x, v.y, v.z);
 }
 
-nlohmann::json bvh_json(const Bvh& bvh) {
-  const BvhStats& s = bvh.stats;
-  return {{"nodes", s.nodes},
-          {"interior", s.interior},
-          {"leaves", s.leaves},
-          {"max_depth", s.max_depth},
-          {"mean_leaf_depth", s.mean_leaf_depth},
-          {"leaf_size_histogram", s.leaf_size_histogram},
-          {"sah_cost", s.sah_cost},
-          {"build_seconds", s.build_seconds},
-          {"max_leaf_size", bvh.options.max_leaf_size},
-          {"memory_bytes", bvh.memory_bytes()}};
-}
+struct InfoArgs {
+  std::string scene, json_path, bvh = "sah";
+  uint32_t leaf_size = 4;
+  CLI::Option* leaf_size_opt = nullptr;
+};
 
-int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& json_path) {
+int cmd_info(const InfoArgs& a) {
+  const std::string& json_path = a.json_path;
+  BvhBuildOptions bo = bvh_build_options(a.bvh);
+  if (bo.builder != BvhBuilder::kSah && a.leaf_size_opt->count()) {
+    std::fprintf(stderr,
+                 "hrpp info: --leaf-size applies only to our SAH build (--bvh sah); this run uses "
+                 "--bvh %s (leaves of up to %u triangles, as Embree's builder makes them)\n",
+                 a.bvh.c_str(), kMicro21MaxLeafSize);
+    return 2;
+  }
   if (!json_path.empty() && !check_output_path("info", "--json", json_path, OutputKind::kJson))
     return 2;
-  Scene s = load_scene(path);
-  BvhBuildOptions bo;
-  bo.max_leaf_size = leaf_size;
+  Scene s = load_scene(a.scene);
+  bo.max_leaf_size = a.leaf_size;
   Bvh bvh = build_bvh(s.triangles, bo);
   std::printf("scene      %s\n", s.path.c_str());
   std::printf("triangles  %zu (%u degenerate: kept, never hit)\n", s.triangles.size(),
@@ -73,14 +74,24 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
     std::printf(" %s, %u triangles\n", m.double_sided ? "double-sided" : "one-sided", tri_count[i]);
   }
   const BvhStats& st = bvh.stats;
+  if (bvh.options.builder == BvhBuilder::kSah)
+    std::printf("bvh        binned SAH, %u bins, max leaf %u: ", bvh.options.bins,
+                bvh.options.max_leaf_size);
+  else
+    std::printf(
+        "bvh        %s: MICRO 2021's, Embree's spatial-split SAH, max leaf %u, %u triangle "
+        "references:\n           ",
+        std::string(bvh_builder_name(bvh.options.builder)).c_str(), bvh.options.max_leaf_size,
+        st.references);
   std::printf(
-      "bvh        binned SAH, %u bins, max leaf %u: %u nodes (%u interior, %u leaves), "
-      "depth max %u mean-leaf %.1f, SAH cost %.2f, %.1f MB, built in %.3f s\n",
-      bvh.options.bins, bvh.options.max_leaf_size, st.nodes, st.interior, st.leaves, st.max_depth,
-      st.mean_leaf_depth, st.sah_cost, bvh.memory_bytes() / 1e6, st.build_seconds);
+      "%u nodes (%u interior, %u leaves), depth max %u mean-leaf %.1f, SAH cost %.2f, %.1f MB, "
+      "built in %.3f s\n",
+      st.nodes, st.interior, st.leaves, st.max_depth, st.mean_leaf_depth, st.sah_cost,
+      bvh.memory_bytes() / 1e6, st.build_seconds);
   std::printf("           leaf sizes:");
-  for (size_t k = 1; k < st.leaf_size_histogram.size(); ++k)
-    std::printf(" %zu:%u", k, st.leaf_size_histogram[k]);
+  size_t largest = st.leaf_size_histogram.size() - 1;  // up to the largest leaf
+  while (largest > 1 && st.leaf_size_histogram[largest] == 0) --largest;
+  for (size_t k = 1; k <= largest; ++k) std::printf(" %zu:%u", k, st.leaf_size_histogram[k]);
   std::printf("\n");
   if (!json_path.empty()) {
     // Everything the text shows.
@@ -135,17 +146,12 @@ int cmd_info(const std::string& path, uint32_t leaf_size, const std::string& jso
                         {"emissive_triangles", s.emissive_triangles().size()},
                         {"materials", materials},
                         {"bvh", bvh_json(bvh)}};
-    j["bvh"]["bins"] = bvh.options.bins;
+    j["bvh"]["build_seconds"] = st.build_seconds;
     j["tool"] = tool_json();
     if (!write_json_file(json_path, j)) return 2;
   }
   return 0;
 }
-
-struct InfoArgs {
-  std::string scene, json_path;
-  uint32_t leaf_size = 4;
-};
 
 }  // namespace
 
@@ -155,12 +161,14 @@ Subcommand add_info(CLI::App& app) {
                                   "Print a scene's triangles, bounds, camera, lights, "
                                   "materials and BVH statistics");
   info->add_option("scene", a->scene, "glTF scene (.glb or .gltf)")->required();
-  info->add_option("--leaf-size", a->leaf_size, "maximum triangles per BVH leaf")
-      ->check(CLI::Range(1, 64));
+  a->leaf_size_opt =
+      info->add_option("--leaf-size", a->leaf_size, "maximum triangles per BVH leaf (--bvh sah)")
+          ->check(CLI::Range(1, 64));
+  add_bvh_option(info, a->bvh);
   info->add_option("--json", a->json_path,
                    "also write the summary as JSON to this file ('-': to standard output, the text "
                    "summary then to standard error)");
-  return {info, [a] { return cmd_info(a->scene, a->leaf_size, a->json_path); }};
+  return {info, [a] { return cmd_info(*a); }};
 }
 
 }  // namespace hrpp::cli

@@ -29,7 +29,7 @@ namespace hrpp::cli {
 namespace {
 
 struct PredictArgs {
-  std::string scene, json_path, stream;
+  std::string scene, json_path, stream, bvh = "sah";
   WorkloadArgs w;
   PredictorArgs p;
   // Cost of accuracy (docs/cost_model.md).
@@ -68,7 +68,7 @@ int configure_predict(const PredictArgs& a, PredictSetup* s) {
   if (!a.stream.empty()) stream = std::make_unique<RayStreamReader>(a.stream);
 
   s->scene = load_scene(a.scene);
-  s->bvh = build_bvh(s->scene.triangles);
+  s->bvh = build_bvh(s->scene.triangles, bvh_build_options(a.bvh));
   const Scene& scene = s->scene;
   if (!finish_predictor_config("predict", a.p, scene, s->bvh, &cfg)) return 2;
   cfg.update_delay =
@@ -167,6 +167,7 @@ nlohmann::json predict_json(const PredictSetup& s, const PredictArgs& a, const T
   j.update(pred.to_json());
   if (!s.cfg.measure_time) null_unmeasured_times(&j);  // not measured: null, not 0
   j["scene"] = s.scene.path;
+  j["bvh"] = bvh_json(s.bvh);
   j["workload"] = workload;
   if (workload.contains("resolution")) j["resolution"] = workload["resolution"];
   if (workload.contains("spp")) j["spp"] = workload["spp"];
@@ -211,6 +212,7 @@ void print_configuration(const PredictSetup& s, const PredictArgs& a, const Tile
     std::printf("predict %s: %s\n", scene.path.c_str(), workload_line(s.wo).c_str());
     print_effects(scene, s.wo, a.w.effects);
   }
+  std::printf("%s", bvh_line(s.bvh).c_str());
   std::printf("  predictor %s: %s\n", a.p.label.c_str(),
               predictor_line(a.p, s.cfg, pred.table_bytes(), kUnknownEntries).c_str());
   if (a.cores > 1)
@@ -325,6 +327,7 @@ Subcommand add_predict(CLI::App& app) {
   pr->add_option("--json", pa->json_path,
                  "write the report as JSON to this file ('-': to standard output, the text report "
                  "then to standard error)");
+  add_bvh_option(pr, pa->bvh);
   auto* delay_opt = pr->add_option("--update-delay", pa->update_delay,
                                    "rays looked up between a ray's lookup and its table write "
                                    "(0: the untimed model; docs/cost_model.md)")

@@ -30,7 +30,7 @@ namespace hrpp::cli {
 namespace {
 
 struct SimulateArgs {
-  std::string scene, json_path, stream, gpu = "mobile", kinds = "all";
+  std::string scene, json_path, stream, gpu = "mobile", kinds = "all", bvh = "sah";
   WorkloadArgs w;
   PredictorArgs p;
   uint64_t max_rays = 0;
@@ -173,7 +173,7 @@ int configure_simulate(const SimulateArgs& a, SimulateSetup* s) {
       return 2;
     }
   }
-  s->bvh = build_bvh(s->scene.triangles);
+  s->bvh = build_bvh(s->scene.triangles, bvh_build_options(a.bvh));
   if (!finish_predictor_config(cmd, a.p, s->scene, s->bvh, &cfg)) return 2;
 
   // The rays, in issue order, of the chosen kinds.
@@ -368,6 +368,7 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
     j["repacked"]["by"] = a.repack_by;
   }
   j["scene"] = s.scene.path;
+  j["bvh"] = bvh_json(s.bvh);
   j["workload"] = s.workload;
   j["gpu"] = s.gpu.to_json();
   nlohmann::json pr = {{"name", s.preset}, {"timing", s.runs[s.main].timing}};
@@ -407,6 +408,7 @@ void print_simulate_head(const SimulateSetup& s, const SimulateArgs& a) {
   else
     std::printf("simulate %s: %s; %zu rays (kinds %s)\n", s.scene.path.c_str(),
                 workload_line(s.wo).c_str(), s.rays.size(), a.kinds.c_str());
+  std::printf("%s", bvh_line(s.bvh).c_str());
   std::printf(
       "  gpu %s: %u RT units x %u warps x %u rays; L1 %llu KB %u-way %u B lines, %u cycles; L2 "
       "%llu KB, +%u cycles, %.0f B/cycle; DRAM +%u cycles, %.1f B/cycle; box %u/cycle, triangle "
@@ -643,6 +645,7 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_option("--json", sa->json_path,
                  "write the report as JSON to this file ('-': to standard output, the text report "
                  "then to standard error)");
+  add_bvh_option(sc, sa->bvh);
   sc->add_flag("--no-oracle", sa->no_oracle, "do not run the oracle");
   sc->add_flag("--no-per-kind", sa->no_per_kind,
                "do not run each ray kind alone (by default, when the rays have several kinds, "

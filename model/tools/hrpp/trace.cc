@@ -17,7 +17,7 @@ namespace hrpp::cli {
 namespace {
 
 struct TraceArgs {
-  std::string scene, out, json_path;
+  std::string scene, out, json_path, bvh = "sah";
   WorkloadArgs w;
 };
 
@@ -28,17 +28,19 @@ int cmd_trace(const TraceArgs& a) {
        !check_output_path("trace", "--json", a.json_path, OutputKind::kJson)))
     return 2;
   Scene scene = load_scene(a.scene);
-  Bvh bvh = build_bvh(scene.triangles);
+  Bvh bvh = build_bvh(scene.triangles, bvh_build_options(a.bvh));
   WorkloadOptions wo;
   if (!make_workload("trace", a.w, scene, &wo)) return 2;
   nlohmann::json options = workload_json(scene, wo);
   options["effects_spec"] = a.w.effects;
   options["generator"] = "hrpp trace";
+  options["bvh"] = bvh_builder_name(bvh.options.builder);  // the hits that spawn secondary rays
   StreamHeader header;
   header.scene_fingerprint = scene_fingerprint(scene);
   header.options = options.dump();
   std::printf("trace %s: %s\n", scene.path.c_str(), workload_line(wo).c_str());
   print_effects(scene, wo, a.w.effects);
+  std::printf("%s", bvh_line(bvh).c_str());
 
   auto t0 = std::chrono::steady_clock::now();
   RayStreamWriter writer(a.out, header);
@@ -70,6 +72,7 @@ int cmd_trace(const TraceArgs& a) {
                         {"scene_fingerprint", header.scene_fingerprint},
                         {"options", options},
                         {"effects", describe_effects(scene, wo, a.w.effects)},
+                        {"bvh", bvh_json(bvh)},
                         {"rays", writer.count()},
                         {"by_kind", jk},
                         {"seconds", secs}};
@@ -88,6 +91,7 @@ Subcommand add_trace(CLI::App& app) {
                                 "ray-stream file (docs/ray_stream.md)");
   tr->add_option("scene", ta->scene, "glTF scene (.glb or .gltf)")->required();
   add_workload_options(tr, ta->w, "auto");
+  add_bvh_option(tr, ta->bvh);
   tr->add_option("--out", ta->out, "ray-stream file to write")->required();
   tr->add_option("--json", ta->json_path,
                  "also write a summary (effects, ray counts) as JSON ('-': to standard output, the "

@@ -1,9 +1,15 @@
-// Our own binary BVH (docs/bvh.md): binned SAH build, nodes in depth-first order.
+// Our binary BVH (docs/bvh.md): built by our binned SAH builder or, as an option, as MICRO 2021's
+// simulator builds it (Embree's spatial-split SAH builder, hrpp/trace/bvh_micro21.h); nodes in
+// depth-first order either way.
 //
 // Node layout (32 bytes): the box, then `right_or_first` and `count`.
 //   interior (count == 0): left child = this index + 1 (depth-first order),
 //                          right child = right_or_first;
 //   leaf     (count >= 1): triangles right_or_first .. right_or_first + count - 1 of Bvh::tris.
+// Bvh::tris holds triangle references: with our SAH build each scene triangle exactly once; with
+// spatial splits (kMicro21Sbvh) a triangle may be referenced by several leaves, each reference a
+// full copy of the triangle (with its scene index in prim_ids) in a leaf whose box bounds only the
+// part of the triangle inside it.
 // Node 0 is the root. parent[] and depth[] sit beside the nodes (the predictor's go-up-level
 // walks parent[]); they are not part of the node a traversal unit fetches.
 #pragma once
@@ -11,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hrpp/scene/geometry.h"
@@ -44,7 +51,21 @@ struct alignas(64) BvhPair {
 };
 static_assert(sizeof(BvhPair) == 64);
 
+/// Which builder build_bvh runs (docs/bvh.md, "Builders").
+enum class BvhBuilder : uint8_t {
+  kSah,          // ours: binned SAH, every triangle in exactly one leaf ("sah")
+  kMicro21Sbvh,  // MICRO 2021's simulator's: Embree's spatial-split SAH ("micro21-sbvh")
+};
+
+/// "sah", "micro21-sbvh" (the names of `--bvh`).
+std::string_view bvh_builder_name(BvhBuilder b);
+/// The builder of that name; false when there is none.
+bool parse_bvh_builder(std::string_view name, BvhBuilder* out);
+
 struct BvhBuildOptions {
+  BvhBuilder builder = BvhBuilder::kSah;
+  // The SAH build's parameters. kMicro21Sbvh has its own, fixed (hrpp/trace/bvh_micro21.h), and
+  // records them here in Bvh::options.
   uint32_t max_leaf_size = 4;  // leaves never hold more triangles than this
   uint32_t bins = 16;          // SAH bins per axis
   float traversal_cost = 1.f;  // SAH cost of an interior node relative to one triangle test
@@ -52,6 +73,8 @@ struct BvhBuildOptions {
 
 struct BvhStats {
   uint32_t nodes = 0, interior = 0, leaves = 0;
+  uint32_t references = 0;  // triangle references in the leaves (Bvh::tris.size()): the scene's
+                            // triangles, or more with spatial splits
   uint32_t max_depth = 0;
   double mean_leaf_depth = 0;
   std::vector<uint32_t> leaf_size_histogram;  // [k] = leaves holding k triangles
@@ -79,17 +102,26 @@ struct Bvh {
   size_t memory_bytes() const;
 };
 
-/// Builds the BVH over the triangles (binned SAH, Wald 2007). Deterministic.
+/// Builds the BVH over the triangles with opt.builder: our binned SAH (Wald 2007), or MICRO 2021's
+/// (build_bvh_micro21). Deterministic.
 Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt = {});
+
+/// Completes a BVH whose builder filled nodes, tris, prim_ids, parent, depth and options: fills
+/// tri_degenerate, the traversal layout (build_pairs) and the statistics (but build_seconds).
+void finish_bvh(Bvh& bvh);
 
 /// Fills bvh.pairs and bvh.pair_of from bvh.nodes (build_bvh calls it; call it again after
 /// editing bvh.nodes). Leaves them empty when a
 /// leaf holds more than 65535 triangles; the traversal then reads bvh.nodes instead (same results).
 void build_pairs(Bvh& bvh);
 
-/// Checks the invariants (every triangle in exactly one leaf, child boxes inside parent boxes,
-/// depth-first numbering, parent links, counts). Returns an empty string when all hold, else a
-/// description of the first violation.
+/// Checks the invariants (docs/bvh.md: every triangle referenced, child boxes inside parent boxes,
+/// depth-first numbering, parent links, counts). Our SAH build: every triangle in exactly one leaf
+/// whose box contains it. A spatial-split build (kMicro21Sbvh) may reference a triangle from
+/// several leaves: each reference is an identical copy, each leaf box meets the triangle's box (or
+/// is empty: no ray enters it), and the leaf boxes of its references cover the triangle (to
+/// within 2^-20 of the largest coordinate; degenerate triangles, never hit, are exempt). Returns an
+/// empty string when all hold, else a description of the first violation.
 std::string check_bvh(const Bvh& bvh, size_t num_scene_triangles);
 
 }  // namespace hrpp
