@@ -29,7 +29,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 .PHONY: all setup setup-apt setup-venv build run test lint format sim-long stress check-embree exactness \
   results clean \
   synth synth-sweep synth-check sweep report bench test-sanitize fuzz formal port-rate sim-results \
-  design-study
+  design-study micro21-repro
 
 all: build
 
@@ -173,6 +173,13 @@ STUDY_RES ?= mobile=256x256,desktop=1024x1024
 sim-results: build
 	$(VENV)/bin/python model/tools/sim_results.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
 	  --workers $(JOBS) --res $(SIM_RES) --out $(OUT)/sim $(STUDY_OPTS)
+
+# Reproducing MICRO 2021 (model/tools/micro21_repro.py; docs/results.md, "Reproducing MICRO
+# 2021"): the ladder from our set-up to MICRO 2021's simulator's timing, one rung at a time, on
+# every shared and own scene; out/micro21_repro/ and the micro21-* blocks.
+micro21-repro: build
+	$(VENV)/bin/python model/tools/micro21_repro.py --hrpp $(BUILD)/hrpp --shared $(SHARED) \
+	  --workers $(JOBS) --out $(OUT)/micro21_repro $(STUDY_OPTS)
 
 # The secondary-ray predictor design study (model/tools/design_study.py, the designs in
 # model/tools/design_study.json; docs/results.md, "A predictor for secondary rays"): every design

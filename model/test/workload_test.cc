@@ -484,7 +484,9 @@ TEST(Micro21Ao, SortedByTheirKeyStably) {
     const uint64_t a = micro21_sort_key(sorted[k - 1].ray, b),
                    c = micro21_sort_key(sorted[k].ray, b);
     ASSERT_LE(a, c) << k;
-    if (a == c) EXPECT_LT(sorted[k - 1].spawn_prim, sorted[k].spawn_prim) << k;
+    if (a == c) {
+      EXPECT_LT(sorted[k - 1].spawn_prim, sorted[k].spawn_prim) << k;
+    }
   }
   std::sort(prims.begin(), prims.end());
   for (size_t k = 0; k < plain.size(); ++k) ASSERT_EQ(prims[k], plain[k].spawn_prim);

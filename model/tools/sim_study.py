@@ -3,8 +3,8 @@ run as a task of the study driver (pyhrpp/study.py), the study and its journal, 
 the tables' helpers (scenes, labels, number formats, geometric means).
 
 A run's command names its report `{json}`; the driver writes it to the run's OUT/GPU/NAME.json.
-A run's record (what --resume compares) is its command and the contents of the --preset file it
-names, if any: a design's options live in a file whose name does not change with them. A
+A run's record (what --resume compares) is its command and the contents of the --preset and --gpu
+files it names, if any: a design's options live in a file whose name does not change with them. A
 configuration whose node ids cannot name the scene's BVH is a finished run, its report
 {"unsupported": the tool's last line of error}.
 """
@@ -25,9 +25,9 @@ def task(key, cmd, path, no_rays=False):
     """The run CMD (its report `{json}`, written to PATH) as a study task named KEY. no_rays: a
     run with no rays of its kinds is a finished run too (its report None; see reports)."""
     cmd = [str(c) for c in cmd]
-    record = "".join(f"preset file {arg}: {pathlib.Path(arg).read_text()}"
+    record = "".join(f"{flag[2:]} file {arg}: {pathlib.Path(arg).read_text()}"
                      for flag, arg in zip(cmd, cmd[1:])
-                     if flag == "--preset" and os.path.isfile(arg))
+                     if flag in ("--preset", "--gpu") and os.path.isfile(arg))
     return study.Task(key=tuple(map(str, key)), cmd=cmd, files={"json": path},
                       unsupported=(UNSUPPORTED, NO_RAYS) if no_rays else UNSUPPORTED,
                       record=record)
