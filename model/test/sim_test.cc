@@ -5,6 +5,7 @@
 
 #include "hrpp/hardware/rtl_config.h"
 #include "hrpp/predictor/engine_side.h"
+#include "hrpp/predictor/hash.h"
 #include "hrpp/scene/scene.h"
 #include "hrpp/sim/memory.h"
 #include "hrpp/sim/simulator.h"
@@ -607,6 +608,123 @@ TEST(Sim, WarmupRaysAndTheLaunchLatency) {
   EXPECT_EQ(s.rays, g.rays);
   EXPECT_LT(s.cycles, all * 3 / 4);
   EXPECT_GT(s.cycles, all / 4);
+}
+
+// The loss breakdown against the oracle (LossTally) on a hand-built stream where each class
+// occurs: one unit, one ray at a time, a table of one entry, three quads in separate leaves, rays
+// along +z whose keys are their origin cells (4 units wide).
+struct LossWorld {
+  Scene scene;
+  Bvh bvh;
+  std::vector<RayRecord> rays;
+};
+
+LossWorld loss_world(const std::vector<std::pair<float, RayKind>>& origins) {
+  LossWorld w;
+  auto quad = [&](float x0, float x1, float z) {
+    w.scene.triangles.push_back({Vec3(x0, -1, z), Vec3(x1, -1, z), Vec3(x1, 1, z)});
+    w.scene.triangles.push_back({Vec3(x0, -1, z), Vec3(x1, 1, z), Vec3(x0, 1, z)});
+  };
+  quad(-8, -7, 10);     // A1: hit from x = -7.5
+  quad(-5, -4, 1000);   // A2: hit from x = -4.5, the same origin cell
+  quad(4, 5, 10);       // B: hit from x = 4.5, another cell
+  quad(100, 101, 500);  // far away: the quads split into their own leaves
+  w.bvh = build_bvh(w.scene.triangles);
+  for (const auto& [x, kind] : origins) {
+    RayRecord r;
+    r.ray.org = Vec3(x, 0, 0);
+    r.ray.dir = Vec3(0, 0, 1);
+    r.ray.tnear = 0;
+    r.ray.tfar = kInf;
+    r.kind = kind;
+    r.id = w.rays.size();
+    w.rays.push_back(r);
+  }
+  return w;
+}
+
+SimOptions loss_options(const LossWorld& w) {
+  SimOptions o;
+  o.gpu = ideal_memory(mobile());
+  o.gpu.units = o.gpu.warps_per_unit = o.gpu.warp_size = 1;
+  o.kind = sim::PredictorKind::kTimed;
+  o.pred.hash.variant = HashVariant::kImproved;
+  o.pred.hash.origin_bits = 4;
+  o.pred.hash.origin_cell_exp = 2;
+  o.pred.hash.dir_bits = 1;
+  o.pred.hash.combine = CombineMode::kConcat;
+  o.pred.hash.index_bits = 0;
+  o.pred.table.sets = o.pred.table.ways = o.pred.table.nodes_per_entry = 1;
+  o.pred.table.tag_bits = o.pred.hash.tag_bits();
+  o.pred.go_up = 0;
+  o.timed = {.lookup_latency = 1,
+             .decision_latency = 0,
+             .update_latency = 0,
+             .lookups_per_cycle = 1,
+             .updates_per_cycle = 1,
+             .credits = 0};
+  EXPECT_EQ(o.pred.hash.validate(), "");
+  return o;
+}
+
+TEST(Sim, LossTallyClassifiesEveryHittingRay) {
+  using L = sim::LossTally;
+  // A1 (compulsory), A1 again (captured), A2's ray with A1's key (aliased: the entry holds A1),
+  // B (compulsory: its write evicts the key of A1 and A2), A2 again (evicted).
+  const LossWorld w = loss_world({{-7.5f, RayKind::kAo},
+                                  {-7.5f, RayKind::kAo},
+                                  {-4.5f, RayKind::kAo},
+                                  {4.5f, RayKind::kAo},
+                                  {-4.5f, RayKind::kAo}});
+  Counters c;
+  const Hit a1 = engine_walk(w.bvh, w.rays[0].ray, true, 0, &c),
+            a2 = engine_walk(w.bvh, w.rays[2].ray, true, 0, &c),
+            b = engine_walk(w.bvh, w.rays[3].ray, true, 0, &c);
+  ASSERT_TRUE(a1.hit() && a2.hit() && b.hit());
+  ASSERT_NE(a1.leaf, a2.leaf);
+  SimOptions o = loss_options(w);
+  const HashKey k0 = hash_ray(w.rays[0].ray, o.pred.hash),
+                k2 = hash_ray(w.rays[2].ray, o.pred.hash),
+                k3 = hash_ray(w.rays[3].ray, o.pred.hash);
+  ASSERT_EQ(k0.key, k2.key);
+  ASSERT_NE(k0.key, k3.key);
+  SimStats s = sim::simulate(w.bvh, w.rays, o);
+  const L& t = s.loss;
+  EXPECT_EQ(t.rays[L::kCompulsory], 2u);
+  EXPECT_EQ(t.rays[L::kCaptured], 1u);
+  EXPECT_EQ(t.rays[L::kAliased], 1u);
+  EXPECT_EQ(t.rays[L::kEvicted], 1u);
+  EXPECT_EQ(t.wrong_rays, 1u);
+  uint64_t all = 0;
+  for (uint64_t n : t.rays) all += n;
+  EXPECT_EQ(all, 5u);
+  // A write not yet landed: the second A1 ray finds it in flight.
+  o.timed.update_latency = 100000;
+  s = sim::simulate(w.bvh, std::vector<RayRecord>(w.rays.begin(), w.rays.begin() + 2), o);
+  EXPECT_EQ(s.loss.rays[L::kCompulsory], 1u);
+  EXPECT_EQ(s.loss.rays[L::kStale], 1u);
+  // Confidence: the entry the first ray wrote is below the threshold for the second.
+  o.timed.update_latency = 0;
+  o.pred.table.conf_bits = 1;
+  s = sim::simulate(w.bvh, std::vector<RayRecord>(w.rays.begin(), w.rays.begin() + 2), o);
+  EXPECT_EQ(s.loss.rays[L::kSuppressed], 1u);
+  // The gate closed from the start: of two rays entering together the second, which finds no
+  // credit (one ray held at a time), walks without.
+  o.pred.table.conf_bits = 0;
+  o.timed.credits = 1;
+  o.gpu.warp_size = 2;
+  o.gate = 1;
+  o.gate_first = 0;
+  s = sim::simulate(w.bvh, std::vector<RayRecord>(w.rays.begin(), w.rays.begin() + 2), o);
+  EXPECT_EQ(s.loss.rays[L::kGated], 1u);
+  EXPECT_EQ(s.loss.rays[L::kCompulsory], 1u);
+  // A kind the design does not predict.
+  const LossWorld p = loss_world({{-7.5f, RayKind::kPrimary}, {-7.5f, RayKind::kAo}});
+  SimOptions q = loss_options(p);
+  q.any_hit_only = true;
+  s = sim::simulate(p.bvh, p.rays, q);
+  EXPECT_EQ(s.loss.rays[L::kNotOffered], 1u);
+  EXPECT_EQ(s.loss.rays[L::kCompulsory], 1u);
 }
 
 TEST(Sim, GpuConfigurationErrorsNameTheKey) {

@@ -12,6 +12,13 @@
 
 namespace hrpp::sim {
 
+const char* LossTally::name(Class c) {
+  static const char* const kNames[kNumClasses] = {"captured", "aliased",     "compulsory",
+                                                  "evicted",  "stale",       "suppressed",
+                                                  "gated",    "not_offered", "unknown"};
+  return kNames[c];
+}
+
 uint64_t triangle_base(const Bvh& bvh) {
   return (uint64_t(bvh.pairs.size()) * kPairBytes + 4095) / 4096 * 4096;
 }
@@ -37,6 +44,8 @@ enum class Phase : uint8_t { kEntering, kPredWalk, kDeciding, kRootWalk, kAwaitD
 struct Slot {
   uint32_t ray = 0, unit = 0, warp = 0;
   bool uses_pred = false;
+  bool offered = false;        // its kind uses the predictor (uses_pred at admission)
+  bool bypassed = false;       // gave up entering: walked without the predictor
   bool decision_owed = false;  // an early root walk runs; the (full-walk) decision is to come
   Phase phase = Phase::kRootWalk;
   Action action = Action::kFull;
@@ -141,6 +150,7 @@ class Simulator {
   // The ray's outcome to its unit's predictor (when it used it and did not skip); it finishes.
   void send_outcome(uint32_t slot, uint64_t now);
   void finish_ray(uint32_t slot, uint64_t now);
+  void tally_loss(const Slot& s);
   void leave_warp(const Slot& s, uint64_t now);
   void form_warps(uint32_t unit, uint64_t now);
   void release_micro21(uint32_t unit, uint64_t now);
@@ -281,6 +291,8 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
     s.steps.clear();
     s.next = 0;
     s.uses_pred = opt_.kind != PredictorKind::kNone && (!opt_.any_hit_only || s.er.any);
+    s.offered = s.uses_pred;
+    s.bypassed = false;
     slot_of_[ray] = si;
     admitted_at_[si] = now;
     ++in_flight_;
@@ -546,6 +558,7 @@ void Simulator::finish_ray(uint32_t si, uint64_t now) {
   Slot& s = slots_[si];
   const RayRecord& r = rays_[s.ray];
   classify(bvh_, r.ray, s.er, opt_.pred.mode, &st_.predict[int(r.kind)]);
+  if (opt_.kind != PredictorKind::kNone && !opt_.timed.oracle) tally_loss(s);
   if (opt_.answers) (*opt_.answers)[s.ray] = s.er.answer;
   const uint64_t lat = now - admitted_at_[si];
   st_.latency += lat;
@@ -559,6 +572,36 @@ void Simulator::finish_ray(uint32_t si, uint64_t now) {
   st_.cycles = std::max(st_.cycles, now);
   if (opt_.progress && (finished_ & 0x3FFF) == 0)
     opt_.progress({finished_, uint64_t(valid_.size()), now});
+}
+
+void Simulator::tally_loss(const Slot& s) {
+  LossTally& t = st_.loss;
+  const EngineRay& er = s.er;
+  const LookupClass lc =
+      s.offered && !s.bypassed ? pred_[s.unit]->take_class(s.ray) : LookupClass::kUnknown;
+  if (er.predicted && !er.verified) {
+    t.wrong_rays++;
+    t.wrong_tests += er.pred.interior_tests;
+  }
+  if (er.verified) t.right_tests += er.pred.interior_tests;
+  if (!er.baseline.hit()) return;
+  LossTally::Class c = LossTally::kUnknown;
+  if (!s.offered)
+    c = LossTally::kNotOffered;
+  else if (s.bypassed)
+    c = LossTally::kGated;
+  else if (er.predicted)
+    c = er.verified ? LossTally::kCaptured : LossTally::kAliased;
+  else if (lc == LookupClass::kCompulsory)
+    c = LossTally::kCompulsory;
+  else if (lc == LookupClass::kEvicted)
+    c = LossTally::kEvicted;
+  else if (lc == LookupClass::kStale)
+    c = LossTally::kStale;
+  else if (lc == LookupClass::kSuppressed)
+    c = LossTally::kSuppressed;
+  t.rays[c]++;
+  t.tests[c] += er.base.interior_tests;
 }
 
 void Simulator::leave_warp(const Slot& s, uint64_t now) {
@@ -642,6 +685,7 @@ SimStats Simulator::run() {
         io.entering.pop_front();
         Slot& s = slots_[si];
         s.uses_pred = false;
+        s.bypassed = true;
         if (micro21()) warps_[s.warp].pending--;  // it walks at once, as its warp waits
         start_root_walk(s, Action::kFull);
         schedule(si, now + 1);

@@ -210,6 +210,14 @@ TimedConfig preset_timing(const std::string& preset) {
   return t;
 }
 
+LookupClass TimedPredictor::take_class(uint32_t ray) {
+  const auto it = class_of_.find(ray);
+  if (it == class_of_.end()) return LookupClass::kUnknown;
+  const LookupClass c = it->second;
+  class_of_.erase(it);
+  return c;
+}
+
 TimedPredictor::TimedPredictor(const Bvh& bvh, const std::vector<RayRecord>& rays,
                                const PredictorConfig& pc, const TimedConfig& tc)
     : bvh_(bvh), rays_(rays), pc_(pc), tc_(tc), table_(pc.table) {}
@@ -233,6 +241,11 @@ Prediction TimedPredictor::predict(uint32_t ray) {
   const HashKey key = hash_ray(r.ray, pc_.hash);
   p = table_.lookup(key.index, key.tag, key.key);
   held_of_[ray] = {key, p.count > 0, false};
+  class_of_[ray] = p.count > 0                 ? LookupClass::kPredicted
+                   : p.suppressed              ? LookupClass::kSuppressed
+                   : in_flight_.count(key.key) ? LookupClass::kStale
+                   : written_.count(key.key)   ? LookupClass::kEvicted
+                                               : LookupClass::kCompulsory;
   stats_.suppressed_lookups += p.suppressed;
   return p;
 }
@@ -242,10 +255,13 @@ void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
   // order the rays finished).
   while (!writes_.empty() && writes_.front().due <= now) {
     const Write& w = writes_.front();
-    if (w.demote)
+    if (w.demote) {
       table_.demote(w.key.index, w.key.tag, w.key.key);
-    else
+    } else {
       table_.update(w.key.index, w.key.tag, w.key.key, w.node);
+      if (auto it = in_flight_.find(w.key.key); it != in_flight_.end() && --it->second == 0)
+        in_flight_.erase(it);
+    }
     writes_.pop_front();
   }
   const bool waiting = !io->entering.empty();
@@ -267,7 +283,10 @@ void TimedPredictor::cycle(uint64_t now, UnitIo* io) {
   }
   auto write = [&](uint32_t ray, uint32_t node) {
     if (tc_.oracle) return;
-    writes_.push_back({now + tc_.update_latency, held_of_.at(ray).key, node});
+    const HashKey& key = held_of_.at(ray).key;
+    writes_.push_back({now + tc_.update_latency, key, node});
+    written_.insert(key.key);
+    in_flight_[key.key]++;
     stats_.updates++;
   };
   // Confidence: a ray given a prediction whose predicted walks found no hit and whose outcome is

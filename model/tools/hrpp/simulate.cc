@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <stdexcept>
 
 #include "common.h"
@@ -327,6 +328,38 @@ uint64_t rtl_mismatch_count(const SimulateSetup& s, const std::vector<sim::SimSt
   return n;
 }
 
+/// The loss breakdown against the oracle (docs/timing_model.md, "Losses against the oracle"):
+/// the cycles the oracle saves over no predictor, shared among the rays it skips by their
+/// baseline walks' node tests (cycles_per_test); each class of the design's rays that hit loses
+/// its share, except those it captured; its predicted walks cost as many tests' cycles (right
+/// ones too: the oracle's walk is the leaf alone); `timing`, what is left of the difference
+/// between the oracle's cycles and the design's (latency, ports, caches, order).
+nlohmann::json loss_json(uint64_t base, uint64_t oracle, uint64_t design, const sim::LossTally& t) {
+  uint64_t hit_tests = 0;
+  for (uint64_t x : t.tests) hit_tests += x;
+  const double saved = double(base) - double(oracle);
+  const double k = hit_tests ? saved / double(hit_tests) : 0.0;
+  nlohmann::json classes = nlohmann::json::object();
+  double lost = 0;
+  for (int c = 0; c < sim::LossTally::kNumClasses; ++c) {
+    const auto cl = static_cast<sim::LossTally::Class>(c);
+    const double cyc = k * double(t.tests[c]);
+    classes[sim::LossTally::name(cl)] = {
+        {"rays", t.rays[c]}, {"tests", t.tests[c]}, {"cycles", cyc}};
+    if (cl != sim::LossTally::kCaptured) lost += cyc;
+  }
+  const double wrong = k * double(t.wrong_tests), right = k * double(t.right_tests);
+  return {
+      {"oracle_saved_cycles", saved},
+      {"saved_cycles", double(base) - double(design)},
+      {"cycles_per_test", k},
+      {"hit_rays", std::accumulate(t.rays.begin(), t.rays.end(), uint64_t(0))},
+      {"classes", classes},
+      {"wrong_predictions", {{"rays", t.wrong_rays}, {"tests", t.wrong_tests}, {"cycles", wrong}}},
+      {"right_prediction_walks", {{"tests", t.right_tests}, {"cycles", right}}},
+      {"timing", {{"cycles", double(design) - double(oracle) - lost - wrong - right}}}};
+}
+
 nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimStats>& st,
                              const SimulateArgs& a) {
   const sim::SimStats& b = st.front();
@@ -361,6 +394,7 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
       // Meaningful only when the oracle gains (null otherwise).
       j["fraction_of_oracle"] =
           og > 0 ? nlohmann::json((speedup(b.cycles, p.cycles) - 1) / og) : nlohmann::json();
+      if (s.main != i) j["loss"] = loss_json(b.cycles, st[i].cycles, p.cycles, p.loss);
     }
   if (s.repacked >= 0) {
     j["repacked"] = st[s.repacked].to_json(s.gpu);
@@ -494,10 +528,27 @@ void print_simulate(const SimulateSetup& s, const std::vector<sim::SimStats>& st
     for (size_t i = 0; i < st.size(); ++i)
       if (s.runs[i].name == "oracle" && s.main != i) {
         const double og = speedup(base, st[i].cycles) - 1, pg = speedup(base, p.cycles) - 1;
-        if (og > 0)
+        if (og > 0) {
           std::printf("  %s's gain (speed-up - 1) is %.1f%% of the oracle's\n", s.preset.c_str(),
                       100 * pg / og);
-        else
+          // The oracle's saved cycles the preset loses, by cause (loss_json).
+          const nlohmann::json l = loss_json(base, st[i].cycles, p.cycles, p.loss);
+          std::string line;
+          for (const auto& [name, v] : l["classes"].items())
+            if (name != "captured" && v["rays"].get<uint64_t>() > 0)
+              line += ", " + name + " " + std::to_string(std::llround(v["cycles"].get<double>()));
+          line +=
+              ", wrong predictions " +
+              std::to_string(std::llround(l["wrong_predictions"]["cycles"].get<double>())) +
+              ", right predictions' walks " +
+              std::to_string(std::llround(l["right_prediction_walks"]["cycles"].get<double>())) +
+              ", timing " + std::to_string(std::llround(l["timing"]["cycles"].get<double>()));
+          std::printf(
+              "  of the oracle's %lld saved cycles %s loses (docs/timing_model.md, \"Losses "
+              "against the oracle\"): %s\n",
+              std::llround(l["oracle_saved_cycles"].get<double>()), s.preset.c_str(),
+              line.substr(2).c_str());
+        } else
           std::printf("  the oracle gains nothing on these rays (speed-up %.3fx)\n", og + 1);
       }
   }

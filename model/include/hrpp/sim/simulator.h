@@ -114,6 +114,29 @@ struct KindTime {
   uint64_t latency = 0;  // sum over the rays of their cycles in a unit (admission to answer)
 };
 
+/// The loss breakdown's tally (docs/timing_model.md, "Losses against the oracle"): the rays whose
+/// baseline walk hits, which the oracle answers from their hit leaf, by what became of their
+/// prediction, with their baseline walks' node tests; and the node tests of the predicted walks,
+/// wrong and right.
+struct LossTally {
+  enum Class : uint8_t {
+    kCaptured = 0,    // a prediction whose walk found the hit
+    kAliased = 1,     // a prediction whose walk did not: the key's node holds another hit
+    kCompulsory = 2,  // no prediction: the key never written before the lookup
+    kEvicted = 3,     // no prediction: written before, gone (capacity or conflict)
+    kStale = 4,       // no prediction: a write to the key sent, not yet landed
+    kSuppressed = 5,  // no prediction: below the confidence threshold
+    kGated = 6,       // walked without the predictor (the gate, or the entry timeout)
+    kNotOffered = 7,  // a ray kind the design does not predict
+    kUnknown = 8,     // the predictor does not tell (the RTL's ports)
+    kNumClasses = 9,
+  };
+  static const char* name(Class c);
+  std::array<uint64_t, kNumClasses> rays{}, tests{};
+  uint64_t wrong_rays = 0, wrong_tests = 0;  // predictions whose walks found no hit, all rays
+  uint64_t right_tests = 0;                  // the walks of predictions that found it
+};
+
 struct SimStats {
   double seconds = 0;             // wall-clock time of the simulation (simulate())
   uint64_t rays = 0;              // simulated (valid) rays
@@ -135,6 +158,7 @@ struct SimStats {
   uint64_t in_flight_area = 0;  // sum over cycles of the rays in the units
   std::array<KindTime, kNumRayKinds> by_kind{};
   UnitPredictorStats predictor;                      // summed over the units
+  LossTally loss;                                    // a predictor's runs (not the oracle's)
   std::array<PredictStats, kNumRayKinds> predict{};  // classify(), per kind
   PredictStats predict_total() const;
   double simd_efficiency() const { return warp_cycles ? double(lane_cycles) / warp_cycles : 0; }

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "hrpp/hardware/cycle_model.h"
@@ -60,9 +61,23 @@ struct UnitPredictorStats {
   uint64_t gate_openings = 0;       // SimOptions::gate: predicted hits that opened a closed gate
 };
 
+/// What a ray's lookup found (the loss breakdown against the oracle: docs/timing_model.md,
+/// "Losses against the oracle"). Known to the golden predictor (TimedPredictor); the RTL's ports
+/// do not show it (kUnknown).
+enum class LookupClass : uint8_t {
+  kUnknown = 0,
+  kPredicted = 1,   // an entry gave nodes (its predicted walk tells right from wrong)
+  kCompulsory = 2,  // the key never written before the lookup
+  kEvicted = 3,     // written before, gone from the table (capacity or conflict)
+  kStale = 4,       // not in the table, a write to it sent and not yet landed
+  kSuppressed = 5,  // an entry matched, its confidence below the threshold
+};
+
 class UnitPredictor {
  public:
   virtual ~UnitPredictor() = default;
+  /// What ray's lookup found, once (the record is dropped); kUnknown when not recorded.
+  virtual LookupClass take_class(uint32_t /*ray*/) { return LookupClass::kUnknown; }
   /// One clock cycle.
   virtual void cycle(uint64_t now, UnitIo* io) = 0;
   /// Holds rays or messages (the engine keeps clocking it).
@@ -173,6 +188,7 @@ class TimedPredictor : public UnitPredictor {
   void cycle(uint64_t now, UnitIo* io) override;
   bool busy() const override;
   const UnitPredictorStats& stats() const override { return stats_; }
+  LookupClass take_class(uint32_t ray) override;
 
  private:
   struct Pending {
@@ -207,7 +223,10 @@ class TimedPredictor : public UnitPredictor {
   std::deque<Decision> decisions_;
   std::deque<Write> writes_;
   std::unordered_map<uint32_t, Held> held_of_;  // rays held: their keys, for the table write
-  uint64_t held_ = 0;                           // rays taken, not yet finished (credits)
+  std::unordered_map<uint32_t, LookupClass> class_of_;  // rays looked up, until take_class
+  std::unordered_set<uint64_t> written_;                // keys a write was sent for
+  std::unordered_map<uint64_t, uint32_t> in_flight_;    // keys: their writes not yet landed
+  uint64_t held_ = 0;                                   // rays taken, not yet finished (credits)
   UnitPredictorStats stats_;
 };
 
