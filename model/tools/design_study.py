@@ -17,6 +17,12 @@ first design (on every GPU) also runs the oracle. Storage: the table's bits as t
 counts them (the largest over the scenes: node ids are as wide as the scene's BVH needs, 21 bits
 on happy_buddha_full; an rtl-NAME preset's are its configuration's).
 
+The protocol (design_study.json's "protocol"): every scene is a training scene (designs are
+chosen and tuned on them) or a validation scene (only reported); the tables are made per set
+(study-designs: validation, study-designs-training, the ablation on the training scenes, the goals
+on both), and study-losses gives, per scene, what the baseline, the winner and its build lose
+against the oracle on AO (hrpp simulate's loss breakdown).
+
 "Never slower" is decided on more than one frame: every scene x kind where the winner, its
 build or the noise design ran below --confirm-below (1.01) is run again for all three with
 seeds 2 .. --seeds (5), and the goals judge the geometric mean over the seeds.
@@ -27,7 +33,9 @@ per run; the journal OUT/journal.jsonl, whose finished runs --resume keeps when 
 preset file are unchanged (so after a change to one design, or to one GPU's frame size, only the
 runs it changes run again; another hrpp version is refused). Writes each run's report
 OUT/GPU/SCENE-KIND-DESIGN.json and OUT/GPU/seeds/...-sSEED.json, OUT/summary.json, OUT/study.md
-and (a full study only) the blocks study-designs, study-ablation and study-goal of --doc.
+and (a full study only) the blocks of --doc that it places (study-protocol, study-designs,
+study-designs-training, study-ablation, study-goal, study-losses; the others are named on stderr
+and left in OUT/study.md).
 """
 import argparse
 import json
@@ -44,6 +52,33 @@ from sim_study import (fx, geomean, label, made_by, open_study, pct, reports,  #
                        scenes_of, task)
 
 KIND_SHORT = {"primary": "primary", "shadow": "shadow", "ao": "AO", "ao-short": "short AO"}
+
+
+def scene_sets(spec, scenes):
+    """The protocol (spec "protocol"): {"training": [(where, path)], "validation": [...]}, the
+    scenes in SCENES of each set, those it excludes left out. Every scene must be in one set."""
+    prot = spec["protocol"]
+    excluded = set(prot.get("exclude", []))
+    sets = {name: [] for name in ("training", "validation")}
+    where_of = {}
+    for name in sets:
+        for s in prot[name]:
+            if s in where_of:
+                raise SystemExit(f"design_study: protocol: {s} in both sets")
+            where_of[s] = name
+    unassigned = []
+    for where, path in scenes:
+        key = f"{where}:{path.stem}"
+        if key in excluded:
+            continue
+        if key not in where_of:
+            unassigned.append(key)
+            continue
+        sets[where_of[key]].append((where, path))
+    if unassigned:
+        raise SystemExit(f"design_study: protocol: scenes in no set: {', '.join(unassigned)} "
+                         "(model/tools/design_study.json, protocol.training / validation)")
+    return sets
 
 
 def check_kinds(kinds, what):
@@ -235,6 +270,62 @@ def summarize(res, gpus, scenes, designs):
     return summ
 
 
+def losses_block(res, gpu, kind, scenes, names, first):
+    """Per scene, for the designs NAMES on GPU and KIND: the oracle's saved cycles and the share
+    each design loses to each cause (hrpp simulate's "loss"; docs/timing_model.md, "Losses
+    against the oracle"), as % of the oracle's saving."""
+    causes = ["compulsory", "evicted", "aliased", "stale", "suppressed", "gated", "not_offered",
+              "unknown"]
+    head = ("| scene | design | gain, % of the oracle's | " + " | ".join(causes)
+            + " | wrong predictions | right predictions' walks | timing |")
+    rows = [head, "| --- | --- |" + " ---: |" * (len(causes) + 4)]
+    for where, scene in scenes:
+        o = res.get((gpu, where, scene.stem, kind, first))
+        if not o or "oracle" not in o:
+            continue
+        for n in names:
+            r = res.get((gpu, where, scene.stem, kind, n))
+            if not r or "loss_tally" not in r:
+                continue
+            lo = r["loss"] if "loss" in r else loss_of(r, o)
+            saved = lo["oracle_saved_cycles"]
+            if saved <= 0:
+                continue
+            share = [lo["classes"][c]["cycles"] / saved for c in causes]
+            rest = [lo["wrong_predictions"]["cycles"] / saved,
+                    lo["right_prediction_walks"]["cycles"] / saved,
+                    lo["timing"]["cycles"] / saved]
+            rows.append(f"| {label(where, scene)} | `{n}` | {pct(lo['saved_cycles'] / saved)} | "
+                        + " | ".join(pct(x) for x in share + rest) + " |")
+    return "\n".join(rows)
+
+
+def loss_of(r, o):
+    """hrpp simulate's "loss" (loss_json) for the run R whose oracle ran in the run O (the same
+    rays and GPU): the oracle's saved cycles shared among R's classes by their node tests."""
+    t = r["loss_tally"]
+    base, orc, des = r["baseline_cycles"], o["oracle"]["cycles"], r["cycles"]
+    tests = sum(c["tests"] for c in t["classes"].values())
+    k = (base - orc) / tests if tests else 0.0
+    classes = {n: {"rays": c["rays"], "tests": c["tests"], "cycles": k * c["tests"]}
+               for n, c in t["classes"].items()}
+    lost = sum(c["cycles"] for n, c in classes.items() if n != "captured")
+    wrong, right = k * t["wrong_tests"], k * t["right_tests"]
+    return {"oracle_saved_cycles": base - orc, "saved_cycles": base - des, "classes": classes,
+            "wrong_predictions": {"cycles": wrong}, "right_prediction_walks": {"cycles": right},
+            "timing": {"cycles": des - orc - lost - wrong - right}}
+
+
+def protocol_block(spec, sets):
+    prot = spec["protocol"]
+    lines = [" ".join(prot["about"]) if isinstance(prot["about"], list) else prot["about"], ""]
+    for name in ("validation", "training"):
+        lines.append(f"- {name}: " + ", ".join(label(w, p) for w, p in sets[name]))
+    if prot.get("exclude"):
+        lines.append("- left out: " + ", ".join(prot["exclude"]) + " (the same scene as another)")
+    return "\n".join(lines)
+
+
 def bits_text(b):
     return f"{b:,}" if b else "unbounded"
 
@@ -318,10 +409,11 @@ def seeds_text(never, gpu, name, noise):
     return text
 
 
-def goal_block(spec, summ, gpus, never):
+def goal_block(spec, summ, gpus, never, prefix=""):
     """The goals of the study for the winner and its build ("built"): the AO gain against the
     baseline's, shadow and primary rays, and the slowest scene x kind against the noise floor
-    (the "noise" design's slowest); never: {(gpu, name): slowest()} over the seeds."""
+    (the "noise" design's slowest); never: {(gpu, name): slowest()} over the seeds. PREFIX
+    starts each line (the scene set)."""
     base, noise = spec["baseline"], spec.get("noise")
     lines = []
     for w in [spec["winner"]] + ([spec["built"]] if spec.get("built") in summ else []):
@@ -341,7 +433,7 @@ def goal_block(spec, summ, gpus, never):
                 if nz:
                     floor = f"; the noise floor (`{noise}`'s slowest): {nz[0]:.3f} ({nz[1]})"
             lines.append(
-                f"- `{w}` on `{gpu}`: AO gain {100 * gw:+.1f}% against `{base}`'s "
+                f"- {prefix}`{w}` on `{gpu}`: AO gain {100 * gw:+.1f}% against `{base}`'s "
                 f"{100 * gb:+.1f}% ({ratio}); {pct(sw['ao']['of_oracle'])} of the oracle's "
                 f"(stretch goal: 50%); shadow rays {fx(sw['shadow']['geomean'])} against "
                 f"{fx(sb['shadow']['geomean'])}; primary rays "
@@ -356,12 +448,17 @@ def write_outputs(args, spec, designs, scenes, out, res, seeds_res, cells):
     the runs' reports RES and the confirmation seeds' SEEDS_RES (the scene x kind CELLS)."""
     conf = confirmed(res, seeds_res, cells, confirm_names(spec, designs), args.seeds)
     gpus = args.gpu.split(",")
-    summ = summarize(res, gpus, scenes, designs)
-    never = {(gpu, n): slowest(res, conf, gpu, n, scenes)
+    sets = scene_sets(spec, scenes)
+    summ = summarize(res, gpus, sets["validation"], designs)
+    summ_t = summarize(res, gpus, sets["training"], designs)
+    never = {(gpu, n): slowest(res, conf, gpu, n, sets["validation"])
              for gpu in gpus for n in confirm_names(spec, designs)}
+    never_t = {(gpu, n): slowest(res, conf, gpu, n, sets["training"])
+               for gpu in gpus for n in confirm_names(spec, designs)}
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.json").write_text(json.dumps(
-        {"res": args.res, "gpus": gpus, "designs": summ,
+        {"res": args.res, "gpus": gpus, "designs": summ, "designs_training": summ_t,
+         "sets": {k: [label(w, p) for w, p in v] for k, v in sets.items()},
          "seeds": {"frames": args.seeds, "confirm_below": args.confirm_below,
                    "cells": {" ".join(k): {"geomean": v[0], "speedups": v[1]}
                              for k, v in conf.items()},
@@ -370,16 +467,34 @@ def write_outputs(args, spec, designs, scenes, out, res, seeds_res, cells):
     full = not (args.scenes or args.designs or args.kinds) and args.gpu == "mobile,desktop"
     cmd = f"make design-study STUDY_RES={args.res}" if full else made_by()
     names = {d["name"] for d in designs}
-    blocks = {"study-designs": f"Made by `{cmd}`.\n\n"
-              + designs_block(spec, designs, summ, gpus)}
+    made = f"Made by `{cmd}`."
+    blocks = {"study-protocol": protocol_block(spec, sets),
+              "study-designs": f"{made} The validation scenes.\n\n"
+              + designs_block(spec, designs, summ, gpus),
+              "study-designs-training": f"{made} The training scenes.\n\n"
+              + designs_block(spec, designs, summ_t, gpus)}
     if spec["winner"] in names:
-        blocks["study-ablation"] = f"Made by `{cmd}`.\n\n" + ablation_block(spec, designs, summ,
-                                                                            gpus)
+        blocks["study-ablation"] = (f"{made} The training scenes.\n\n"
+                                    + ablation_block(spec, designs, summ_t, gpus))
         if spec["baseline"] in names:
-            blocks["study-goal"] = f"Made by `{cmd}`.\n\n" + goal_block(spec, summ, gpus, never)
+            blocks["study-goal"] = (f"{made}\n\n" + goal_block(spec, summ, gpus, never,
+                                                                "validation: ")
+                                    + "\n" + goal_block(spec, summ_t, gpus, never_t,
+                                                         "training: "))
             print(blocks["study-goal"])
+    shown = [n for n in (spec["baseline"], spec["winner"], spec.get("built")) if n in names]
+    blocks["study-losses"] = (
+        f"{made} AO as MICRO 2021 on `mobile`, the validation scenes, then the training "
+        "scenes.\n\n" + losses_block(res, "mobile", "ao", sets["validation"] + sets["training"],
+                                      shown, designs[0]["name"]))
     if args.doc and full:
-        update_blocks(args.doc, blocks)
+        # Only the blocks the document places; a new block is placed by hand first.
+        text = pathlib.Path(args.doc).read_text()
+        missing = [k for k in blocks if f"<!-- BEGIN {k} -->" not in text]
+        if missing:
+            print(f"design_study: {args.doc} has no place for the blocks {', '.join(missing)}: "
+                  f"they are in {out / 'study.md'}", file=sys.stderr)
+        update_blocks(args.doc, {k: v for k, v in blocks.items() if k not in missing})
     elif args.doc:
         print("design_study: a partial study (--scenes, --kinds, --designs or --gpu): docs "
               f"untouched; the tables are in {out / 'study.md'}", file=sys.stderr)

@@ -367,6 +367,16 @@ nlohmann::json simulate_json(const SimulateSetup& s, const std::vector<sim::SimS
   nlohmann::json j = p.to_json(s.gpu);
   j["baseline_cycles"] = b.cycles;
   j["speedup"] = speedup(b.cycles, p.cycles);
+  if (s.main > 0) {  // the preset's loss tally (loss_json shares the oracle's cycles by it)
+    nlohmann::json classes = nlohmann::json::object();
+    for (int c = 0; c < sim::LossTally::kNumClasses; ++c)
+      classes[sim::LossTally::name(static_cast<sim::LossTally::Class>(c))] = {
+          {"rays", p.loss.rays[c]}, {"tests", p.loss.tests[c]}};
+    j["loss_tally"] = {{"classes", classes},
+                       {"wrong_rays", p.loss.wrong_rays},
+                       {"wrong_tests", p.loss.wrong_tests},
+                       {"right_tests", p.loss.right_tests}};
+  }
   j["baseline"] = b.to_json(s.gpu);
   for (auto& [kind, v] : j["by_kind"].items()) {
     const double bl = j["baseline"]["by_kind"][kind]["mean_latency"].get<double>();
