@@ -855,6 +855,484 @@ def scene_glass_spheres():
 
 
 # --------------------------------------------------------------------------
+# 5.-7. more SPD models: rings, gears, tree
+# --------------------------------------------------------------------------
+#
+# SPD's generators call cos() and sin() for their geometry. Here every sine
+# and cosine comes from sincos_deg() below: a fixed reduction to [-45, 45]
+# degrees and fixed-length Taylor series, so + - * / only and the same bits
+# on every platform. Line numbers cite the SPD files as listed in SPD_REPO
+# (rings.c, gears.c, tree.c, libvec.c are unchanged in the repository's
+# later src/ layout, so the numbers hold there too).
+
+SPD_PI = 3.141592653589793  # SPD def.h:179
+
+
+def sincos_deg(deg):
+    """(sin, cos) of an angle in degrees with + - * / only: reduce to
+    r in [-45, 45] degrees plus a quadrant, then Taylor series of 14 terms
+    (the error at 45 degrees is below 1e-17). Multiples of 90 degrees are
+    exact."""
+    d = deg % 360.0
+    q = int(round(d / 90.0))
+    r = d - 90.0 * q
+    x = r * (SPD_PI / 180.0)
+    x2 = x * x
+    s, term = 0.0, x
+    c, cterm = 0.0, 1.0
+    for k in range(14):
+        s += term
+        c += cterm
+        term = -term * x2 / ((2 * k + 2) * (2 * k + 3))
+        cterm = -cterm * x2 / ((2 * k + 1) * (2 * k + 2))
+    q %= 4
+    if q == 0:
+        return s, c
+    if q == 1:
+        return c, -s
+    if q == 2:
+        return -s, -c
+    return -c, s
+
+
+def spd_light_intensity(p, ref, lscale):
+    """SPD lights have intensity lscale (1/sqrt(number of lights), e.g.
+    rings.c:157-158) and no distance falloff; a glTF point light falls off
+    as 1/d^2, so the glTF intensity is lscale x |p - ref|^2: SPD's
+    irradiance at the reference point ref."""
+    d = sub(p, ref)
+    return lscale * dot(d, d)
+
+
+def perpendicular_frame(a):
+    """Unit vectors (u, v) with u x v = a for a unit vector a: u is a x e
+    for the coordinate axis e least aligned with a (sqrt only)."""
+    k = min(range(3), key=lambda i: (abs(a[i]), i))
+    e = tuple(1.0 if i == k else 0.0 for i in range(3))
+    u = normalize(cross(a, e))
+    return u, cross(a, u)
+
+
+def unit_circle(n):
+    """The n points (cos, sin) of k * 360/n degrees, from sincos_deg."""
+    out = []
+    for k in range(n):
+        s, c = sincos_deg(360.0 * k / n)
+        out.append((c, s))
+    return out
+
+
+def cylcone_mesh(base, r0, apex, r1, circle):
+    """SPD lib_output_cylcone (an open cone or cylinder: NFF 'c' has no
+    caps) from base (radius r0) to apex (radius r1) as a band of
+    2 x len(circle) triangles, wound outwards (checked)."""
+    axis = normalize(sub(apex, base))
+    u, v = perpendicular_frame(axis)
+    pos, tris = [], []
+    n = len(circle)
+    for c, s in circle:
+        d = add(scale(u, c), scale(v, s))
+        pos.append(add(base, scale(d, r0)))
+    for c, s in circle:
+        d = add(scale(u, c), scale(v, s))
+        pos.append(add(apex, scale(d, r1)))
+    for i in range(n):
+        j = (i + 1) % n
+        tris.append((i, j, n + j))
+        tris.append((i, n + j, n + i))
+    for t in tris:
+        a, b, cc = pos[t[0]], pos[t[1]], pos[t[2]]
+        nrm = cross(sub(b, a), sub(cc, a))
+        cen = scale(add(add(a, b), cc), 1.0 / 3.0)
+        radial = sub(sub(cen, base), scale(axis, dot(sub(cen, base), axis)))
+        if dot(nrm, radial) <= 0.0:
+            raise AssertionError("cylcone: triangle %s wound inwards" % (t,))
+    return pos, tris
+
+
+def spd_point_lights(g, file, lines, lights, ref, ref_name):
+    lscale = 1.0 / math.sqrt(len(lights))
+    for i, p in enumerate(lights):
+        g.point_light(
+            "point_light_%d" % i, p, (1.0, 1.0, 1.0),
+            spd_light_intensity(p, ref, lscale),
+            "SPD %s:%s: light at (%g, %g, %g), intensity 1/sqrt(%d) without "
+            "distance falloff; glTF intensity = 1/sqrt(%d) x %g (squared "
+            "distance to %s)" % (file, lines, p[0], p[1], p[2], len(lights),
+                                 len(lights), dot(sub(p, ref), sub(p, ref)),
+                                 ref_name))
+
+
+# -- 5. SPD "rings" -----------------------------------------------------------
+
+RINGS_SIZE = 3
+RINGS_RADIUS = 0.07412  # rings.c:127, cylinder and sphere radius
+RINGS_SIDES = 16        # cylinder tessellation (chosen)
+
+
+def spd_rings_dodec(minor_radius):
+    """rings.c:43-100 create_dodec(): 6 pentagons of 5 points each. The
+    first lies in the XY plane (radius 1/(1+minor_radius), points at
+    k x 72 degrees); pentagon p = 1..5 is the first rotated about X by
+    x_rotation = 2 acos(cos 60 / sin 36) (rings.c:71-72), then about Z by
+    (2(p-1)+1) x 36 degrees (rings.c:84), with libvec.c's row-vector
+    rotation matrices (libvec.c:135-176, 713-723). cos x_rotation =
+    2a^2 - 1 and sin x_rotation = 2a sqrt(1 - a^2) for a = 0.5 / sin 36."""
+    sc = 1.0 / (1.0 + minor_radius)
+    verts = []
+    for k in range(5):
+        s, c = sincos_deg(72.0 * k)
+        verts.append((sc * c, sc * s, 0.0))
+    a = 0.5 / sincos_deg(36.0)[0]
+    cx = 2.0 * a * a - 1.0
+    sx = 2.0 * a * math.sqrt(1.0 - a * a)
+    for p in range(1, 6):
+        sz, cz = sincos_deg(36.0 * (2 * (p - 1) + 1))
+        for k in range(5):
+            x, y, z = verts[k]
+            t = (x, y * cx - z * sx, y * sx + z * cx)
+            verts.append((t[0] * cz - t[1] * sz, t[0] * sz + t[1] * cz, t[2]))
+    return verts
+
+
+def scene_spd_rings():
+    sf = RINGS_SIZE
+    r = RINGS_RADIUS
+    g = Gltf("spd_rings",
+             "Pyramid of interlocking pentagonal rings after Eric Haines's "
+             "Standard Procedural Databases rings.c (" + SPD_REPO + "), "
+             "size_factor %d (%d ring objects, %d spheres, %d cylinders), "
+             "spheres as icospheres (subdivided once), cylinders as open "
+             "%d-sided bands" % (sf, sf * (sf + 1) * (2 * sf + 1) // 6,
+                                 5 * sf * (sf + 1) * (2 * sf + 1),
+                                 5 * sf * (sf + 1) * (2 * sf + 1),
+                                 RINGS_SIDES))
+    # rings.c:130-138 (SPREAD_OUT 1 <= spread: y_diff = spread, xz_diff 1)
+    spread = 1.0 / sincos_deg(22.5)[0]
+    y_diff, xz_diff = spread, 1.0
+    wall_mat = g.material(
+        "wall", (1.0, 1.0, 1.0), 0.0, 1.0,
+        "SPD rings.c:168-170: white (1, 1, 1), Kd 1.0, matte")
+    names = ["red", "green", "blue", "cyan", "magenta", "yellow"]
+    colors = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0),
+              (0.0, 1.0, 1.0), (1.0, 0.0, 1.0), (1.0, 1.0, 0.0)]
+    ring_mats = []
+    for i in range(6):
+        ring_mats.append(g.material(
+            "ring_" + names[i], scale(colors[i], 0.5), 0.0, 0.5,
+            "SPD rings.c:182-187, 207-208: ring %d color (%g, %g, %g) x Kd "
+            "0.5 (lib_output_color ka 0, kd 0.5, ks 0.2, ks_spec 0.3, ang "
+            "37); roughness 0.5 chosen for the specular part" % (
+                (i,) + colors[i])))
+
+    # rings.c:172-179: the wall behind the pyramid, spanning the 45 degree
+    # view + 1% (tan 22.5 from sincos_deg).
+    eye = (-1.0, -spread, 0.5)  # rings.c:147
+    wy = y_diff * (sf + 1)
+    s22, c22 = sincos_deg(22.5)
+    wx = 1.01 * (wy - eye[1]) * (s22 / c22)
+    wall = [(wx + eye[0], wy, wx + eye[2]), (-wx + eye[0], wy, wx + eye[2]),
+            (-wx + eye[0], wy, -wx + eye[2]), (wx + eye[0], wy, -wx + eye[2])]
+    wpos, wtris = quad(*wall)
+    check_facing("wall", wpos, wtris, (0.0, -1.0, 0.0))
+    g.mesh_node("wall", wpos, wtris, wall_mat)
+
+    dodec = spd_rings_dodec(r)
+    for i in range(30):
+        for j in range(i):
+            assert length(sub(dodec[i], dodec[j])) > 2.0 * r
+    unit = rotated_icosphere(unit_icosphere(1), FLAKE_ICO_ROT)
+    circle = unit_circle(RINGS_SIDES)
+    parts = [[] for _ in range(6)]
+    # rings.c:193-221: layer d (0..sf-1) at y = y_diff (d+1) holds
+    # (d+1)^2 objects at x, z = xz_diff (2i - d); each object is 30
+    # cylinders (from point e to the previous point of its pentagon) and
+    # 30 spheres (at e), all of radius 0.07412.
+    for depth in range(sf):
+        oy = y_diff * (depth + 1)
+        for iz in range(depth + 1):
+            oz = xz_diff * (2 * iz - depth)
+            for ix in range(depth + 1):
+                ox = xz_diff * (2 * ix - depth)
+                off = (ox, oy, oz)
+                for e in range(30):
+                    prev = e + 4 if e % 5 == 0 else e - 1
+                    b = add(dodec[e], off)
+                    a = add(dodec[prev], off)
+                    parts[e // 5].append(cylcone_mesh(b, r, a, r, circle))
+                    p, t = sphere_mesh(b, r, unit)
+                    check_outward("ring_sphere", p, t, b)
+                    parts[e // 5].append((p, t))
+    for i in range(6):
+        pos, tris = merge(parts[i])
+        g.mesh_node("ring_" + names[i], pos, tris, ring_mats[i])
+
+    # rings.c:160-166: three lights; reference point for the glTF
+    # intensity: the centre of the pyramid.
+    centre = (0.0, y_diff * (sf + 1) / 2.0, 0.0)
+    spd_point_lights(g, "rings.c", "161-166",
+                     [(3.0, -spread, 3.0), (-4.0, -spread, 1.0),
+                      (2.0, -spread, -4.0)], centre,
+                     "the pyramid's centre (0, %g, 0)" % centre[1])
+
+    cam = camera_json(
+        eye, (eye[0], eye[1] + 1.0, eye[2]), (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD rings.c:147-150: lib_output_viewpoint(from (-1, -spread, 0.5), "
+        "at from + (0, 1, 0), up (0, 0, 1), angle 45, aspect 1, 512 x 512), "
+        "spread = 1/sin(22.5 degrees) = %.6f" % spread,
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); the "
+        "camera looks along +Y at the pyramid's point, the wall at y = %.6f "
+        "fills the frame (1%% margin). Z is up." % wy)
+    return g, cam
+
+
+# -- 6. SPD "gears" -----------------------------------------------------------
+
+GEARS_SIZE = 4
+GEARS_TEETH = 36           # gears.c:41
+GEARS_OUTER_EDGE = 0.995   # gears.c:48
+GEARS_EDGE_DIFF = 0.1      # gears.c:49-50 (1 - INNER_EDGE_RATIO 0.9)
+GEARS_DEPTH_RATIO = 0.1    # gears.c:53
+
+
+def spd_gear_outline(offset_deg, outer_r, inner_r):
+    """gears.c:56-76, 96-101: 4 points per tooth at angles gear - 0.19 t,
+    gear + 0.19 t (outer radius), gear + 0.3 t, gear + 0.7 t (inner radius)
+    for gear = offset + k t, t = 360/TEETH degrees; counter-clockwise about
+    +Z around the gear's centre, as (cos, sin) pairs times radius."""
+    t = 360.0 / GEARS_TEETH
+    out = []
+    for k in range(GEARS_TEETH):
+        ga = offset_deg + t * k
+        for frac, rad in ((-0.19, outer_r), (0.19, outer_r), (0.3, inner_r),
+                          (0.7, inner_r)):
+            s, c = sincos_deg(ga + frac * t)
+            out.append((rad * c, rad * s))
+    return out
+
+
+def spd_gear_mesh(center, outline, thickness):
+    """One closed gear: the top polygon at the centre's z (gears.c:96-102),
+    the 4 x TEETH side quads down to z - thickness (gears.c:105-114) and the
+    bottom polygon (gears.c:117-125: the same outline, as SPD's negated
+    angles give, wound the other way). SPD's concave 144-gon faces are fans
+    from the centre (every outline point is at a larger angle than the one
+    before, so each fan triangle is proper). Wound outwards."""
+    n = len(outline)
+    cx, cy, cz = center
+    bz = cz - thickness
+    pos = [(cx + x, cy + y, cz) for x, y in outline]
+    pos += [(cx + x, cy + y, bz) for x, y in outline]
+    top_c, bot_c = 2 * n, 2 * n + 1
+    pos += [(cx, cy, cz), (cx, cy, bz)]
+    tris = []
+    for i in range(n):
+        j = (i + 1) % n
+        tris.append((top_c, i, j))                  # top, normal +Z
+        tris.append((bot_c, n + j, n + i))          # bottom, normal -Z
+        tris.append((i, n + i, n + j))              # side (SPD's quad order)
+        tris.append((i, n + j, j))
+    for t in tris:
+        a, b, c = pos[t[0]], pos[t[1]], pos[t[2]]
+        nrm = cross(sub(b, a), sub(c, a))
+        if t[0] == top_c:
+            ok = nrm[2] > 0.0 and nrm[0] == 0.0 == nrm[1]
+        elif t[0] == bot_c:
+            ok = nrm[2] < 0.0 and nrm[0] == 0.0 == nrm[1]
+        else:
+            # a side faces away from the gear's axis at its midpoint
+            mid = scale(add(add(a, b), c), 1.0 / 3.0)
+            ok = nrm[2] == 0.0 and dot(nrm, sub(mid, center)) > 0.0
+        if not ok:
+            raise AssertionError("gear: triangle %s wound inwards" % (t,))
+    return pos, tris
+
+
+def scene_spd_gears():
+    sf = GEARS_SIZE
+    g = Gltf("spd_gears",
+             "Grid of meshing gears after Eric Haines's Standard Procedural "
+             "Databases gears.c (" + SPD_REPO + "), size_factor %d (%d gears "
+             "of %d teeth), gear faces fanned into triangles, on a "
+             "reflective ground" % (sf, sf ** 3, GEARS_TEETH))
+    ground_mat = g.material(
+        "ground", (1.0, 0.85, 0.7), 0.67, 0.1,
+        "SPD gears.c:186-187: off-white (1, 0.85, 0.7), Kd 0.3, Ks 0.6, "
+        "shine 37 ('reflective', gears.c:4); metallic 0.67 (Ks / (Kd + Ks)) "
+        "and roughness 0.1 chosen")
+    gpos, gtris = quad((2.0, 2.0, 0.0), (-2.0, 2.0, 0.0), (-2.0, -2.0, 0.0),
+                       (2.0, -2.0, 0.0))  # gears.c:188-192
+    check_facing("ground", gpos, gtris, (0.0, 0.0, 1.0))
+    g.mesh_node("ground", gpos, gtris, ground_mat)
+
+    # gears.c:194-203
+    outer_radius = 1.0 / (sf - (sf - 1) * GEARS_EDGE_DIFF / 2.0)
+    zero = (-1.0 + outer_radius, -1.0 + outer_radius, 1.0)
+    step = outer_radius * (2.0 - GEARS_EDGE_DIFF)
+    step_z = -1.0 / sf
+    thickness = min(GEARS_DEPTH_RATIO, 1.0 / (2.0 * sf))  # gears.c:232
+    outlines = [spd_gear_outline(180.0 * par / GEARS_TEETH,
+                                 GEARS_OUTER_EDGE * outer_radius,
+                                 (1.0 - GEARS_EDGE_DIFF) * outer_radius)
+                for par in (0, 1)]
+    for iz in range(sf):
+        for iy in range(sf):
+            for ix in range(sf):
+                center = (zero[0] + ix * step, zero[1] + iy * step,
+                          zero[2] + iz * step_z)
+                # gears.c:214-222: pseudo-random colour, FRACTION() of
+                # non-negative numbers, scaled so the largest is 1
+                col = [0.01 + (x - int(x)) for x in (
+                    (ix * 3 + iy * 2 + iz + 1) * 5.0 / 7.0,
+                    (iy * 3 + iz * 2 + ix + 1) * 3.0 / 7.0,
+                    (iz * 3 + ix * 2 + iy + 1) * 2.0 / 7.0)]
+                m = max(col)
+                col = tuple(x / m for x in col)
+                name = "gear_%d_%d_%d" % (ix, iy, iz)
+                if (ix * 4 + iy * 2 + iz) % 5 == 0:
+                    mat = g.material(
+                        name, col, 0.0, 0.0,
+                        "SPD gears.c:214-225: colour (%.6f, %.6f, %.6f), Kd "
+                        "0.2, Kt 0.8, index of refraction 1.1; "
+                        "KHR_materials_transmission 0.8 + KHR_materials_ior "
+                        "1.1; closed mesh wound outwards, one-sided" % col,
+                        transmission=0.8, ior=1.1, double_sided=False)
+                else:
+                    mat = g.material(
+                        name, col, 0.0, 1.0,
+                        "SPD gears.c:214-228: colour (%.6f, %.6f, %.6f), Kd "
+                        "1.0, matte" % col)
+                # gears.c:231: every other gear is turned half a tooth
+                outline = outlines[(ix + iy + iz) % 2]
+                pos, tris = spd_gear_mesh(center, outline, thickness)
+                g.mesh_node(name, pos, tris, mat)
+
+    spd_point_lights(g, "gears.c", "172-183",
+                     [(2.0, 4.0, 4.0), (-2.0, 4.0, 3.0), (2.0, -2.5, 2.5),
+                      (-1.0, -4.0, 2.0), (-1.111, -2.121, 2.626)],
+                     (0.0, 0.0, 0.5), "the gear block's centre (0, 0, 0.5)")
+    cam = camera_json(
+        (-1.1, -2.1, 2.6), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD gears.c:158-161: lib_output_viewpoint(from (-1.1, -2.1, 2.6), "
+        "at (0, 0, 0), up (0, 0, 1), angle 45, aspect 1, 512 x 512)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); "
+        "looks down on the 4 x 4 x 4 block of gears from above one corner. "
+        "Z is up.")
+    return g, cam
+
+
+# -- 7. SPD "tree" ------------------------------------------------------------
+
+TREE_SIZE = 7
+TREE_SIDES = 12  # cone tessellation (chosen)
+
+
+def mat_mul(a, b):
+    """4x4 row-major product as libvec.c:878-890 lib_matrix_multiply."""
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)]
+            for i in range(4)]
+
+
+def mat_point(m, p):
+    """libvec.c:713-723 lib_transform_point (row vector times matrix)."""
+    return tuple(p[0] * m[0][j] + p[1] * m[1][j] + p[2] * m[2][j] + m[3][j]
+                 for j in range(3))
+
+
+def mat_rot(axis, deg):
+    """libvec.c:135-176 lib_create_rotate_matrix, sine and cosine from
+    sincos_deg."""
+    s, c = sincos_deg(deg)
+    m = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    if axis == 0:
+        m[1][1], m[2][2], m[1][2], m[2][1] = c, c, s, -s
+    else:
+        m[0][0], m[1][1], m[0][1], m[1][0] = c, c, s, -s
+    return m
+
+
+def spd_tree_branches(depth):
+    """tree.c:48-130: list of (base, base radius, apex, apex radius). Branch
+    matrices Rst_i = Rx(angle_i) Rz(divergence_i) S(contraction_i) with the
+    translation (0, 0, 1) (tree.c:97-125); angles 40 and 25 degrees,
+    divergences 90 and 230 degrees, contractions 0.65 and 0.70; each child
+    matrix is Rst_i x parent (tree.c:80); branch width 0.15 x scale, apex
+    width 0.67 x base width, child scale 0.67 x parent's (tree.c:38-44,
+    62-81)."""
+    rst = []
+    for angle, div, contr in ((40.0, 90.0, 0.65), (25.0, 230.0, 0.70)):
+        rot = mat_mul(mat_rot(0, angle), mat_rot(2, div))
+        st = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+        st[0][0] = st[1][1] = st[2][2] = contr
+        st[3][2] = 1.0
+        rst.append(mat_mul(rot, st))
+    out = []
+
+    def grow(mx, sc, d):
+        base = mat_point(mx, (0.0, 0.0, 0.0))
+        apex = mat_point(mx, (0.0, 0.0, 1.0))
+        rb = sc * 0.15
+        out.append((base, rb, apex, rb * 0.67))
+        if d > 0:
+            for i in range(2):
+                grow(mat_mul(rst[i], mx), sc * 0.67, d - 1)
+
+    ident = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    grow(ident, 1.0, depth)
+    return out
+
+
+def scene_spd_tree():
+    sf = TREE_SIZE
+    g = Gltf("spd_tree",
+             "Branching tree (Aono and Kunii) after Eric Haines's Standard "
+             "Procedural Databases tree.c (" + SPD_REPO + "), size_factor %d "
+             "(%d cones and spheres), cones as open %d-sided bands, spheres "
+             "as icospheres (subdivided once), on a field" % (
+                 sf, 2 ** (sf + 1) - 1, TREE_SIDES))
+    field_mat = g.material("field", (0.2, 0.7, 0.2), 0.0, 1.0,
+                           "SPD tree.c:190-191: green (0.2, 0.7, 0.2), "
+                           "Kd 1.0, matte")
+    tree_mat = g.material("tree", (0.55, 0.4, 0.2), 0.0, 1.0,
+                          "SPD tree.c:199-200: brown (0.55, 0.4, 0.2), "
+                          "Kd 1.0, matte")
+    fpos, ftris = quad((50.0, 50.0, 0.0), (-50.0, 50.0, 0.0),
+                       (-50.0, -50.0, 0.0), (50.0, -50.0, 0.0))  # tree.c:192
+    check_facing("field", fpos, ftris, (0.0, 0.0, 1.0))
+    g.mesh_node("field", fpos, ftris, field_mat)
+
+    branches = spd_tree_branches(sf)
+    assert len(branches) == 2 ** (sf + 1) - 1
+    unit = rotated_icosphere(unit_icosphere(1), FLAKE_ICO_ROT)
+    circle = unit_circle(TREE_SIDES)
+    cones, spheres = [], []
+    for base, rb, apex, ra in branches:
+        cones.append(cylcone_mesh(base, rb, apex, ra, circle))
+        p, t = sphere_mesh(apex, ra, unit)   # tree.c:72: sphere at the apex
+        check_outward("tree_sphere", p, t, apex)
+        spheres.append((p, t))
+    g.mesh_node("branches", *merge(cones), tree_mat)
+    g.mesh_node("joints", *merge(spheres), tree_mat)
+
+    spd_point_lights(g, "tree.c", "174-187",
+                     [(-5.0, 5.0, 50.0), (30.0, -30.0, 30.0),
+                      (-40.0, -30.0, 20.0), (10.0, 30.0, 40.0),
+                      (-30.0, 40.0, 10.0), (50.0, 25.0, 20.0),
+                      (-10.0, -60.0, 30.0)],
+                     (0.0, 0.0, 1.5), "the camera's target (0, 0, 1.5)")
+    cam = camera_json(
+        (4.5, 0.4, 2.0), (0.0, 0.0, 1.5), (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD tree.c:160-163: lib_output_viewpoint(from (4.5, 0.4, 2), at "
+        "(0, 0, 1.5), up (0, 0, 1), angle 45, aspect 1, 512 x 512)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); the "
+        "tree stands at the origin on the field. Z is up.")
+    return g, cam
+
+
+# --------------------------------------------------------------------------
 # driver
 # --------------------------------------------------------------------------
 
@@ -863,6 +1341,9 @@ SCENES = [
     ("spd_balls", scene_spd_balls),
     ("spd_tetra", scene_spd_tetra),
     ("glass_spheres", scene_glass_spheres),
+    ("spd_rings", scene_spd_rings),
+    ("spd_gears", scene_spd_gears),
+    ("spd_tree", scene_spd_tree),
 ]
 
 
