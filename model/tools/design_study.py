@@ -316,6 +316,65 @@ def loss_of(r, o):
             "timing": {"cycles": des - orc - lost - wrong - right}}
 
 
+LOSS_PARTS = ["compulsory", "evicted", "aliased", "stale", "suppressed", "gated", "not_offered",
+              "unknown"]
+
+
+def loss_figure(res, gpu, kind, sets, name, first, path):
+    """A figure of what design NAME loses against the oracle per scene on GPU and KIND (the
+    validation scenes, then the training ones): each bar is the oracle's saved cycles, split into
+    the design's own saving and each cause of loss (hrpp simulate's loss breakdown); a negative
+    timing rest is named beside its bar. Returns the path, or None with no runs to show."""
+    rows = []
+    for set_name in ("validation", "training"):
+        for where, scene in sets[set_name]:
+            o = res.get((gpu, where, scene.stem, kind, first))
+            r = res.get((gpu, where, scene.stem, kind, name))
+            if not o or "oracle" not in o or not r or "loss_tally" not in r:
+                continue
+            lo = r["loss"] if "loss" in r else loss_of(r, o)
+            saved = lo["oracle_saved_cycles"]
+            if saved <= 0:
+                continue
+            parts = [max(0.0, lo["saved_cycles"]) / saved]
+            parts += [lo["classes"][c]["cycles"] / saved for c in LOSS_PARTS]
+            parts += [lo["wrong_predictions"]["cycles"] / saved,
+                      lo["right_prediction_walks"]["cycles"] / saved,
+                      lo["timing"]["cycles"] / saved]
+            rows.append((f"{label(where, scene)} ({set_name[0]})", parts))
+    if not rows:
+        return None
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = [f"`{name}`'s saving"] + LOSS_PARTS + ["wrong predictions", "right predictions' walks",
+                                                   "timing"]
+    fig, ax = plt.subplots(figsize=(11, 0.45 * len(rows) + 2.2))
+    colors = plt.get_cmap("tab20").colors
+    for i, (lab, parts) in enumerate(rows):
+        left = 0.0
+        for j, v in enumerate(parts):
+            if v > 0:
+                ax.barh(i, 100 * v, left=100 * left, color=colors[j % len(colors)],
+                        label=names[j] if i == 0 else None)
+                left += v
+        if parts[-1] < 0:
+            ax.text(100 * left + 1, i, f"timing {100 * parts[-1]:.0f}%", va="center", fontsize=7)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=colors[j % len(colors)])
+               for j in range(len(names))]
+    ax.set_yticks(range(len(rows)), [r[0] for r in rows], fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlabel("% of the cycles the oracle saves over no predictor")
+    ax.set_title(f"`{name}` against the oracle, {KIND_SHORT[kind]} on `{gpu}` (v: validation, "
+                 "t: training scene)", fontsize=10)
+    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def protocol_block(spec, sets):
     prot = spec["protocol"]
     lines = [" ".join(prot["about"]) if isinstance(prot["about"], list) else prot["about"], ""]
@@ -483,6 +542,12 @@ def write_outputs(args, spec, designs, scenes, out, res, seeds_res, cells):
                                                          "training: "))
             print(blocks["study-goal"])
     shown = [n for n in (spec["baseline"], spec["winner"], spec.get("built")) if n in names]
+    if spec["winner"] in names:
+        fig = loss_figure(res, "mobile", "ao", sets, spec["winner"], designs[0]["name"],
+                          out / "losses-mobile-ao.png")
+        if fig:
+            print(f"design_study: {spec['winner']}'s losses against the oracle: {fig}",
+                  file=sys.stderr)
     blocks["study-losses"] = (
         f"{made} AO as MICRO 2021 on `mobile`, the validation scenes, then the training "
         "scenes.\n\n" + losses_block(res, "mobile", "ao", sets["validation"] + sets["training"],
