@@ -340,6 +340,9 @@ OPTION_CASES = [
      r"model"),
     ("option: simulate unknown repacking", {}, "simulate {scene} --res 4x4 --repack --repack-by "
      "lane", r"--repack-by"),
+    ("option: simulate --repack-by without --repack", {},
+     "simulate {scene} --res 4x4 --repack-by micro21", r"--repack-by chooses how --repack "
+     r"regroups rays; add --repack"),
     ("option: simulate unknown cycle count", {}, "simulate {scene} --res 4x4 --cycles-until "
      "warps", r"--cycles-until"),
     ("option: negative AO distance", {}, P + "--ao-distance -1", r"--ao-distance"),

@@ -16,7 +16,8 @@ simulate` runs:
 The rungs' GPU configurations are model/gpu/mobile.json with the fields of
 model/gpu/micro21-sim.json (each citing MICRO 2021's code) taken one group at a time; the top
 timing rung is micro21-sim.json itself. Runs go through the study driver (pyhrpp/study.py):
---workers N, --scheduler ADDRESS, --resume; reports in OUT/RUNG/SCENE.DESIGN.json.
+--workers N, --scheduler ADDRESS, --resume; reports in OUT/RUNG/WHERE.SCENE.DESIGN.json, the
+tables in OUT/*.md and, a full run, the micro21-* blocks of --doc.
 
   micro21_repro.py [--hrpp build/hrpp] [--shared ../shared] [--out out/micro21_repro]
                    [--scenes a,b] [--doc docs/results.md] [--workers N]

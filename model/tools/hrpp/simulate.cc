@@ -716,12 +716,13 @@ Subcommand add_simulate(CLI::App& app) {
   sc->add_flag("--repack", sa->repack,
                "also run the predictor with warp repacking: rays regrouped into warps after "
                "their predictions (docs/timing_model.md)");
-  sc->add_option("--repack-by", sa->repack_by,
-                 "repacking categories: predicted (predicted or not), node (by first predicted "
-                 "node) or micro21 (MICRO 2021's simulator: a warp waits in the predictor, its "
-                 "predicted rays leave for one pool; docs/timing_model.md)")
-      ->check(CLI::IsMember({"predicted", "node", "micro21"}))
-      ->capture_default_str();
+  CLI::Option* repack_by =
+      sc->add_option("--repack-by", sa->repack_by,
+                     "repacking categories: predicted (predicted or not), node (by first predicted "
+                     "node) or micro21 (MICRO 2021's simulator: a warp waits in the predictor, its "
+                     "predicted rays leave for one pool; docs/timing_model.md)")
+          ->check(CLI::IsMember({"predicted", "node", "micro21"}))
+          ->capture_default_str();
   sc->add_option("--lookup-latency", sa->lookup_latency,
                  "golden presets: cycles from a ray's entry to its prediction")
       ->check(CLI::Range(0, 100000));
@@ -776,10 +777,16 @@ Subcommand add_simulate(CLI::App& app) {
                  "run the first N rays as a warm-up kernel (MICRO 2021's benchmark's -w): the "
                  "others enter when they are answered, and cycles count from then")
       ->check(CLI::Range(uint64_t(0), uint64_t(1) << 40));
-  return {sc, [sa] {
+  return {sc, [sa, repack_by] {
             // No preset: the RTL's default configuration, unless hash or table options are
             // given (then the golden model's defaults with those options).
             if (!resolve_preset("simulate", sa->p)) return 2;
+            if (repack_by->count() > 0 && !sa->repack) {
+              std::fprintf(stderr,
+                           "hrpp simulate: --repack-by chooses how --repack regroups rays; add "
+                           "--repack\n");
+              return 2;
+            }
             if (sa->gate_first >= 0 && sa->gate == 0) {
               std::fprintf(stderr, "hrpp simulate: --gate-first needs a gate (--gate N, N > 0)\n");
               return 2;
