@@ -381,7 +381,9 @@ def protocol_block(spec, sets):
     for name in ("validation", "training"):
         lines.append(f"- {name}: " + ", ".join(label(w, p) for w, p in sets[name]))
     if prot.get("exclude"):
-        lines.append("- left out: " + ", ".join(prot["exclude"]) + " (the same scene as another)")
+        lines.append("- left out: " + ", ".join(f"{k.split(':')[1]} ({k.split(':')[0]})"
+                                                for k in prot["exclude"])
+                     + " (the same scene as another)")
     return "\n".join(lines)
 
 
