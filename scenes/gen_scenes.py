@@ -21,8 +21,9 @@ where the light goes.
 
 Output is deterministic: no timestamps, fixed JSON key order and
 separators, floats packed with struct '<f'. Geometry is computed with
-+ - * / and sqrt only (all correctly rounded in IEEE 754), so the binary
-chunks do not depend on the platform's libm.
++ - * / and sqrt only (all correctly rounded in IEEE 754, plus the exact
+math.frexp and math.ldexp), so the binary chunks do not depend on the
+platform's libm.
 
 Standard library only (Python 3.11).
 """
@@ -862,8 +863,10 @@ def scene_glass_spheres():
 # and cosine comes from sincos_deg() below: a fixed reduction to [-45, 45]
 # degrees and fixed-length Taylor series, so + - * / only and the same bits
 # on every platform. Line numbers cite the SPD files as listed in SPD_REPO
-# (rings.c, gears.c, tree.c, libvec.c are unchanged in the repository's
-# later src/ layout, so the numbers hold there too).
+# (rings.c, gears.c, tree.c, mount.c, lattice.c, shells.c, jacks.c,
+# sombrero.c, libvec.c, libply.c and libpr2.c are unchanged in the
+# repository's later src/ layout, so the numbers hold there too; libtx.c
+# differs in one typedef on line 24, with the same line numbers).
 
 SPD_PI = 3.141592653589793  # SPD def.h:179
 
@@ -1248,6 +1251,8 @@ def mat_rot(axis, deg):
     m = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
     if axis == 0:
         m[1][1], m[2][2], m[1][2], m[2][1] = c, c, s, -s
+    elif axis == 1:
+        m[0][0], m[2][2], m[2][0], m[0][2] = c, c, s, -s
     else:
         m[0][0], m[1][1], m[0][1], m[1][0] = c, c, s, -s
     return m
@@ -1332,6 +1337,527 @@ def scene_spd_tree():
     return g, cam
 
 
+# -- 8. SPD "mount" -----------------------------------------------------------
+
+MOUNT_SIZE = 6         # mount.c:41 (SPD's default): 2 x 4^6 triangles
+MOUNT_NO = 21          # mount.c:55
+MOUNT_ICO = 3          # sphere tessellation (chosen)
+SPD_LN2 = 0.6931471805599453  # ln 2 rounded to double
+# mount.c:287-288: ratio = 2 / exp(ln 2 / (FRACTAL_DIMENSION 2.2 - 1)) =
+# 2^(1/6), Roughness = sqrt(ratio^2 - 1) = sqrt(2^(1/3) - 1); 2^(1/3)
+# rounded to double (its cube is 2.0 in double arithmetic).
+MOUNT_CBRT2 = 1.2599210498948732
+
+
+def spd_log(x):
+    """Natural logarithm with + - * / only (math.frexp is exact): x =
+    m 2^e with m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh((m-1)/(m+1)) as a
+    series of 24 terms (|t| < 0.172, error below 1e-17)."""
+    m, e = math.frexp(x)
+    if m < 0.7071067811865476:
+        m, e = 2.0 * m, e - 1
+    t = (m - 1.0) / (m + 1.0)
+    t2 = t * t
+    s, p = 0.0, t
+    for k in range(24):
+        s += p / (2 * k + 1)
+        p *= t2
+    return 2.0 * s + e * SPD_LN2
+
+
+def spd_gauss_rand(iseed):
+    """libvec.c:992-1024 lib_gauss_rand (Numerical Recipes' GASDEV with a
+    linear congruential generator), the logarithm from spd_log."""
+    ix2 = iseed
+    while True:
+        ix1 = (28411 + ix2 * 8121) % 134456
+        ix2 = (28411 + ix1 * 8121) % 134456
+        v1 = ix1 * 2.0 * 1.0 / 134456 - 1.0
+        v2 = ix2 * 2.0 * 1.0 / 134456 - 1.0
+        r = v1 * v1 + v2 * v2
+        if r < 1.0:
+            break
+    return v1 * math.sqrt(-2.0 * spd_log(r) / r)
+
+
+def spd_mount_hash(a, b, c):
+    """mount.c:67-69: SPD's original ('faulty') hash_rand, used for the
+    published image (mount.c:6-12)."""
+    return ((a << (23 - c)) + (b << (15 - c)) + (a << (7 - c))) & 0xFFFF
+
+
+def spd_mount_heights(sf):
+    """mount.c:138-225 grow_mountain: Carpenter's midpoint subdivision of
+    the square [-1, 1]^2 (corners at height 0) down to 2^sf cells a side.
+    Returns ({(i, j): z} for the (2^sf + 1)^2 grid points, [cells (i, j) in
+    SPD's output order]). A point shared by two cells gets its height from
+    the same hash and the same two parents in both, which the script
+    asserts."""
+    n = 1 << sf
+    rough = math.sqrt(MOUNT_CBRT2 - 1.0)
+    z = {}
+    cells = []
+
+    def put(key, val):
+        if key in z and z[key] != val:
+            raise AssertionError("mount: point %s has two heights" % (key,))
+        z[key] = val
+
+    def grow(width, x, y, ll, lr, ur, ul):
+        if width == 1:
+            put((x, y), ll)
+            put((x + 1, y), lr)
+            put((x + 1, y + 1), ur)
+            put((x, y + 1), ul)
+            cells.append((x, y))
+            return
+        h = width >> 1
+        rise = h * 2.0 / n * rough  # mount.c:187-188
+
+        def g(a, b):
+            return spd_gauss_rand(MOUNT_NO + spd_mount_hash(a, b, sf))
+        lower = (ll + lr) / 2.0 + rise * g(x + h, y)
+        right = (lr + ur) / 2.0 + rise * g(x + width, y + h)
+        upper = (ur + ul) / 2.0 + rise * g(x + h, y + width)
+        left = (ul + ll) / 2.0 + rise * g(x, y + h)
+        middle = ((ll + lr + ur + ul) / 4.0
+                  + 1.4142136 * rise * g(x + h, y + h))
+        grow(h, x, y, ll, lower, middle, left)
+        grow(h, x + h, y, lower, lr, right, middle)
+        grow(h, x + h, y + h, middle, right, ur, upper)
+        grow(h, x, y + h, left, middle, upper, ul)
+
+    grow(n, 0, 0, 0.0, 0.0, 0.0, 0.0)
+    return z, cells
+
+
+def spd_mount_spheres(center, radius):
+    """mount.c:101-132 create_spheres: one sphere at center + (0, 0,
+    r sqrt(3/2)), three more at that offset rotated about (1, 1, 0)/sqrt 2
+    by acos(-1/3) (cos -1/3, sin sqrt(8)/3, libvec.c:304-338) and then
+    about Z by 0, 120 and 240 degrees (libvec.c:135-176, 677-689)."""
+    pt = (0.0, 0.0, radius * math.sqrt(3.0 / 2.0))
+    out = [add(center, pt)]
+    a = normalize((1.0, 1.0, 0.0))
+    c, s = -1.0 / 3.0, math.sqrt(8.0) / 3.0
+    omc = 1.0 - c
+    mx = [[a[0] * a[0] + (1.0 - a[0] * a[0]) * c,
+           a[0] * a[1] * omc + a[2] * s, a[0] * a[2] * omc - a[1] * s],
+          [a[0] * a[1] * omc - a[2] * s,
+           a[1] * a[1] + (1.0 - a[1] * a[1]) * c,
+           a[1] * a[2] * omc + a[0] * s],
+          [a[0] * a[2] * omc + a[1] * s, a[1] * a[2] * omc - a[0] * s,
+           a[2] * a[2] + (1.0 - a[2] * a[2]) * c]]
+    new_pt = tuple(sum(pt[k] * mx[k][j] for k in range(3)) for j in range(3))
+    for i in range(3):
+        rz = mat_rot(2, 120.0 * i)
+        out.append(add(center, tuple(sum(new_pt[k] * rz[k][j]
+                                         for k in range(3))
+                                     for j in range(3))))
+    return out
+
+
+def scene_spd_mount():
+    sf = MOUNT_SIZE
+    g = Gltf("spd_mount",
+             "Fractal mountain with a pyramid of 4 glass spheres after Eric "
+             "Haines's Standard Procedural Databases mount.c (" + SPD_REPO +
+             "), size_factor %d (%d triangles, SPD's original hash), "
+             "spheres as icospheres (subdivided %d times)" % (
+                 sf, 2 * 4 ** sf, MOUNT_ICO))
+    glass_mat = g.material(
+        "crystal", (1.0, 1.0, 1.0), 0.0, 0.0,
+        "SPD mount.c:273-275: clear white (1, 1, 1), Kd 0.1, Ks 0.1, Kt 0.9, "
+        "index of refraction 1.5; KHR_materials_transmission 0.9 + "
+        "KHR_materials_ior 1.5, roughness 0; closed meshes wound outwards, "
+        "one-sided", transmission=0.9, ior=1.5, double_sided=False)
+    mount_mat = g.material(
+        "mountain", (0.5, 0.45, 0.35), 0.0, 1.0,
+        "SPD mount.c:281-283: grey (0.5, 0.45, 0.35), Kd 1.0, matte")
+
+    # mount.c:278-279: the pyramid's base centre and sphere radius
+    centre, radius = (-0.8, 0.8, 1.0), 0.17
+    unit = rotated_icosphere(unit_icosphere(MOUNT_ICO), FLAKE_ICO_ROT)
+    spheres = []
+    for c in spd_mount_spheres(centre, radius):
+        p, t = sphere_mesh(c, radius, unit)
+        check_outward("mount_sphere", p, t, c)
+        spheres.append((p, t))
+    g.mesh_node("crystal_spheres", *merge(spheres), glass_mat)
+
+    # mount.c:156-183: each cell (x, y) gives the triangles (ll, lr, ur)
+    # and (ur, ul, ll) at X_CORNER + x WIDTH / 2^sf (mount.c:57-60)
+    n = 1 << sf
+    heights, cells = spd_mount_heights(sf)
+    index = {}
+    pos, tris = [], []
+
+    def vid(i, j):
+        if (i, j) not in index:
+            index[(i, j)] = len(pos)
+            pos.append((-1.0 + i * 2.0 / n, -1.0 + j * 2.0 / n,
+                        heights[(i, j)]))
+        return index[(i, j)]
+    for x, y in cells:
+        ll, lr = vid(x, y), vid(x + 1, y)
+        ur, ul = vid(x + 1, y + 1), vid(x, y + 1)
+        tris.append((ll, lr, ur))
+        tris.append((ur, ul, ll))
+    assert len(tris) == 2 * 4 ** sf and len(pos) == (n + 1) ** 2
+    for t in tris:
+        a, b, c = pos[t[0]], pos[t[1]], pos[t[2]]
+        assert cross(sub(b, a), sub(c, a))[2] > 0.0  # faces up
+    g.mesh_node("mountain", pos, tris, mount_mat)
+
+    # mount.c:266-271: one light, intensity 1 (1/sqrt(1)); reference
+    # point: the camera's target (0, 0, 0)
+    spd_point_lights(g, "mount.c", "266-271", [(-100.0, -100.0, 100.0)],
+                     (0.0, 0.0, 0.0), "the camera's target (0, 0, 0)")
+    cam = camera_json(
+        (-1.6, 1.6, 1.7), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD mount.c:255-259: lib_output_viewpoint(from (-1.6, 1.6, 1.7), "
+        "at (0, 0, 0), up (0, 0, 1), angle 45, aspect 1, 512 x 512)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); "
+        "looks down on the mountain over the crystal spheres. Z is up.")
+    return g, cam
+
+
+# -- 9. SPD "lattice" ---------------------------------------------------------
+
+LATTICE_SIZE = 5    # lattice.c:31 default 12
+LATTICE_SIDES = 12  # cylinder tessellation (chosen)
+
+
+def scene_spd_lattice():
+    sf = LATTICE_SIZE
+    g = Gltf("spd_lattice",
+             "Cubic lattice of shiny spheres joined by matte cylinders after "
+             "Antonio Costa's lattice.c in Eric Haines's Standard Procedural "
+             "Databases (" + SPD_REPO + "), size_factor %d (%d spheres, %d "
+             "cylinders), spheres as icospheres (subdivided once), cylinders "
+             "as open %d-sided bands" % (sf, (sf + 1) ** 3,
+                                         3 * sf * (sf + 1) ** 2,
+                                         LATTICE_SIDES))
+    sphere_mat = g.material(
+        "sphere", (0.9, 0.9, 0.9), 0.5, 0.1,
+        "SPD lattice.c:113-115: white (0.9, 0.9, 0.9), Kd 0.5, Ks 0.5, shine "
+        "37 ('shiny spheres', lattice.c:2); metallic 0.5 (Ks / (Kd + Ks)) and "
+        "roughness 0.1 chosen")
+    axis_names = ["x", "y", "z"]
+    axis_cols = [(0.9, 0.1, 0.1), (0.1, 0.9, 0.1), (0.1, 0.1, 0.9)]
+    cyl_mats = []
+    axis_lines = ["121-123", "131-133", "142-144"]
+    for k in range(3):
+        cyl_mats.append(g.material(
+            "cylinder_" + axis_names[k], scale(axis_cols[k], 0.99), 0.0, 1.0,
+            "SPD lattice.c:%s: colour (%g, %g, %g) x Kd 0.99 (Ka 0.1), "
+            "matte" % ((axis_lines[k],) + axis_cols[k])))
+
+    # lattice.c:41-46, 70-71
+    inv = 1.0 / sf
+    radius1 = 0.25 / sf
+    radius2 = 0.0625 / sf
+    delta = (radius1 * (1.0 - math.sqrt(0.0625 / 0.25))) * 0.99
+    unit = rotated_icosphere(unit_icosphere(1), FLAKE_ICO_ROT)
+    circle = unit_circle(LATTICE_SIDES)
+    spheres = []
+    cyls = [[], [], []]
+    # lattice.c:102-153: a sphere of radius1 at each grid point (x, y, z)/sf
+    # and a cylinder of radius2 towards the next point along each axis, its
+    # ends delta inside the two spheres
+    for x in range(sf + 1):
+        x0 = x / sf
+        for y in range(sf + 1):
+            y0 = y / sf
+            for z in range(sf + 1):
+                z0 = z / sf
+                c = (x0, y0, z0)
+                p, t = sphere_mesh(c, radius1, unit)
+                check_outward("lattice_sphere", p, t, c)
+                spheres.append((p, t))
+                for k, last in enumerate((x, y, z)):
+                    if last == sf:
+                        continue
+                    a = list(c)
+                    b = list(c)
+                    a[k] = c[k] + delta
+                    b[k] = c[k] + inv - delta
+                    cyls[k].append(cylcone_mesh(tuple(a), radius2, tuple(b),
+                                                radius2, circle))
+    assert len(spheres) == (sf + 1) ** 3
+    assert sum(len(c) for c in cyls) == 3 * sf * (sf + 1) ** 2
+    g.mesh_node("spheres", *merge(spheres), sphere_mat)
+    for k in range(3):
+        g.mesh_node("cylinders_" + axis_names[k], *merge(cyls[k]),
+                    cyl_mats[k])
+
+    # lattice.c:87-100: six lights, one beyond each face of the unit cube;
+    # reference point: the lattice's centre (0.5, 0.5, 0.5)
+    spd_point_lights(g, "lattice.c", "87-100",
+                     [(2.0, 0.5, 0.5), (-1.0, 0.5, 0.5), (0.5, 2.0, 0.5),
+                      (0.5, -1.0, 0.5), (0.5, 0.5, 2.0), (0.5, 0.5, -1.0)],
+                     (0.5, 0.5, 0.5), "the lattice's centre (0.5, 0.5, 0.5)")
+    # lattice.c:79-84
+    ex = ((sf >> 1) + 0.5) * inv
+    eye = (ex, 1.0, 1.0 - 1.0 / (sf << 1))
+    target = (ex, -1.0, -1.0 - 1.0 / (sf << 1))
+    cam = camera_json(
+        eye, target, (0.2, 1.0, 0.0), 60.0, 1.0, (512, 512),
+        "computed_default",
+        "SPD lattice.c:79-84: lib_output_viewpoint(from ((sf >> 1) + 0.5) / "
+        "sf, 1, 1 - 1 / (2 sf)), at (((sf >> 1) + 0.5) / sf, -1, -1 - 1 / "
+        "(2 sf)), up (0.2, 1, 0), angle 60, aspect 1, 512 x 512) for sf = %d"
+        % sf,
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); the "
+        "eye is at the lattice's top back edge, looking diagonally down "
+        "through it. Y is roughly up (SPD's up vector (0.2, 1, 0)).")
+    return g, cam
+
+
+# -- 10. SPD "shells" ---------------------------------------------------------
+
+SHELLS_SIZE = 1  # shells.c:36 default 5
+
+
+def spd_exp(x):
+    """e^x with + - * / only (math.ldexp is exact): x = n ln 2 + f with
+    |f| <= ln 2 / 2, e^f as a Taylor series of 22 terms."""
+    n = int(round(x / SPD_LN2))
+    f = x - n * SPD_LN2
+    s, term = 0.0, 1.0
+    for k in range(22):
+        s += term
+        term = term * f / (k + 1)
+    return math.ldexp(s, n)
+
+
+def scene_spd_shells():
+    sf = SHELLS_SIZE
+    steps = 180 * 2 ** sf  # shells.c:220
+    lo, hi = -steps * 2 // 3, steps // 3
+    g = Gltf("spd_shells",
+             "Pickover's sea shell of overlapping spheres after Eric Haines's "
+             "Standard Procedural Databases shells.c (" + SPD_REPO + "), "
+             "size_factor %d (%d spheres), spheres as icospheres (subdivided "
+             "once)" % (sf, hi - lo + 1))
+    mat = g.material(
+        "shell", scale((1.0, 0.8, 0.4), 0.8), 0.0, 0.5,
+        "SPD shells.c:217-218: colour (1, 0.8, 0.4) x Kd 0.8 (ks 0.2, "
+        "ks_spec 0.5, ang 10); roughness 0.5 chosen for the specular part")
+    # shells.c:48-52, 220-237 with SPD's defaults gamma 1, alpha 0, beta -2,
+    # a 0.15, k 1: sphere i (-2 steps/3 .. steps/3) at angle 18 pi i / steps
+    # (= 9 i degrees for size factor 1), r = e^(0.15 angle), centre
+    # (r sin angle, r cos angle, -2 r), radius r
+    unit = rotated_icosphere(unit_icosphere(1), FLAKE_ICO_ROT)
+    spheres = []
+    for i in range(lo, hi + 1):
+        angle = 3.0 * 6.0 * SPD_PI * i / steps
+        r = 1.0 * spd_exp(0.15 * angle)
+        s, c = sincos_deg(3.0 * 6.0 * 180.0 * i / steps)
+        centre = (r * s, r * c, -2.0 * r)
+        p, t = sphere_mesh(centre, r / 1.0, unit)
+        check_outward("shell_sphere", p, t, centre)
+        spheres.append((p, t))
+    # shells.c:19-27 counts 180 x 2^sf spheres; the loop (shells.c:221)
+    # includes both ends, so it outputs one more
+    assert len(spheres) == steps + 1
+    g.mesh_node("shell", *merge(spheres), mat)
+
+    # shells.c:212-214: one light, intensity 1; reference point: the
+    # camera's target
+    target = (0.0, 8.0, -15.0)
+    spd_point_lights(g, "shells.c", "212-214", [(-100.0, -100.0, 100.0)],
+                     target, "the camera's target (0, 8, -15)")
+    cam = camera_json(
+        (-6.0, -60.0, 35.0), target, (0.0, 0.0, 1.0), 45.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD shells.c:206-210: lib_output_viewpoint(from (-6, -60, 35), at "
+        "(0, 8, -15), up (0, 0, 1), angle 45, aspect 1, 512 x 512)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); "
+        "looks down on the shell, whose spheres grow from radius 0.0035 at "
+        "its tip to 16.9 at its mouth. Z is up.")
+    return g, cam
+
+
+# -- 11. SPD "jacks" ----------------------------------------------------------
+
+JACKS_SIZE = 3    # jacks.c:21 default 1 (a single jack)
+JACKS_SIDES = 16  # cylinder tessellation (chosen)
+
+
+def mat_scale(s):
+    """libvec.c:357-371 lib_create_scale_matrix for a uniform scale s."""
+    m = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    m[0][0] = m[1][1] = m[2][2] = s
+    return m
+
+
+def mat_translate(t):
+    """libvec.c:341-354 lib_create_translate_matrix (translation in row
+    3)."""
+    m = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    m[3][0], m[3][1], m[3][2] = t
+    return m
+
+
+def spd_jacks_objects(depth):
+    """jacks.c:39-113: (matrix, uniform scale) of every jack. libtx.c:439-480
+    applies each new transform before the current one (current = new x
+    current, row vectors); the root is Rx(-30) then Ry(-20) (jacks.c:170-
+    171), so current = Ry(-20) Rx(-30); a jack is drawn with S(0.75) x
+    current (jacks.c:46-50); each of the 8 children at (+-0.5, +-0.5,
+    +-0.5) has S(0.5) T(i, j, k) x current (jacks.c:98-111), down to
+    size_factor levels."""
+    root = mat_mul(mat_rot(1, -20.0), mat_rot(0, -30.0))
+    out = []
+
+    def rec(d, cur, sc):
+        out.append((mat_mul(mat_scale(0.75), cur), sc * 0.75))
+        if d < depth:
+            for i in (-0.5, 0.5):
+                for j in (-0.5, 0.5):
+                    for k in (-0.5, 0.5):
+                        m = mat_mul(mat_translate((i, j, k)), cur)
+                        rec(d + 1, mat_mul(mat_scale(0.5), m), sc * 0.5)
+
+    rec(1, root, 1.0)
+    return out
+
+
+def scene_spd_jacks():
+    sf = JACKS_SIZE
+    njacks = sum(8 ** d for d in range(sf))
+    g = Gltf("spd_jacks",
+             "Recursive jacks (Alexander Enzmann) after Eric Haines's "
+             "Standard Procedural Databases jacks.c (" + SPD_REPO + "), "
+             "size_factor %d (%d jacks of 3 cylinders and 6 spheres), "
+             "spheres as icospheres (subdivided once), cylinders as open "
+             "%d-sided bands" % (sf, njacks, JACKS_SIDES))
+    pink = (0.737, 0.561, 0.561)  # jacks.c:32
+    mat = g.material(
+        "jack", scale(pink, 0.7), 0.5, 0.2,
+        "SPD jacks.c:32, 173: pink (0.737, 0.561, 0.561) x Kd 0.7 (Ka 0.1, "
+        "Ks 0.7, ks_spec 0.4, shine 20); metallic 0.5 (Ks / (Kd + Ks)) and "
+        "roughness 0.2 chosen")
+    unit = rotated_icosphere(unit_icosphere(1), FLAKE_ICO_ROT)
+    circle = unit_circle(JACKS_SIDES)
+    cyls, spheres = [], []
+    axes = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)]
+    jacks = spd_jacks_objects(sf)
+    assert len(jacks) == njacks
+    for m, sc in jacks:
+        # jacks.c:56-79: cylinders of radius 0.1 from -axis to +axis, and
+        # spheres of radius 0.2 at +X, +Y, +Z, -X, -Y, -Z; NFF output
+        # transforms the points and scales the radii (libpr2.c:1460-1466)
+        for a in axes:
+            cyls.append(cylcone_mesh(mat_point(m, scale(a, -1.0)), 0.1 * sc,
+                                     mat_point(m, a), 0.1 * sc, circle))
+        for sign in (1.0, -1.0):
+            for a in axes:
+                c = mat_point(m, scale(a, sign))
+                p, t = sphere_mesh(c, 0.2 * sc, unit)
+                check_outward("jack_sphere", p, t, c)
+                spheres.append((p, t))
+    g.mesh_node("jack_cylinders", *merge(cyls), mat)
+    g.mesh_node("jack_spheres", *merge(spheres), mat)
+
+    # jacks.c:151-156: one light, intensity 1; reference point: the
+    # camera's target (0, 0, 0)
+    spd_point_lights(g, "jacks.c", "151-156", [(-10.0, 3.0, -20.0)],
+                     (0.0, 0.0, 0.0), "the camera's target (0, 0, 0)")
+    cam = camera_json(
+        (0.0, 0.0, -8.0), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0), 25.0, 1.0,
+        (256, 256), "computed_default",
+        "SPD jacks.c:141-145: lib_output_viewpoint(from (0, 0, -8), at "
+        "(0, 0, 0), up (0, 1, 0), angle 25, aspect 1, 256 x 256)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates); "
+        "looks along +Z at the rotated jacks, which float without a ground. "
+        "Y is up.")
+    return g, cam
+
+
+# -- 12. SPD "sombrero" -------------------------------------------------------
+
+SOMBRERO_SIZE = 2  # sombrero.c:21 default 1 (32 x 32 points)
+
+
+def spd_sombrero_data(n, x0, x1, y0, y1):
+    """sombrero.c:28-70 create_sombrero: n x n float32 heights
+    c cos(2 pi a rho) e^(-b rho) / 3 with a = b = 1, c = 3, SPD's
+    two_pi_a = 2 x 3.14159265358 and rho = sqrt(x^2 + y^2); x and y step
+    from x0, y0 by (x1 - x0)/n by repeated addition, as in SPD. The cosine
+    comes from sincos_deg (the angle converted to degrees) and the
+    exponential from spd_exp."""
+    two_pi_a = 2.0 * 3.14159265358 * 1.0
+    dx = (x1 - x0) / n
+    dy = (y1 - y0) / n
+    data = []
+    y = y0
+    for _i in range(n):
+        row = []
+        x = x0
+        for _j in range(n):
+            rho = math.sqrt(x * x + y * y)
+            c = sincos_deg(two_pi_a * rho * (180.0 / SPD_PI))[1]
+            row.append(f32(3.0 * c * spd_exp(-1.0 * rho) / 3.0))
+            x += dx
+        data.append(row)
+        y += dy
+    return data
+
+
+def scene_spd_sombrero():
+    sf = SOMBRERO_SIZE
+    n = 32 * (1 << (sf - 1))  # sombrero.c:122
+    g = Gltf("spd_sombrero",
+             "Sombrero height field (Alexander Enzmann) after Eric Haines's "
+             "Standard Procedural Databases sombrero.c (" + SPD_REPO + "), "
+             "size_factor %d (%d x %d heights, %d triangles as SPD's "
+             "polygon output)" % (sf, n, n, 2 * (n - 1) ** 2))
+    mat = g.material(
+        "shiny_red", scale((1.0, 0.1, 0.1), 0.8), 0.0, 0.5,
+        "SPD sombrero.c:117-119: 'shiny_red' (1, 0.1, 0.1) x Kd 0.8 (Ka 0.1, "
+        "ks_spec 0.5, shine 40); roughness 0.5 chosen for the highlight")
+    data = spd_sombrero_data(n, -4.0, 4.0, -4.0, 4.0)  # sombrero.c:124
+    # libply.c:282-320 lib_output_polygon_height with sombrero.c:125's
+    # x -4..4, y -3..3, z -4..4: point (i, j) at (x0 + j xdelta,
+    # y0 + data[i][j], z0 + i zdelta), per cell the triangles
+    # ((i,j), (i+1,j+1), (i,j+1)) and ((i,j), (i+1,j), (i+1,j+1)), facing +Y
+    x0, x1, y0, z0, z1 = -4.0, 4.0, -3.0, -4.0, 4.0
+    xd = (x1 - x0) / (n - 1)
+    zd = (z1 - z0) / (n - 1)
+    pos = [(x0 + j * xd, y0 + data[i][j], z0 + i * zd)
+           for i in range(n) for j in range(n)]
+    tris = []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            a, b = i * n + j, i * n + j + 1
+            c, d = (i + 1) * n + j, (i + 1) * n + j + 1
+            tris.append((a, d, b))
+            tris.append((a, c, d))
+    assert len(tris) == 2 * (n - 1) ** 2
+    for t in tris:
+        p0, p1, p2 = pos[t[0]], pos[t[1]], pos[t[2]]
+        assert cross(sub(p1, p0), sub(p2, p0))[1] > 0.0  # faces +Y
+    g.mesh_node("sombrero", pos, tris, mat)
+
+    # sombrero.c:109-115: one light, intensity 1; reference point: the
+    # camera's target (0, 0, 0)
+    spd_point_lights(g, "sombrero.c", "109-115", [(10.0, 10.0, -10.0)],
+                     (0.0, 0.0, 0.0), "the camera's target (0, 0, 0)")
+    cam = camera_json(
+        (0.0, 5.0, -8.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 40.0, 1.0,
+        (512, 512), "computed_default",
+        "SPD sombrero.c:99-103: lib_output_viewpoint(from (0, 5, -8), at "
+        "(0, 0, 0), up (0, 0, 1), angle 40, aspect 1, 512 x 512)",
+        "SPD's viewpoint unchanged (the scene keeps SPD's coordinates): the "
+        "height field's heights run along Y, while SPD's up vector is Z, so "
+        "the image's up is the component of (0, 0, 1) across the view, "
+        "mostly +Y.")
+    return g, cam
+
+
 # --------------------------------------------------------------------------
 # driver
 # --------------------------------------------------------------------------
@@ -1344,6 +1870,11 @@ SCENES = [
     ("spd_rings", scene_spd_rings),
     ("spd_gears", scene_spd_gears),
     ("spd_tree", scene_spd_tree),
+    ("spd_mount", scene_spd_mount),
+    ("spd_lattice", scene_spd_lattice),
+    ("spd_shells", scene_spd_shells),
+    ("spd_jacks", scene_spd_jacks),
+    ("spd_sombrero", scene_spd_sombrero),
 ]
 
 

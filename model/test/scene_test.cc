@@ -91,7 +91,27 @@ TEST(Scene, OwnScenesHaveTheirDocumentedCountsAndBounds) {
        {-6.466081f, 1.653795f, -4.966081f},
        {4.466081f, 10.452504f, 5.966081f}},
       {"spd_gears.glb", 36866, 5, false, {-2, -2, 0}, {2, 2, 1}},
-      {"spd_tree.glb", 26522, 7, false, {-50, -50, 0}, {50, 50, 3.001848f}}};
+      {"spd_tree.glb", 26522, 7, false, {-50, -50, 0}, {50, 50, 3.001848f}},
+      {"spd_mount.glb", 13312, 1, false, {-1.159163f, -1, -0.702953f}, {1, 1.159279f, 1.377919f}},
+      {"spd_lattice.glb",
+       30240,
+       6,
+       false,
+       {-0.049868f, -0.049853f, -0.048310f},
+       {1.049868f, 1.049853f, 1.048310f}},
+      {"spd_shells.glb",
+       28880,
+       1,
+       false,
+       {-27.274710f, -21.545853f, -50.134758f},
+       {17.025650f, 33.754421f, -0.003619f}},
+      {"spd_jacks.glb",
+       42048,
+       1,
+       false,
+       {-1.174878f, -1.329931f, -1.396316f},
+       {1.174878f, 1.329931f, 1.396316f}},
+      {"spd_sombrero.glb", 7938, 1, false, {-4, -3.606853f, -4}, {4, -2, 4}}};
   EXPECT_EQ(test::own_scenes().size(), std::size(expect)) << "a new own scene: list it here";
   for (const auto& e : expect) {
     const Scene s = load_scene(std::string(HRPP_SOURCE_DIR) + "/scenes/" + e.file);
