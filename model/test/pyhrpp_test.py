@@ -322,7 +322,8 @@ class SimStudy(unittest.TestCase):
     def test_made_by_leaves_out_where_the_runs_went(self):
         self.assertEqual(self.sim_study.made_by(
             ["t.py", "--jobs", "2", "--res", "8x8", "--no-dask", "--workers=3", "--resume",
-             "--scheduler", "tcp://h:1", "--shared", ""]), "t.py --res 8x8 --shared ")
+             "--scheduler", "tcp://h:1", "--resume-any-build", "--shared", ""]),
+            "t.py --res 8x8 --shared ")
 
 
 class DesignStudySpec(unittest.TestCase):

@@ -270,28 +270,35 @@ def summarize(res, gpus, scenes, designs):
     return summ
 
 
+LOSS_PARTS = ["compulsory", "evicted", "aliased", "stale", "suppressed", "gated", "not_offered",
+              "unknown"]
+
+
+def loss_at(res, gpu, where, stem, kind, name, first):
+    """Design NAME's loss breakdown on one scene and kind (its oracle from the run of FIRST, the
+    design that runs it), or None without a run, an oracle or a saving to share."""
+    o = res.get((gpu, where, stem, kind, first))
+    r = res.get((gpu, where, stem, kind, name))
+    if not o or "oracle" not in o or not r or "loss_tally" not in r:
+        return None
+    lo = r["loss"] if "loss" in r else loss_of(r, o)
+    return lo if lo["oracle_saved_cycles"] > 0 else None
+
+
 def losses_block(res, gpu, kind, scenes, names, first):
     """Per scene, for the designs NAMES on GPU and KIND: the oracle's saved cycles and the share
     each design loses to each cause (hrpp simulate's "loss"; docs/timing_model.md, "Losses
     against the oracle"), as % of the oracle's saving."""
-    causes = ["compulsory", "evicted", "aliased", "stale", "suppressed", "gated", "not_offered",
-              "unknown"]
-    head = ("| scene | design | gain, % of the oracle's | " + " | ".join(causes)
+    head = ("| scene | design | gain, % of the oracle's | " + " | ".join(LOSS_PARTS)
             + " | wrong predictions | right predictions' walks | timing |")
-    rows = [head, "| --- | --- |" + " ---: |" * (len(causes) + 4)]
+    rows = [head, "| --- | --- |" + " ---: |" * (len(LOSS_PARTS) + 4)]
     for where, scene in scenes:
-        o = res.get((gpu, where, scene.stem, kind, first))
-        if not o or "oracle" not in o:
-            continue
         for n in names:
-            r = res.get((gpu, where, scene.stem, kind, n))
-            if not r or "loss_tally" not in r:
+            lo = loss_at(res, gpu, where, scene.stem, kind, n, first)
+            if not lo:
                 continue
-            lo = r["loss"] if "loss" in r else loss_of(r, o)
             saved = lo["oracle_saved_cycles"]
-            if saved <= 0:
-                continue
-            share = [lo["classes"][c]["cycles"] / saved for c in causes]
+            share = [lo["classes"][c]["cycles"] / saved for c in LOSS_PARTS]
             rest = [lo["wrong_predictions"]["cycles"] / saved,
                     lo["right_prediction_walks"]["cycles"] / saved,
                     lo["timing"]["cycles"] / saved]
@@ -316,10 +323,6 @@ def loss_of(r, o):
             "timing": {"cycles": des - orc - lost - wrong - right}}
 
 
-LOSS_PARTS = ["compulsory", "evicted", "aliased", "stale", "suppressed", "gated", "not_offered",
-              "unknown"]
-
-
 def loss_figure(res, gpu, kind, sets, name, first, path):
     """A figure of what design NAME loses against the oracle per scene on GPU and KIND (the
     validation scenes, then the training ones): each bar is the oracle's saved cycles, split into
@@ -328,14 +331,10 @@ def loss_figure(res, gpu, kind, sets, name, first, path):
     rows = []
     for set_name in ("validation", "training"):
         for where, scene in sets[set_name]:
-            o = res.get((gpu, where, scene.stem, kind, first))
-            r = res.get((gpu, where, scene.stem, kind, name))
-            if not o or "oracle" not in o or not r or "loss_tally" not in r:
+            lo = loss_at(res, gpu, where, scene.stem, kind, name, first)
+            if not lo:
                 continue
-            lo = r["loss"] if "loss" in r else loss_of(r, o)
             saved = lo["oracle_saved_cycles"]
-            if saved <= 0:
-                continue
             parts = [max(0.0, lo["saved_cycles"]) / saved]
             parts += [lo["classes"][c]["cycles"] / saved for c in LOSS_PARTS]
             parts += [lo["wrong_predictions"]["cycles"] / saved,

@@ -209,17 +209,18 @@ def speedup(rep, repacked):
     return rep["repacked"]["speedup"] if repacked and "repacked" in rep else rep["speedup"]
 
 
-def tables(rungs, scenes, res):
-    """The ladder (geometric means per rung), the per-scene figures of micro21 per rung, and
-    the top rungs' per-scene breakdown."""
-    names = [label(w, p) for w, p in scenes]
+def repacked(rung):
+    """micro21's figure on RUNG is its run with repacking."""
+    return "--repack" in dict((n, s) for n, _, s in rung_settings())[rung]["micro21"]
+
+
+def ladder_table(rungs, scenes, res):
+    """The ladder: geometric means per rung."""
     paper = [(w, p) for w, p in scenes if w == "shared" and p.stem in PAPER_SCENES]
     lines = ["| rung | change | `micro21` | `micro21`: bunny, teapot, Sponza | oracle | "
              "`rtl-default` | `secondary` |", "| --- | --- | ---: | ---: | ---: | ---: | ---: |"]
-    per_scene = ["| rung | " + " | ".join(names) + " |",
-                 "| --- | " + " | ".join("---:" for _ in names) + " |"]
-    for name, change, s in rungs:
-        rp = bool(s["micro21"]) and "--repack" in s["micro21"]
+    for name, change, _ in rungs:
+        rp = repacked(name)
 
         def sp(where, scene, d):
             return speedup(res.get((name, where, scene.stem, d)), rp and d == "micro21")
@@ -234,8 +235,7 @@ def tables(rungs, scenes, res):
             f"{fx(geomean([orc(w, p) for w, p in scenes]))} | "
             f"{fx(geomean([sp(w, p, 'rtl-default') for w, p in scenes]))} | "
             f"{fx(geomean([sp(w, p, 'secondary') for w, p in scenes]))} |")
-        per_scene.append(f"| {name} | " + " | ".join(fx(x) for x in m) + " |")
-    return "\n".join(lines), "\n".join(per_scene)
+    return "\n".join(lines)
 
 
 def per_scene_of(rungs, scenes, res, design):
@@ -243,14 +243,14 @@ def per_scene_of(rungs, scenes, res, design):
     names = [label(w, p) for w, p in scenes]
     out = ["| rung | " + " | ".join(names) + " |",
            "| --- | " + " | ".join("---:" for _ in names) + " |"]
-    for name, _, s in rungs:
+    for name, _, _ in rungs:
         row = []
         for w, p in scenes:
             r = res.get((name, w, p.stem, "micro21" if design == "oracle" else design))
             if design == "oracle":
                 row.append(r["oracle"]["speedup"] if r and "oracle" in r else None)
             else:
-                row.append(speedup(r, design == "micro21" and "--repack" in s["micro21"]))
+                row.append(speedup(r, design == "micro21" and repacked(name)))
         out.append(f"| {name} | " + " | ".join(fx(x) for x in row) + " |")
     return "\n".join(out)
 
@@ -258,7 +258,7 @@ def per_scene_of(rungs, scenes, res, design):
 def breakdown(rung, scenes, res):
     """Per scene on RUNG: rays, cycles with no predictor and with micro21, the fetches of
     each, micro21's precision and recall and the share of node tests it skipped."""
-    rp = "--repack" in dict((n, s) for n, _, s in rung_settings())[rung]["micro21"]
+    rp = repacked(rung)
     out = ["| scene | rays | cycles: none | `micro21` | speed-up | node fetches: none | "
            "`micro21` | triangle fetches: none | `micro21` | precision | recall | node tests "
            "skipped | oracle | `rtl-default` | `secondary` |",
@@ -286,7 +286,7 @@ def variants_block(scenes, res):
     """Per scene on the top modelled rung: micro21 as the ladder runs it and with each variant:
     speed-up, precision, recall."""
     rung = MODELLED_TOP
-    rp = "--repack" in dict((n, s) for n, _, s in rung_settings())[rung]["micro21"]
+    rp = repacked(rung)
     cols = [("as the ladder", "micro21")] + [(v, f"micro21:{v}") for v, _, _ in VARIANTS]
     out = ["| scene | " + " | ".join(f"{c}: speed-up | precision | recall" for c, _ in cols) + " |",
            "| --- | " + " | ".join("---: | ---: | ---:" for _ in cols) + " |"]
@@ -344,13 +344,15 @@ def main():
     readme = [r for r in rungs if r[2]["readme"]]
     with open_study("micro21_repro", args) as st:
         res = reports(st, tasks_for(args, first, scenes, designs, out))
-        if readme:  # the README's run: its ray counts from the workload's runs
+        if readme:  # the README's run: its ray counts from the workload rung's micro21 runs
             count = tasks_for(args, [r for r in rung_settings() if r[0] == "workload"], scenes,
                               designs[:1], out)
-            counted = reports(st, count)
+            missing = [t for t in count if t.key not in res]  # --rungs left them out
+            counted = {**res, **(reports(st, missing) if missing else {})}
             rays_of = {(t.key[1], t.key[2]): counted[t.key]["rays"] for t in count}
             res.update(reports(st, tasks_for(args, readme, scenes, designs, out, rays_of)))
-        ladder, per_scene = tables(rungs, scenes, res)
+        ladder = ladder_table(rungs, scenes, res)
+        per_scene = per_scene_of(rungs, scenes, res, "micro21")
         top = [n for n, _, _ in rungs]
         made = f"Made by `{made_by()}`."
         blocks = {"micro21-ladder": f"{made}\n\n{ladder}",

@@ -63,7 +63,8 @@ def reports(st, tasks):
 
 def made_by(argv=None):
     """The command line ARGV (sys.argv) without the driver's options (--workers, --jobs,
-    --scheduler, --no-dask, --resume): where the runs went does not change the tables."""
+    --scheduler, --no-dask, --resume, --resume-any-build): where the runs went does not change
+    the tables."""
     argv, out = list(sys.argv if argv is None else argv), []
     skip = False
     for a in argv:
@@ -71,7 +72,7 @@ def made_by(argv=None):
             skip = False
         elif a in ("--workers", "--jobs", "--scheduler"):
             skip = True
-        elif a not in ("--no-dask", "--resume") and not a.startswith(
+        elif a not in ("--no-dask", "--resume", "--resume-any-build") and not a.startswith(
                 ("--workers=", "--jobs=", "--scheduler=")):
             out.append(a)
     return " ".join(out)

@@ -65,14 +65,6 @@ struct Warp {
   std::vector<uint32_t> parked;
 };
 
-// A warp formed by repacking at `now` with n rays.
-Warp formed_warp(uint64_t now, uint32_t n) {
-  Warp w;
-  w.admit = w.last = now;
-  w.left = n;
-  return w;
-}
-
 constexpr uint64_t kMaxIdle = 50'000'000;  // cycles without an answer
 
 struct Event {
@@ -102,7 +94,6 @@ class Simulator {
     warps_in_unit_.assign(g_.units, 0);
     originals_.assign(g_.units, 0);
     walking_.assign(g_.units, 0);
-    pool_.resize(g_.units);
     waiting_.resize(g_.units);
     if (g_.rt.leaf_end_bytes) {  // leaves in triangle order, for their terminators' addresses
       std::vector<uint32_t> leaves;
@@ -152,7 +143,11 @@ class Simulator {
   void finish_ray(uint32_t slot, uint64_t now);
   void tally_loss(const Slot& s);
   void leave_warp(const Slot& s, uint64_t now);
+  // A repacking buffer: its rays' slots and the cycles they arrived.
+  using Buffer = std::deque<std::pair<uint32_t, uint64_t>>;
   void form_warps(uint32_t unit, uint64_t now);
+  // One warp of the unit's buffered rays (only that buffer's, when set).
+  void form_warp(uint32_t unit, uint64_t now, const Buffer* only);
   void release_micro21(uint32_t unit, uint64_t now);
   void retire(uint32_t warp, uint32_t unit, uint64_t now);
   bool micro21() const { return opt_.repack == SimOptions::Repack::kMicro21; }
@@ -195,15 +190,16 @@ class Simulator {
   std::vector<std::unique_ptr<UnitPredictor>> pred_;
   std::vector<uint32_t> warps_in_unit_;
   // Repack::kMicro21, per unit: admitted warps not retired, released warps walking (pool warps
-  // included), the pool's slots, the warps waiting in the predictor (admission order).
+  // included), the warps waiting in the predictor (admission order). Its pool is the buffer of
+  // category 1 (repack_, buffered_).
   std::vector<uint32_t> originals_, walking_;
-  std::vector<std::deque<uint32_t>> pool_, waiting_;
+  std::vector<std::deque<uint32_t>> waiting_;
   uint32_t num_original_ = 0;          // warps_[0, num_original_) are the admitted ones
   uint64_t last_original_retire_ = 0;  // SimOptions::count_original_warps
   // replay: the rays owed a decision: the action their predicted walk settled, and their unit.
   std::unordered_map<uint32_t, std::pair<Action, uint32_t>> replay_owed_;
   // Repacking: per unit, the buffers by category (slot, cycle it arrived), and their ray count.
-  std::vector<std::map<uint64_t, std::deque<std::pair<uint32_t, uint64_t>>>> repack_;
+  std::vector<std::map<uint64_t, Buffer>> repack_;
   std::vector<uint32_t> buffered_;
   std::vector<uint64_t>
       repack_since_;             // the timer's start: first ray buffered, or last warp formed
@@ -264,7 +260,7 @@ void Simulator::admit(uint32_t w, uint32_t unit, uint64_t now) {
   st_.warps++;
   if (micro21()) {
     // The warp waits in the predictor; a warp entering an empty one starts its timer.
-    if (waiting_[unit].empty() && pool_[unit].empty()) repack_since_[unit] = now;
+    if (waiting_[unit].empty() && buffered_[unit] == 0) repack_since_[unit] = now;
     waiting_[unit].push_back(w);
     originals_[unit]++;
     warp.released = false;
@@ -352,54 +348,34 @@ void Simulator::on_prediction(uint32_t ray, const Prediction& p, uint64_t now) {
     if (!more) break;
   }
   if (opt_.repack == SimOptions::Repack::kNone) return schedule(si, now + 1);
-  if (micro21()) {  // a predicted ray leaves its warp for the pool; the others stay in it
+  if (micro21()) {  // a ray given no prediction stays in its warp, which waits
     Warp& w = warps_[s.warp];
     w.pending--;
     if (p.count == 0) return w.parked.push_back(si);
-    leave_warp(s, now);
-    pool_[s.unit].push_back(si);
-    buffered_[s.unit]++;
-    st_.pooled_rays++;
-    return;
   }
   // The ray leaves its warp for its category's buffer.
-  const uint64_t key = p.count == 0                                    ? 0
-                       : opt_.repack == SimOptions::Repack::kPredicted ? 1
-                                                                       : uint64_t(p.nodes[0]) + 1;
+  const uint64_t key = p.count == 0                               ? 0
+                       : opt_.repack == SimOptions::Repack::kNode ? uint64_t(p.nodes[0]) + 1
+                                                                  : 1;
   leave_warp(s, now);
   st_.pooled_rays++;
-  if (buffered_[s.unit] == 0) repack_since_[s.unit] = now;  // the timer starts
+  // The timer starts (kMicro21: when a warp enters an empty predictor, admit).
+  if (buffered_[s.unit] == 0 && !micro21()) repack_since_[s.unit] = now;
   repack_[s.unit][key].emplace_back(si, now);
   buffered_[s.unit]++;
 }
 
 void Simulator::release_micro21(uint32_t unit, uint64_t now) {
-  std::deque<uint32_t>& pool = pool_[unit];
+  const uint32_t pooled = buffered_[unit];
   std::deque<uint32_t>& waiting = waiting_[unit];
-  if ((waiting.empty() && pool.empty()) || walking_[unit] >= g_.warps_per_unit) return;
+  if ((waiting.empty() && pooled == 0) || walking_[unit] >= g_.warps_per_unit) return;
   const bool expired = now - repack_since_[unit] >= opt_.repack_timer;
-  const bool full = pool.size() > g_.warp_size || (expired && pool.size() == g_.warp_size);
+  const bool full = pooled > g_.warp_size || (expired && pooled == g_.warp_size);
   // The pool's last rays go when no warp waits (theirs never go) or when the oldest waiting
   // warp still has rays waiting to enter (they may wait for credits the pool's rays hold).
   const bool rest =
-      expired && !pool.empty() && (waiting.empty() || warps_[waiting.front()].pending > 0);
-  if (full || rest) {  // a warp of pooled rays
-    const uint32_t w = uint32_t(warps_.size());
-    const uint32_t n = std::min<uint32_t>(g_.warp_size, uint32_t(pool.size()));
-    for (uint32_t i = 0; i < n; ++i) {
-      slots_[pool.front()].warp = w;
-      schedule(pool.front(), now + 1);
-      pool.pop_front();
-    }
-    warps_.push_back(formed_warp(now, n));
-    warps_in_unit_[unit]++;
-    walking_[unit]++;
-    st_.warps++;
-    st_.repacked_warps++;
-    buffered_[unit] -= n;
-    repack_since_[unit] = now;
-    return;
-  }
+      expired && pooled > 0 && (waiting.empty() || warps_[waiting.front()].pending > 0);
+  if (full || rest) return form_warp(unit, now, nullptr);  // a warp of pooled rays
   if (!expired || warps_[waiting.front()].pending > 0) return;
   // The oldest waiting warp goes on with the rays it kept.
   const uint32_t w = waiting.front();
@@ -413,48 +389,54 @@ void Simulator::release_micro21(uint32_t unit, uint64_t now) {
   if (warp.left == 0) retire(w, unit, now);  // every ray left for the pool
 }
 
-void Simulator::form_warps(uint32_t unit, uint64_t now) {
-  if (micro21()) return release_micro21(unit, now);
-  auto& cats = repack_[unit];
+void Simulator::form_warp(uint32_t unit, uint64_t now, const Buffer* only) {
   // A new warp of up to warp_size rays taken from the categories in key order (0, not
   // predicted, first, as their `retrieve` takes unpredicted rays before predicted ones).
-  auto form = [&](std::deque<std::pair<uint32_t, uint64_t>>* only) {
-    const uint32_t w = uint32_t(warps_.size());
-    uint32_t n = 0;
-    for (auto it = cats.begin(); it != cats.end() && n < g_.warp_size;) {
-      auto& q = it->second;
-      if (only && &q != only) {
-        ++it;
-        continue;
-      }
-      while (!q.empty() && n < g_.warp_size) {
-        const uint32_t si = q.front().first;
-        q.pop_front();
-        slots_[si].warp = w;
-        schedule(si, now + 1);
-        ++n;
-      }
-      it = q.empty() ? cats.erase(it) : std::next(it);
+  auto& cats = repack_[unit];
+  const uint32_t w = uint32_t(warps_.size());
+  uint32_t n = 0;
+  for (auto it = cats.begin(); it != cats.end() && n < g_.warp_size;) {
+    auto& q = it->second;
+    if (only && &q != only) {
+      ++it;
+      continue;
     }
-    warps_.push_back(formed_warp(now, n));
-    warps_in_unit_[unit]++;
-    st_.warps++;
-    st_.repacked_warps++;
-    buffered_[unit] -= n;
-    repack_since_[unit] = now;  // the timer restarts after every warp formed
-  };
+    while (!q.empty() && n < g_.warp_size) {
+      const uint32_t si = q.front().first;
+      q.pop_front();
+      slots_[si].warp = w;
+      schedule(si, now + 1);
+      ++n;
+    }
+    it = q.empty() ? cats.erase(it) : std::next(it);
+  }
+  Warp formed;
+  formed.admit = formed.last = now;
+  formed.left = n;
+  warps_.push_back(formed);
+  warps_in_unit_[unit]++;
+  if (micro21()) walking_[unit]++;
+  st_.warps++;
+  st_.repacked_warps++;
+  buffered_[unit] -= n;
+  repack_since_[unit] = now;  // the timer restarts after every warp formed
+}
+
+void Simulator::form_warps(uint32_t unit, uint64_t now) {
+  if (micro21()) return release_micro21(unit, now);
   // A category with a warp's worth of rays forms a full warp at once.
   for (bool again = true; again;) {
     again = false;
-    for (auto& [key, q] : cats)
+    for (auto& [key, q] : repack_[unit])
       if (q.size() >= g_.warp_size) {
-        form(&q);
+        form_warp(unit, now, &q);
         again = true;
         break;
       }
   }
   // When the timer expires, one warp of the oldest categories' rays.
-  if (buffered_[unit] > 0 && now - repack_since_[unit] >= opt_.repack_timer) form(nullptr);
+  if (buffered_[unit] > 0 && now - repack_since_[unit] >= opt_.repack_timer)
+    form_warp(unit, now, nullptr);
 }
 
 void Simulator::on_decision(uint32_t ray, Action a, uint64_t now) {

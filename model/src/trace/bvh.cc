@@ -126,11 +126,7 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhBuildOptions& opt
   while (!stack.empty()) {
     Task task = stack.back();
     stack.pop_back();
-    const uint32_t idx = static_cast<uint32_t>(bvh.nodes.size());
-    bvh.nodes.push_back({});
-    bvh.parent.push_back(task.parent);
-    bvh.depth.push_back(task.depth);
-    if (task.is_right) bvh.nodes[task.parent].right_or_first = idx;
+    const uint32_t idx = bvh.add_node(task.parent, task.depth, task.is_right);
 
     Aabb box, cbox;
     for (uint32_t i = task.begin; i < task.end; ++i) {

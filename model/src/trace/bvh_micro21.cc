@@ -224,11 +224,7 @@ Bvh build_bvh_micro21(const std::vector<Triangle>& triangles) {
   while (!stack.empty()) {
     const Item it = stack.back();
     stack.pop_back();
-    const uint32_t idx = static_cast<uint32_t>(bvh.nodes.size());
-    bvh.nodes.push_back({});
-    bvh.parent.push_back(it.parent);
-    bvh.depth.push_back(it.depth);
-    if (it.is_right) bvh.nodes[it.parent].right_or_first = idx;
+    const uint32_t idx = bvh.add_node(it.parent, it.depth, it.is_right);
     BvhNode& node = bvh.nodes[idx];
     node.lo = it.box.lo;
     node.hi = it.box.hi;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hrpp/predictor/hash.h"
 #include "hrpp/util/rng.h"
 #include "hrpp/workload/workload.h"
 
@@ -238,20 +239,15 @@ void micro21_ao(const Scene& scene, const WorkloadOptions& opt,
 }  // namespace
 
 uint64_t micro21_sort_key(const Ray& ray, const Aabb& b) {
-  // hash_direction_spherical(d, 3) (RayGenerator.cpp 394-404): degrees truncated to integers,
-  // theta >> (8 - 3), phi >> (9 - 4).
-  const double kPi = 3.14159265358979323846;
-  const float pi = float(kPi);
-  const uint64_t theta = uint64_t(std::acos(std::clamp(ray.dir.z, -1.f, 1.f)) / pi * 180);
-  const uint64_t phi = uint64_t((std::atan2(ray.dir.y, ray.dir.x) + pi) / pi * 180);
-  const uint64_t h_d = ((phi >> 5) << 3) | (theta >> 5);
-  // hash_origin_grid(o, min, max, 5) (406-414): clamped to [0, 31], truncated.
-  auto cell = [](float o, float lo, float hi) {
-    return uint64_t(std::clamp((o - lo) / (hi - lo) * 32.f, 0.f, 31.f));
-  };
-  const uint64_t h_o = (cell(ray.org.x, b.lo.x, b.hi.x) << 10) |
-                       (cell(ray.org.y, b.lo.y, b.hi.y) << 5) | cell(ray.org.z, b.lo.z, b.hi.z);
-  return (h_o << 7) | h_d;  // hash_grid_spherical (444-451)
+  // hash_grid_spherical (RayGenerator.cpp 444-451): the origin on a 32^3 grid over the bounds
+  // and the direction in 3 theta and 4 phi bits, as the micro21 hash computes its fields
+  // (hash_origin_grid and hash_direction_spherical there), concatenated instead of XORed.
+  HashConfig cfg;
+  cfg.origin_bits = 5;
+  cfg.bounds_lo = {b.lo.x, b.lo.y, b.lo.z};
+  cfg.bounds_hi = {b.hi.x, b.hi.y, b.hi.z};
+  const uint64_t h_o = micro21_origin_field({ray.org.x, ray.org.y, ray.org.z}, cfg);
+  return (h_o << 7) | micro21_dir_field({ray.dir.x, ray.dir.y, ray.dir.z}, 3);
 }
 
 void generate_rays(const Scene& scene, const Bvh& bvh, const WorkloadOptions& opt,

@@ -100,6 +100,16 @@ struct Bvh {
     return node;
   }
   size_t memory_bytes() const;
+  /// A builder's step, in depth-first order: appends an empty node with its parent and depth;
+  /// a right child is linked from its parent (right_or_first). Returns its index.
+  uint32_t add_node(uint32_t parent_node, uint16_t node_depth, bool is_right) {
+    const uint32_t idx = static_cast<uint32_t>(nodes.size());
+    nodes.push_back({});
+    parent.push_back(parent_node);
+    depth.push_back(node_depth);
+    if (is_right) nodes[parent_node].right_or_first = idx;
+    return idx;
+  }
 };
 
 /// Builds the BVH over the triangles with opt.builder: our binned SAH (Wald 2007), or MICRO 2021's
